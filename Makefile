@@ -1,0 +1,55 @@
+# floorscan: `make test` and `make demo` work on a fresh machine; each installs what it needs
+# into ./.venv (Python packages) and builds the Rust extension there.
+
+VENV    ?= .venv
+PYTHON  ?= python3
+PY      := $(VENV)/bin/python
+STAMP   := $(VENV)/.deps-stamp
+CARGO   ?= cargo
+
+.PHONY: test demo dev deps lint fmt bench bench-py clean rust-toolchain
+
+rust-toolchain:
+	@command -v $(CARGO) >/dev/null 2>&1 || { \
+	  echo "cargo not found: installing Rust from Debian's packages"; \
+	  (apt-get update -qq && apt-get install -y -qq cargo rustc) || \
+	  { echo "error: install Rust (https://rustup.rs) and re-run"; exit 1; }; }
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q "maturin>=1.5,<2" "numpy>=1.21" "pillow>=9" "opencv-python-headless>=4.5" \
+	    "pytest>=7" "hypothesis>=6" "rosbags>=0.9" ruff
+	touch $@
+
+deps: $(STAMP)
+
+# Builds the extension in release mode and installs the package in the venv (editable).
+dev: rust-toolchain deps
+	VIRTUAL_ENV=$(abspath $(VENV)) PATH=$(abspath $(VENV))/bin:$$PATH \
+	    $(VENV)/bin/maturin develop --release -q
+
+test: dev
+	$(CARGO) test --workspace -q
+	$(PY) -m pytest -q
+
+demo: dev
+	$(VENV)/bin/floorscan demo -o demo-out
+
+lint: deps
+	$(CARGO) fmt --all -- --check
+	$(CARGO) clippy --workspace --all-targets -q -- -D warnings
+	$(VENV)/bin/ruff check python tests bench
+	$(VENV)/bin/ruff format --check python tests bench
+
+fmt: deps
+	$(CARGO) fmt --all
+	$(VENV)/bin/ruff format python tests bench
+	$(VENV)/bin/ruff check --fix python tests bench
+
+bench: dev
+	$(CARGO) bench -p floorscan-core
+	$(PY) -m pytest -q -m benchmark -s
+
+clean:
+	rm -rf $(VENV) target demo-out

@@ -1,0 +1,190 @@
+//! The paper's one-dimensional box edge filter (eq. 1-2) and its incremental form.
+//!
+//! A column is indexed by `k`, counting pixels *from the bottom of the image* (k = 0 is the
+//! bottom row), because the filter walks up from the robot. With half-width d, the raw response
+//!
+//! ```text
+//! S(k) = sum_{i=1..d} I(k+i) - sum_{i=1..d} I(k-i)        (= 2d R(k), eq. 1 with eq. 2)
+//! ```
+//!
+//! is the sum of the d pixels above k minus the sum of the d pixels below it; the centre pixel
+//! has weight 0. Moving up one row, the window above loses I(k+1) and gains I(k+d+1), the window
+//! below loses I(k-d) and gains I(k):
+//!
+//! ```text
+//! S(k+1) = S(k) + I(k+d+1) - I(k+1) - I(k) + I(k-d)
+//! R(k+1) = R(k) + (1/2d) [ I(k+d+1) - I(k+1) - I(k) + I(k-d) ]
+//! ```
+//!
+//! (The paper prints `R(n+1) = R(n) - (1/2d){I(n) - I(n+1) + I(n-d) + I(n+d+1)}`, whose signs
+//! on I(n+1) and I(n-d) do not follow from eq. 1-2.) Integer sums are exact, so the incremental
+//! and direct responses are equal at every row; the threshold test `|R| > T` becomes
+//! `|S| > floor(2d T)`.
+
+use serde::{Deserialize, Serialize};
+
+/// How the boundary row is placed once the response first crosses the threshold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Refinement {
+    /// The paper: the first row whose response exceeds the threshold. Its position depends on
+    /// the edge's contrast (a strong edge crosses earlier on its ramp).
+    FirstCrossing,
+    /// The local maximum of |R| within the next d rows (the centre of a plateau of equal maxima).
+    Peak,
+    /// As `Peak`, then a parabola through the peak and its two neighbours, for a sub-pixel row.
+    #[default]
+    SubPixel,
+}
+
+/// Raw response S(k) by the direct sum of eq. (1). Needs `d <= k` and `k + d < column.len()`.
+pub fn direct_response(column: &[i32], k: usize, half_width: usize) -> i32 {
+    let above: i32 = column[k + 1..=k + half_width].iter().sum();
+    let below: i32 = column[k - half_width..k].iter().sum();
+    above - below
+}
+
+/// S(k) of image column `u` by the direct sum, k counted from the bottom row.
+pub fn direct_response_at<P: crate::image::Pixel>(
+    image: &crate::image::ImageView<P>,
+    u: usize,
+    k: usize,
+    half_width: usize,
+) -> i32 {
+    let bottom = image.height() - 1;
+    let above: i32 = (1..=half_width).map(|i| image.get(u, bottom - (k + i)).to_i32()).sum();
+    let below: i32 = (1..=half_width).map(|i| image.get(u, bottom - (k - i)).to_i32()).sum();
+    above - below
+}
+
+/// S(k+1) from S(k) and the four pixels the window moves over.
+#[inline(always)]
+pub fn next_response(s_k: i32, i_k_minus_d: i32, i_k: i32, i_k_plus_1: i32, i_k_plus_d_plus_1: i32) -> i32 {
+    s_k + i_k_plus_d_plus_1 - i_k_plus_1 - i_k + i_k_minus_d
+}
+
+/// The threshold on the raw sum: `|S| > threshold_sum` iff `|R| > threshold` (S integer).
+pub fn threshold_to_sum(threshold: f64, half_width: usize) -> i32 {
+    let t = (2.0 * half_width as f64 * threshold).floor();
+    t.clamp(-1.0, i32::MAX as f64) as i32
+}
+
+/// The located peak of |S| after a crossing, in column coordinates (k from the bottom).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Peak {
+    /// Continuous position; a plateau of equal maxima gives its centre.
+    pub k: f64,
+}
+
+/// Finds the boundary position after the response first crossed the threshold at `k_cross`.
+///
+/// `response(k)` gives S(k) for any k in `k_min..=k_max` (the rows where the filter window lies
+/// inside the column). The climb goes at most d rows up while |S| does not decrease.
+pub fn refine_crossing(
+    refinement: Refinement,
+    k_cross: usize,
+    half_width: usize,
+    k_min: usize,
+    k_max: usize,
+    mut response: impl FnMut(usize) -> i32,
+) -> Peak {
+    if refinement == Refinement::FirstCrossing {
+        return Peak { k: k_cross as f64 };
+    }
+    let s0 = response(k_cross);
+    let sign = if s0 >= 0 { 1 } else { -1 };
+    let mag = |s: i32| sign * s;
+    let climb_limit = (k_cross + half_width).min(k_max);
+    let mut k_top = k_cross;
+    let mut best = mag(s0);
+    let mut k_plateau_start = k_cross;
+    while k_top < climb_limit {
+        let next = mag(response(k_top + 1));
+        if next < best {
+            break;
+        }
+        if next > best {
+            k_plateau_start = k_top + 1;
+            best = next;
+        }
+        k_top += 1;
+    }
+    // Every row from k_plateau_start to k_top holds the maximum (the climb stops before a drop).
+    let k_end = k_top;
+    let centre = (k_plateau_start + k_end) as f64 / 2.0;
+    if refinement == Refinement::Peak || k_end != k_plateau_start {
+        return Peak { k: centre };
+    }
+    let k = k_plateau_start;
+    if k <= k_min || k >= k_max {
+        return Peak { k: centre };
+    }
+    let (a, b, c) = (mag(response(k - 1)) as f64, best as f64, mag(response(k + 1)) as f64);
+    let denom = a - 2.0 * b + c;
+    if denom >= 0.0 {
+        return Peak { k: centre };
+    }
+    let offset = (0.5 * (a - c) / denom).clamp(-0.5, 0.5);
+    Peak { k: k as f64 + offset }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The recurrence reproduces the direct sum of eq. (1) at every row.
+        #[test]
+        fn incremental_response_equals_direct_sum(
+            column in proptest::collection::vec(0i32..=65535, 3..300),
+            d in 1usize..40,
+        ) {
+            prop_assume!(2 * d + 1 <= column.len());
+            let mut s = direct_response(&column, d, d);
+            for k in d..column.len() - d - 1 {
+                prop_assert_eq!(s, direct_response(&column, k, d), "row {}", k);
+                s = next_response(s, column[k - d], column[k], column[k + 1], column[k + d + 1]);
+            }
+            prop_assert_eq!(s, direct_response(&column, column.len() - d - 1, d));
+        }
+
+        /// The integer threshold test agrees with |R| > T on the mean difference.
+        #[test]
+        fn integer_threshold_matches_real_threshold(s in -100000i32..100000, d in 1usize..64, t in 0.0..300.0f64) {
+            let r = s as f64 / (2.0 * d as f64);
+            prop_assert_eq!(s.abs() > threshold_to_sum(t, d), r.abs() > t);
+        }
+    }
+
+    #[test]
+    fn printed_recurrence_of_the_paper_is_wrong() {
+        // A step column: the paper's eq. (3) drifts away from the direct sum, ours does not.
+        let column: Vec<i32> = (0..20).map(|k| if k < 10 { 50 } else { 200 }).collect();
+        let d = 3;
+        let mut ours = direct_response(&column, d, d);
+        let mut paper = ours;
+        let mut paper_diverged = false;
+        for k in d..column.len() - d - 1 {
+            ours = next_response(ours, column[k - d], column[k], column[k + 1], column[k + d + 1]);
+            paper -= column[k] - column[k + 1] + column[k - d] + column[k + d + 1];
+            assert_eq!(ours, direct_response(&column, k + 1, d));
+            paper_diverged |= paper != ours;
+        }
+        assert!(paper_diverged);
+    }
+
+    #[test]
+    fn sharp_step_peaks_at_the_edge_between_pixels() {
+        // Floor (k < 20) then obstacle: the edge lies between k = 19 and k = 20, at 19.5.
+        let column: Vec<i32> = (0..60).map(|k| if k < 20 { 80 } else { 160 }).collect();
+        for d in 1..8 {
+            let thr = threshold_to_sum(10.0, d);
+            let k_cross = (d..60 - d).find(|&k| direct_response(&column, k, d).abs() > thr).unwrap();
+            for refinement in [Refinement::Peak, Refinement::SubPixel] {
+                let p = refine_crossing(refinement, k_cross, d, d, 60 - d - 1, |k| direct_response(&column, k, d));
+                assert!((p.k - 19.5).abs() < 1e-9, "d={d} {refinement:?}: {}", p.k);
+            }
+        }
+    }
+}

@@ -1,0 +1,349 @@
+//! The paper's calibration lookup table (III.B): camera-centred ground points at a regular grid of
+//! image points, with bilinear interpolation between them. No camera model is assumed, so any
+//! lens that a calibration can fit works.
+//!
+//! Camera ground frame: origin on the floor below the camera, x along the camera's heading, y to
+//! the left, metres (REP 103).
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::pose::Point2;
+
+/// Identifies floorscan ground table files.
+pub const GROUND_TABLE_FORMAT: &str = "floorscan.ground_table";
+/// The schema version written by this build (and the only one it reads).
+pub const GROUND_TABLE_VERSION: u32 = 1;
+
+/// Image-to-ground lookup table for images of `image_width` x `image_height` pixels.
+///
+/// Node (i, j) sits at pixel u = i * spacing_px, v = j * spacing_px; the nodes cover the whole
+/// image (the last node may lie past its edge). A node holds a ground point or "no ground".
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroundTable {
+    image_width: usize,
+    image_height: usize,
+    spacing_px: usize,
+    nodes_u: usize,
+    nodes_v: usize,
+    /// Ground points of the nodes, row-major (v outer); `None` is "no ground".
+    nodes: Vec<Option<Point2>>,
+    /// Free-form provenance (source, calibration report summary). Saved with the table.
+    pub metadata: BTreeMap<String, serde_json::Value>,
+}
+
+/// The node grid size for an image size and spacing.
+pub fn node_counts(image_width: usize, image_height: usize, spacing_px: usize) -> (usize, usize) {
+    let n = |len: usize| (len.saturating_sub(1)).div_ceil(spacing_px) + 1;
+    (n(image_width), n(image_height))
+}
+
+impl GroundTable {
+    /// A table from node values (row-major, `nodes_v` rows of `nodes_u`); see [`node_counts`].
+    pub fn from_nodes(
+        image_width: usize,
+        image_height: usize,
+        spacing_px: usize,
+        nodes: Vec<Option<Point2>>,
+    ) -> Result<Self> {
+        if image_width < 2 || image_height < 2 {
+            return Err(Error::InvalidTable(format!(
+                "image must be at least 2 x 2 pixels, got {image_width} x {image_height}"
+            )));
+        }
+        if spacing_px == 0 {
+            return Err(Error::InvalidTable("spacing_px must be at least 1".into()));
+        }
+        let (nodes_u, nodes_v) = node_counts(image_width, image_height, spacing_px);
+        if nodes.len() != nodes_u * nodes_v {
+            return Err(Error::InvalidTable(format!(
+                "{} x {} image at {spacing_px} px spacing needs {nodes_v} x {nodes_u} = {} nodes, got {}",
+                image_width,
+                image_height,
+                nodes_u * nodes_v,
+                nodes.len()
+            )));
+        }
+        if nodes.iter().flatten().any(|p| !(p.x.is_finite() && p.y.is_finite())) {
+            return Err(Error::InvalidTable("ground points must be finite (use no-ground instead)".into()));
+        }
+        Ok(Self {
+            image_width,
+            image_height,
+            spacing_px,
+            nodes_u,
+            nodes_v,
+            nodes,
+            metadata: BTreeMap::new(),
+        })
+    }
+
+    /// A table from separate x and y arrays [m]; a NaN in either marks "no ground".
+    pub fn from_arrays(
+        image_width: usize,
+        image_height: usize,
+        spacing_px: usize,
+        x_m: &[f64],
+        y_m: &[f64],
+    ) -> Result<Self> {
+        if x_m.len() != y_m.len() {
+            return Err(Error::LengthMismatch(format!(
+                "x has {} nodes, y has {}",
+                x_m.len(),
+                y_m.len()
+            )));
+        }
+        let nodes = x_m
+            .iter()
+            .zip(y_m)
+            .map(|(&x, &y)| (x.is_finite() && y.is_finite()).then_some(Point2::new(x, y)))
+            .collect();
+        Self::from_nodes(image_width, image_height, spacing_px, nodes)
+    }
+
+    /// A table by evaluating `ground_of_pixel(u, v)` at every node.
+    pub fn from_fn(
+        image_width: usize,
+        image_height: usize,
+        spacing_px: usize,
+        mut ground_of_pixel: impl FnMut(f64, f64) -> Option<Point2>,
+    ) -> Result<Self> {
+        if spacing_px == 0 {
+            return Err(Error::InvalidTable("spacing_px must be at least 1".into()));
+        }
+        let (nu, nv) = node_counts(image_width, image_height, spacing_px);
+        let mut nodes = Vec::with_capacity(nu * nv);
+        for j in 0..nv {
+            for i in 0..nu {
+                let p = ground_of_pixel((i * spacing_px) as f64, (j * spacing_px) as f64);
+                nodes.push(p.filter(|p| p.x.is_finite() && p.y.is_finite()));
+            }
+        }
+        Self::from_nodes(image_width, image_height, spacing_px, nodes)
+    }
+
+    pub fn image_width(&self) -> usize {
+        self.image_width
+    }
+    pub fn image_height(&self) -> usize {
+        self.image_height
+    }
+    pub fn spacing_px(&self) -> usize {
+        self.spacing_px
+    }
+    /// (nodes_u, nodes_v).
+    pub fn node_shape(&self) -> (usize, usize) {
+        (self.nodes_u, self.nodes_v)
+    }
+    /// Node values, row-major.
+    pub fn nodes(&self) -> &[Option<Point2>] {
+        &self.nodes
+    }
+
+    fn node(&self, i: usize, j: usize) -> Option<Point2> {
+        self.nodes[j * self.nodes_u + i]
+    }
+
+    /// Ground point [m] seen at pixel (u, v), by bilinear interpolation of the four nodes around
+    /// it; `None` if any of them is "no ground" or the pixel is outside the image.
+    pub fn lookup(&self, u: f64, v: f64) -> Option<Point2> {
+        let max_u = (self.image_width - 1) as f64;
+        let max_v = (self.image_height - 1) as f64;
+        // Half a pixel of slack: a pixel's area extends 0.5 px around its centre.
+        if !(u >= -0.5 && u <= max_u + 0.5 && v >= -0.5 && v <= max_v + 0.5) {
+            return None;
+        }
+        let s = self.spacing_px as f64;
+        let gu = (u.max(0.0) / s).min((self.nodes_u - 1) as f64);
+        let gv = (v.max(0.0) / s).min((self.nodes_v - 1) as f64);
+        let i = (gu.floor() as usize).min(self.nodes_u - 2);
+        let j = (gv.floor() as usize).min(self.nodes_v - 2);
+        let (fu, fv) = (gu - i as f64, gv - j as f64);
+        let p00 = self.node(i, j)?;
+        let p10 = self.node(i + 1, j)?;
+        let p01 = self.node(i, j + 1)?;
+        let p11 = self.node(i + 1, j + 1)?;
+        let w00 = (1.0 - fu) * (1.0 - fv);
+        let w10 = fu * (1.0 - fv);
+        let w01 = (1.0 - fu) * fv;
+        let w11 = fu * fv;
+        Some(Point2::new(
+            w00 * p00.x + w10 * p10.x + w01 * p01.x + w11 * p11.x,
+            w00 * p00.y + w10 * p10.y + w01 * p01.y + w11 * p11.y,
+        ))
+    }
+
+    /// Serialises to the documented JSON file format (see docs/formats.md).
+    pub fn to_json(&self) -> String {
+        let file = GroundTableFile {
+            format: GROUND_TABLE_FORMAT.to_string(),
+            version: GROUND_TABLE_VERSION,
+            image_width: self.image_width,
+            image_height: self.image_height,
+            spacing_px: self.spacing_px,
+            nodes_u: self.nodes_u,
+            nodes_v: self.nodes_v,
+            x_m: self.nodes.iter().map(|p| p.map(|p| p.x)).collect(),
+            y_m: self.nodes.iter().map(|p| p.map(|p| p.y)).collect(),
+            metadata: self.metadata.clone(),
+        };
+        serde_json::to_string(&file).expect("ground table serialisation cannot fail")
+    }
+
+    /// Parses the JSON file format; another version or a damaged file is an error.
+    pub fn from_json(text: &str) -> Result<Self> {
+        let malformed = |reason: String| Error::Malformed {
+            kind: "ground table",
+            reason,
+        };
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| malformed(format!("not valid JSON: {e}")))?;
+        match value.get("format").and_then(|f| f.as_str()) {
+            Some(GROUND_TABLE_FORMAT) => {}
+            other => {
+                return Err(malformed(format!(
+                    "field `format` must be \"{GROUND_TABLE_FORMAT}\", got {other:?}"
+                )))
+            }
+        }
+        let version = value
+            .get("version")
+            .and_then(|v| v.as_u64())
+            .ok_or_else(|| malformed("missing integer field `version`".into()))?;
+        if version != GROUND_TABLE_VERSION as u64 {
+            return Err(Error::UnsupportedVersion {
+                kind: "ground table",
+                found: version.min(u32::MAX as u64) as u32,
+                expected: GROUND_TABLE_VERSION,
+            });
+        }
+        let file: GroundTableFile =
+            serde_json::from_value(value).map_err(|e| malformed(e.to_string()))?;
+        let expected = node_counts(file.image_width, file.image_height, file.spacing_px.max(1));
+        if (file.nodes_u, file.nodes_v) != expected {
+            return Err(malformed(format!(
+                "node grid {} x {} does not match the image size and spacing (expected {} x {})",
+                file.nodes_u, file.nodes_v, expected.0, expected.1
+            )));
+        }
+        if file.x_m.len() != file.y_m.len() {
+            return Err(malformed("x_m and y_m differ in length".into()));
+        }
+        let nodes = file
+            .x_m
+            .iter()
+            .zip(&file.y_m)
+            .map(|(x, y)| match (x, y) {
+                (Some(x), Some(y)) => Some(Point2::new(*x, *y)),
+                _ => None,
+            })
+            .collect();
+        let mut table =
+            Self::from_nodes(file.image_width, file.image_height, file.spacing_px, nodes)
+                .map_err(|e| malformed(e.to_string()))?;
+        table.metadata = file.metadata;
+        Ok(table)
+    }
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GroundTableFile {
+    format: String,
+    version: u32,
+    image_width: usize,
+    image_height: usize,
+    spacing_px: usize,
+    nodes_u: usize,
+    nodes_v: usize,
+    x_m: Vec<Option<f64>>,
+    y_m: Vec<Option<f64>>,
+    #[serde(default)]
+    metadata: BTreeMap<String, serde_json::Value>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn affine(u: f64, v: f64) -> Point2 {
+        Point2::new(3.0 - 0.01 * v + 0.002 * u, 0.5 - 0.004 * u + 0.0007 * v)
+    }
+
+    #[test]
+    fn node_counts_cover_the_image() {
+        assert_eq!(node_counts(320, 240, 8), (41, 31));
+        assert_eq!(node_counts(321, 240, 8), (41, 31));
+        assert_eq!(node_counts(322, 240, 8), (42, 31));
+        assert_eq!(node_counts(2, 2, 16), (2, 2));
+    }
+
+    proptest! {
+        #[test]
+        fn interpolation_is_exact_on_an_affine_mapping(u in 0.0..319.0f64, v in 0.0..239.0f64, s in 1usize..20) {
+            let t = GroundTable::from_fn(320, 240, s, |u, v| Some(affine(u, v))).unwrap();
+            let p = t.lookup(u, v).unwrap();
+            let e = affine(u, v);
+            prop_assert!((p.x - e.x).abs() < 1e-9 && (p.y - e.y).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn no_ground_propagates_to_the_four_surrounding_cells() {
+        // Node (2, 2) at pixel (16, 16) has no ground.
+        let t = GroundTable::from_fn(64, 64, 8, |u, v| {
+            (!(u == 16.0 && v == 16.0)).then(|| affine(u, v))
+        })
+        .unwrap();
+        for (u, v) in [(9.0, 9.0), (23.0, 9.0), (9.0, 23.0), (23.0, 23.0), (16.0, 16.0)] {
+            assert!(t.lookup(u, v).is_none(), "({u}, {v}) should be no ground");
+        }
+        for (u, v) in [(7.0, 7.0), (25.0, 25.0), (30.0, 12.0)] {
+            assert!(t.lookup(u, v).is_some(), "({u}, {v}) should have ground");
+        }
+    }
+
+    #[test]
+    fn outside_the_image_is_no_ground() {
+        let t = GroundTable::from_fn(32, 24, 8, |u, v| Some(affine(u, v))).unwrap();
+        assert!(t.lookup(-1.0, 5.0).is_none());
+        assert!(t.lookup(5.0, 23.6).is_none());
+        assert!(t.lookup(f64::NAN, 5.0).is_none());
+        assert!(t.lookup(31.0, 23.0).is_some());
+    }
+
+    #[test]
+    fn json_round_trip_keeps_every_node_and_the_metadata() {
+        let mut t = GroundTable::from_fn(40, 30, 8, |u, v| (v > 8.0).then(|| affine(u, v))).unwrap();
+        t.metadata.insert("source".into(), serde_json::json!("test"));
+        let back = GroundTable::from_json(&t.to_json()).unwrap();
+        assert_eq!(back, t);
+    }
+
+    #[test]
+    fn damaged_and_foreign_files_are_errors() {
+        let t = GroundTable::from_fn(40, 30, 8, |u, v| Some(affine(u, v))).unwrap();
+        let json = t.to_json();
+        let truncated = &json[..json.len() / 2];
+        assert!(matches!(GroundTable::from_json(truncated), Err(Error::Malformed { .. })));
+        let v2 = json.replace("\"version\":1", "\"version\":2");
+        assert!(matches!(
+            GroundTable::from_json(&v2),
+            Err(Error::UnsupportedVersion { found: 2, .. })
+        ));
+        let foreign = json.replace(GROUND_TABLE_FORMAT, "something.else");
+        assert!(matches!(GroundTable::from_json(&foreign), Err(Error::Malformed { .. })));
+        let short = json.replace("\"nodes_u\":6", "\"nodes_u\":7");
+        assert!(matches!(GroundTable::from_json(&short), Err(Error::Malformed { .. })));
+    }
+
+    #[test]
+    fn wrong_node_count_and_zero_spacing_are_errors() {
+        assert!(GroundTable::from_nodes(40, 30, 8, vec![None; 5]).is_err());
+        assert!(GroundTable::from_fn(40, 30, 0, |_, _| None).is_err());
+        assert!(GroundTable::from_arrays(40, 30, 8, &[0.0; 30], &[0.0; 29]).is_err());
+    }
+}

@@ -1,0 +1,281 @@
+//! The visual range sensor (paper III.B): scan sampled columns from the bottom with the
+//! incremental box filter, take the first edge above the threshold, refine it, and look its
+//! ground point up in the calibration table.
+//!
+//! All sampled columns advance together, one image row per step, so memory is read row-major;
+//! the per-column state is a running sum. The loop ends as soon as every column is resolved.
+//! Buffers live in the ranger, so scanning a frame allocates nothing.
+
+use crate::edge::{direct_response_at, refine_crossing, threshold_to_sum};
+use crate::error::{Error, Result};
+use crate::ground_table::GroundTable;
+use crate::image::{ImageView, Pixel};
+use crate::pose::Point2;
+use crate::ranger_options::{ColumnStart, RangerOptions};
+use crate::scan::{ColumnOutcome, ColumnReading, Scan};
+
+/// A sampled column's fixed geometry, worked out once from the table and the options.
+#[derive(Debug, Clone, Copy)]
+struct ColumnPlan {
+    column: u32,
+    /// Start row v (from the top) and its ground point.
+    start_row: usize,
+    near: Option<Point2>,
+    /// Rows (k, counted from the bottom) where a crossing is tested: `lo..=hi`. `None` when the
+    /// column cannot be scanned (no ground at its start, or too few floor rows for the filter).
+    window: Option<(usize, usize)>,
+}
+
+/// The visual range sensor for one camera (image size fixed by its ground table).
+#[derive(Debug, Clone)]
+pub struct VisualRanger {
+    table: GroundTable,
+    options: RangerOptions,
+    threshold_sum: i32,
+    plans: Vec<ColumnPlan>,
+    /// Indices (into `plans`) of scannable columns, sorted by window start and by window end.
+    by_lo: Vec<usize>,
+    by_hi: Vec<usize>,
+    // Per-frame scratch, indexed like `plans`.
+    sums: Vec<i32>,
+    active_threshold: Vec<i32>,
+    offsets: Vec<usize>,
+    outcomes: Vec<Option<ColumnOutcome>>,
+}
+
+impl VisualRanger {
+    pub fn new(table: GroundTable, options: RangerOptions) -> Result<Self> {
+        options.validate()?;
+        let (width, height) = (table.image_width(), table.image_height());
+        let d = options.half_width_px;
+        if 2 * d + 2 > height {
+            return Err(crate::error::invalid_option(
+                "half_width",
+                format!("{d} px needs an image at least {} rows high, the table's has {height}", 2 * d + 2),
+            ));
+        }
+        let columns = options.column_indices(width)?;
+        let starts: Vec<usize> = match &options.start {
+            ColumnStart::BottomMargin(m) => {
+                if *m >= height {
+                    return Err(crate::error::invalid_option(
+                        "bottom_margin",
+                        format!("{m} rows leaves nothing of a {height}-row image"),
+                    ));
+                }
+                vec![height - 1 - m; width]
+            }
+            ColumnStart::PerColumn(rows) => {
+                if rows.len() != width {
+                    return Err(crate::error::invalid_option(
+                        "start_rows",
+                        format!("needs one start row per image column ({width}), got {}", rows.len()),
+                    ));
+                }
+                if let Some(bad) = rows.iter().find(|&&r| r as usize >= height) {
+                    return Err(crate::error::invalid_option(
+                        "start_rows",
+                        format!("start row {bad} is outside the image ({height} rows)"),
+                    ));
+                }
+                rows.iter().map(|&r| r as usize).collect()
+            }
+        };
+        let plans: Vec<ColumnPlan> = columns
+            .iter()
+            .map(|&c| plan_column(&table, &options, c, starts[c as usize]))
+            .collect();
+        let scannable: Vec<usize> = (0..plans.len()).filter(|&j| plans[j].window.is_some()).collect();
+        let mut by_lo = scannable.clone();
+        by_lo.sort_by_key(|&j| plans[j].window.unwrap().0);
+        let mut by_hi = scannable;
+        by_hi.sort_by_key(|&j| plans[j].window.unwrap().1);
+        let n = plans.len();
+        Ok(Self {
+            threshold_sum: threshold_to_sum(options.threshold, d),
+            offsets: vec![0; n],
+            sums: vec![0; n],
+            active_threshold: vec![i32::MAX; n],
+            outcomes: vec![None; n],
+            table,
+            options,
+            plans,
+            by_lo,
+            by_hi,
+        })
+    }
+
+    pub fn table(&self) -> &GroundTable {
+        &self.table
+    }
+    pub fn options(&self) -> &RangerOptions {
+        &self.options
+    }
+    /// The sampled image columns, in output order.
+    pub fn columns(&self) -> Vec<u32> {
+        self.plans.iter().map(|p| p.column).collect()
+    }
+
+    /// Scans one frame into a new [`Scan`].
+    pub fn scan<P: Pixel>(&mut self, image: &ImageView<P>, timestamp_s: f64) -> Result<Scan> {
+        let mut scan = Scan::default();
+        self.scan_into(image, timestamp_s, &mut scan)?;
+        Ok(scan)
+    }
+
+    /// Scans one frame into `out`, reusing its buffer (no allocation once it has grown).
+    pub fn scan_into<P: Pixel>(
+        &mut self,
+        image: &ImageView<P>,
+        timestamp_s: f64,
+        out: &mut Scan,
+    ) -> Result<()> {
+        let (width, height) = (self.table.image_width(), self.table.image_height());
+        if image.width() != width || image.height() != height {
+            return Err(Error::InvalidImage(format!(
+                "image is {} x {} (w x h) but the calibration table is for {width} x {height}",
+                image.width(),
+                image.height()
+            )));
+        }
+        self.run_columns(image);
+        out.timestamp_s = timestamp_s;
+        out.readings.clear();
+        out.readings.extend(self.plans.iter().zip(&self.outcomes).map(|(plan, outcome)| {
+            ColumnReading {
+                column: plan.column,
+                start_row: plan.start_row as f64,
+                near: plan.near,
+                outcome: outcome.unwrap_or(ColumnOutcome::Invalid { row: None }),
+            }
+        }));
+        Ok(())
+    }
+
+    fn run_columns<P: Pixel>(&mut self, image: &ImageView<P>) {
+        let height = image.height();
+        let d = self.options.half_width_px;
+        let row_of = |k: usize| height - 1 - k;
+        for (o, plan) in self.outcomes.iter_mut().zip(&self.plans) {
+            *o = plan.window.is_none().then_some(ColumnOutcome::Invalid { row: None });
+        }
+        if self.by_lo.is_empty() {
+            return;
+        }
+        for (off, plan) in self.offsets.iter_mut().zip(&self.plans) {
+            *off = plan.column as usize * image.col_stride();
+        }
+        self.active_threshold.fill(i32::MAX);
+        let k_first = self.plans[self.by_lo[0]].window.unwrap().0;
+        for (j, plan) in self.plans.iter().enumerate() {
+            self.sums[j] = direct_response_at(image, plan.column as usize, k_first, d);
+        }
+        let mut unresolved = self.by_lo.len();
+        let (mut next_lo, mut next_hi) = (0, 0);
+        let mut k = k_first;
+        loop {
+            // Columns whose test window opens at k.
+            while next_lo < self.by_lo.len() && self.plans[self.by_lo[next_lo]].window.unwrap().0 == k {
+                self.active_threshold[self.by_lo[next_lo]] = self.threshold_sum;
+                next_lo += 1;
+            }
+            // Columns whose window closed below k without an edge: free up to their top row.
+            while next_hi < self.by_hi.len() && self.plans[self.by_hi[next_hi]].window.unwrap().1 < k {
+                let j = self.by_hi[next_hi];
+                next_hi += 1;
+                if self.outcomes[j].is_none() {
+                    self.outcomes[j] = Some(self.no_boundary(j, height));
+                    self.active_threshold[j] = i32::MAX;
+                    unresolved -= 1;
+                }
+            }
+            if unresolved == 0 {
+                break;
+            }
+            let any_crossing = self
+                .sums
+                .iter()
+                .zip(&self.active_threshold)
+                .fold(false, |any, (s, t)| any | (s.abs() > *t));
+            if any_crossing {
+                for j in 0..self.plans.len() {
+                    if self.sums[j].abs() > self.active_threshold[j] {
+                        self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
+                        self.active_threshold[j] = i32::MAX;
+                        unresolved -= 1;
+                    }
+                }
+                if unresolved == 0 {
+                    break;
+                }
+            }
+            // Advance every running sum from k to k + 1 (the windows stay inside the image:
+            // every window ends at or below height - 1 - d).
+            let (ra, rb, rc, re) = (
+                image.row(row_of(k - d)),
+                image.row(row_of(k)),
+                image.row(row_of(k + 1)),
+                image.row(row_of(k + d + 1)),
+            );
+            for (s, &o) in self.sums.iter_mut().zip(&self.offsets) {
+                *s += re[o].to_i32() - rc[o].to_i32() - rb[o].to_i32() + ra[o].to_i32();
+            }
+            k += 1;
+        }
+    }
+
+    fn no_boundary(&self, j: usize, height: usize) -> ColumnOutcome {
+        let plan = &self.plans[j];
+        let top_row = (height - 1 - plan.window.unwrap().1) as f64;
+        match self.table.lookup(plan.column as f64, top_row) {
+            Some(farthest) => ColumnOutcome::NoBoundary { top_row, farthest },
+            None => ColumnOutcome::Invalid { row: None },
+        }
+    }
+
+    fn resolve_crossing<P: Pixel>(&self, image: &ImageView<P>, j: usize, k_cross: usize) -> ColumnOutcome {
+        let plan = &self.plans[j];
+        let (lo, _) = plan.window.unwrap();
+        if k_cross == lo {
+            return ColumnOutcome::TooClose;
+        }
+        let d = self.options.half_width_px;
+        let height = image.height();
+        let c = plan.column as usize;
+        // Pixels exist for windows centred up to height - 1 - d; the refinement may look past
+        // the column's top limit by up to d rows to find the peak.
+        let k_max = height - 1 - d;
+        let peak = refine_crossing(self.options.refinement, k_cross, d, lo, k_max, |k| {
+            direct_response_at(image, c, k, d)
+        });
+        let row = (height - 1) as f64 - peak.k;
+        match self.table.lookup(c as f64, row) {
+            Some(point) => ColumnOutcome::Boundary { row, point },
+            None => ColumnOutcome::Invalid { row: Some(row) },
+        }
+    }
+}
+
+/// Works out where a column's scan starts and how far up it may go.
+fn plan_column(table: &GroundTable, options: &RangerOptions, column: u32, start_row: usize) -> ColumnPlan {
+    let height = table.image_height();
+    let d = options.half_width_px;
+    let u = column as f64;
+    let near = table.lookup(u, start_row as f64);
+    let within_range = |p: Point2| options.max_range_m.is_none_or(|r| p.norm() <= r);
+    let mut window = None;
+    if near.is_some_and(within_range) {
+        // Highest row, going up from the start, that still has ground (within the range limit).
+        let mut top = start_row;
+        while top > 0 && table.lookup(u, (top - 1) as f64).is_some_and(within_range) {
+            top -= 1;
+        }
+        let k_start = height - 1 - start_row;
+        let lo = k_start + d;
+        let hi = (height - 1 - top).min(height - 1 - d);
+        if lo <= hi {
+            window = Some((lo, hi));
+        }
+    }
+    ColumnPlan { column, start_row, near, window }
+}

@@ -1,0 +1,154 @@
+//! Options of the visual range sensor: one documented structure, validated when the ranger is
+//! built. The `[ranger]` table of the TOML config file is exactly these fields.
+
+use serde::{Deserialize, Serialize};
+
+use crate::edge::Refinement;
+use crate::error::{invalid_option, Result};
+
+/// Which image columns are sampled.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ColumnSelection {
+    /// `n` columns evenly spaced across the image: the centres of n equal strips.
+    Count(usize),
+    /// These image columns, in this order.
+    Explicit(Vec<u32>),
+}
+
+/// Where each column's scan starts (the bottom of its region of interest).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ColumnStart {
+    /// Skip this many rows at the bottom of every column (a bumper, a dark border row).
+    BottomMargin(usize),
+    /// Start row v (counted from the top) of every image column, e.g. from a mask image; its
+    /// length is the image width.
+    PerColumn(Vec<u32>),
+}
+
+/// Options of [`crate::ranger::VisualRanger`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RangerOptions {
+    /// Half-width d of the box filter [px], >= 1. Default 4: wide enough to average carpet
+    /// texture, narrow enough to resolve a boundary a few pixels from the bottom.
+    pub half_width_px: usize,
+    /// Edge threshold on |R|, the difference of the two window means, in the image's intensity
+    /// units (0-255 for 8-bit images), finite and >= 0. Default 12.
+    pub threshold: f64,
+    /// How the boundary row is placed after the first crossing. Default: sub-pixel peak.
+    pub refinement: Refinement,
+    /// Sampled columns. Default: 64 evenly spaced.
+    pub columns: ColumnSelection,
+    /// Start of each column's scan. Default: 2 px bottom margin (dead border rows are common).
+    pub start: ColumnStart,
+    /// Farthest ground range scanned [m]; `None` scans up to the highest row with ground.
+    pub max_range_m: Option<f64>,
+}
+
+impl Default for RangerOptions {
+    fn default() -> Self {
+        Self {
+            half_width_px: 4,
+            threshold: 12.0,
+            refinement: Refinement::SubPixel,
+            columns: ColumnSelection::Count(64),
+            start: ColumnStart::BottomMargin(2),
+            max_range_m: None,
+        }
+    }
+}
+
+/// Longest half-width accepted: keeps the raw sums of 16-bit pixels inside i32.
+pub const MAX_HALF_WIDTH_PX: usize = 4096;
+
+impl RangerOptions {
+    /// Checks every field that does not depend on the image size.
+    pub fn validate(&self) -> Result<()> {
+        if self.half_width_px < 1 || self.half_width_px > MAX_HALF_WIDTH_PX {
+            return Err(invalid_option(
+                "half_width",
+                format!("must be in 1..={MAX_HALF_WIDTH_PX}, got {}", self.half_width_px),
+            ));
+        }
+        if !(self.threshold.is_finite() && self.threshold >= 0.0) {
+            return Err(invalid_option(
+                "threshold",
+                format!("must be finite and >= 0, got {}", self.threshold),
+            ));
+        }
+        match &self.columns {
+            ColumnSelection::Count(0) => {
+                return Err(invalid_option("columns", "count must be at least 1"))
+            }
+            ColumnSelection::Explicit(c) if c.is_empty() => {
+                return Err(invalid_option("columns", "the column list is empty"))
+            }
+            _ => {}
+        }
+        if let Some(r) = self.max_range_m {
+            if !(r > 0.0 && r.is_finite()) {
+                return Err(invalid_option("max_range_m", format!("must be finite and > 0, got {r}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The sampled image columns for an image `width` pixels wide.
+    pub fn column_indices(&self, width: usize) -> Result<Vec<u32>> {
+        match &self.columns {
+            ColumnSelection::Count(n) => {
+                if *n > width {
+                    return Err(invalid_option(
+                        "columns",
+                        format!("asked for {n} columns of an image {width} pixels wide"),
+                    ));
+                }
+                Ok((0..*n)
+                    .map(|j| (((j as f64 + 0.5) * width as f64 / *n as f64) - 0.5).round() as u32)
+                    .collect())
+            }
+            ColumnSelection::Explicit(cols) => {
+                if let Some(bad) = cols.iter().find(|&&c| c as usize >= width) {
+                    return Err(invalid_option(
+                        "columns",
+                        format!("column {bad} is outside the image (width {width})"),
+                    ));
+                }
+                Ok(cols.clone())
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn evenly_spaced_columns_are_strip_centres() {
+        let o = RangerOptions { columns: ColumnSelection::Count(4), ..Default::default() };
+        assert_eq!(o.column_indices(640).unwrap(), vec![80, 240, 400, 560]);
+        let all = RangerOptions { columns: ColumnSelection::Count(640), ..Default::default() };
+        assert_eq!(all.column_indices(640).unwrap(), (0..640).collect::<Vec<u32>>());
+    }
+
+    #[test]
+    fn every_bad_option_is_an_error() {
+        let bad = [
+            RangerOptions { half_width_px: 0, ..Default::default() },
+            RangerOptions { threshold: f64::NAN, ..Default::default() },
+            RangerOptions { threshold: -1.0, ..Default::default() },
+            RangerOptions { columns: ColumnSelection::Count(0), ..Default::default() },
+            RangerOptions { columns: ColumnSelection::Explicit(vec![]), ..Default::default() },
+            RangerOptions { max_range_m: Some(0.0), ..Default::default() },
+        ];
+        for o in bad {
+            assert!(o.validate().is_err(), "{o:?}");
+        }
+        let o = RangerOptions { columns: ColumnSelection::Explicit(vec![3, 700]), ..Default::default() };
+        assert!(o.column_indices(640).is_err());
+        let o = RangerOptions { columns: ColumnSelection::Count(641), ..Default::default() };
+        assert!(o.column_indices(640).is_err());
+    }
+}

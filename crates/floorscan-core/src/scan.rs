@@ -1,0 +1,331 @@
+//! One frame's output of the visual range sensor: a reading per sampled image column, and its
+//! conversions to a laser-like fixed angular binning (REP 117) and to the public scans CSV.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{invalid_option, Result};
+use crate::pose::Point2;
+
+/// What a column saw. Names follow the public CSV (`status` column).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ColumnStatus {
+    /// The floor boundary was found and has a ground point.
+    Boundary,
+    /// No edge up to the column's top limit: free as far as the camera sees.
+    NoBoundary,
+    /// The edge is already in the first window at the bottom: the robot is too close to see floor.
+    TooClose,
+    /// The column cannot be used: its start or its boundary row has no ground point.
+    Invalid,
+}
+
+impl ColumnStatus {
+    pub const ALL: [ColumnStatus; 4] = [
+        ColumnStatus::Boundary,
+        ColumnStatus::NoBoundary,
+        ColumnStatus::TooClose,
+        ColumnStatus::Invalid,
+    ];
+
+    /// The name used in the CSV and in Python.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ColumnStatus::Boundary => "boundary",
+            ColumnStatus::NoBoundary => "no_boundary",
+            ColumnStatus::TooClose => "too_close",
+            ColumnStatus::Invalid => "invalid",
+        }
+    }
+
+    /// Small integer code used in numpy arrays (`0..=3`, in the order of [`Self::ALL`]).
+    pub fn code(self) -> u8 {
+        self as u8
+    }
+
+    pub fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.get(code as usize).copied()
+    }
+
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.as_str() == name)
+    }
+}
+
+/// What one column found, with the data each outcome carries (and nothing it does not).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum ColumnOutcome {
+    /// `row`: image row of the boundary [px, float, v = 0 at the top]; `point`: its ground
+    /// point in the camera ground frame [m].
+    Boundary { row: f64, point: Point2 },
+    /// Scanned up to `top_row` [px] without an edge; `farthest` is the ground point there [m].
+    NoBoundary { top_row: f64, farthest: Point2 },
+    /// The first window at the bottom already holds an edge.
+    TooClose,
+    /// The column start or the boundary row has no ground point; `row` is the row found, if any.
+    Invalid { row: Option<f64> },
+}
+
+/// One sampled column of one frame.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ColumnReading {
+    /// Image column u [px].
+    pub column: u32,
+    /// Row [px] where the column's scan starts (the nearest floor it looks at).
+    pub start_row: f64,
+    /// Ground point of the start row [m], `None` if it has none: the near edge of the column's
+    /// field of view on the floor. The map builder starts free space here.
+    pub near: Option<Point2>,
+    pub outcome: ColumnOutcome,
+}
+
+impl ColumnReading {
+    pub fn status(&self) -> ColumnStatus {
+        match self.outcome {
+            ColumnOutcome::Boundary { .. } => ColumnStatus::Boundary,
+            ColumnOutcome::NoBoundary { .. } => ColumnStatus::NoBoundary,
+            ColumnOutcome::TooClose => ColumnStatus::TooClose,
+            ColumnOutcome::Invalid { .. } => ColumnStatus::Invalid,
+        }
+    }
+
+    /// Image row reported for the column: the boundary row, the top row scanned, the start row
+    /// (too close), or the row found (invalid; NaN if none).
+    pub fn row(&self) -> f64 {
+        match self.outcome {
+            ColumnOutcome::Boundary { row, .. } => row,
+            ColumnOutcome::NoBoundary { top_row, .. } => top_row,
+            ColumnOutcome::TooClose => self.start_row,
+            ColumnOutcome::Invalid { row } => row.unwrap_or(f64::NAN),
+        }
+    }
+
+    /// The ground point the reading refers to: boundary point, farthest free point, or the near
+    /// edge of the field of view (too close).
+    pub fn point(&self) -> Option<Point2> {
+        match self.outcome {
+            ColumnOutcome::Boundary { point, .. } => Some(point),
+            ColumnOutcome::NoBoundary { farthest, .. } => Some(farthest),
+            ColumnOutcome::TooClose => self.near,
+            ColumnOutcome::Invalid { .. } => None,
+        }
+    }
+
+    /// Range [m] in REP 117 form: finite for a boundary, +inf for no return, -inf for too
+    /// close, NaN for invalid.
+    pub fn range_m(&self) -> f64 {
+        match self.outcome {
+            ColumnOutcome::Boundary { point, .. } => point.norm(),
+            ColumnOutcome::NoBoundary { .. } => f64::INFINITY,
+            ColumnOutcome::TooClose => f64::NEG_INFINITY,
+            ColumnOutcome::Invalid { .. } => f64::NAN,
+        }
+    }
+
+    /// Bearing [rad] = atan2(y, x) of [`Self::point`], NaN without one.
+    pub fn bearing_rad(&self) -> f64 {
+        self.point().map_or(f64::NAN, |p| p.bearing())
+    }
+}
+
+/// The readings of one frame, in the order the columns were sampled.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Scan {
+    /// Frame time [s].
+    pub timestamp_s: f64,
+    pub readings: Vec<ColumnReading>,
+}
+
+/// The header of the public scans CSV (one line per column reading).
+pub const SCAN_CSV_HEADER: &str = "timestamp,column,row,status,x,y,range,bearing";
+
+/// A laser-scan-like fixed angular binning of a scan (the fields of `sensor_msgs/LaserScan`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LaserBins {
+    pub angle_min_rad: f64,
+    pub angle_max_rad: f64,
+    pub angle_increment_rad: f64,
+    pub range_min_m: f64,
+    pub range_max_m: f64,
+    /// One range per bin [m]: the nearest boundary in the bin, +inf for no return (REP 117).
+    pub ranges_m: Vec<f64>,
+}
+
+impl Scan {
+    pub fn len(&self) -> usize {
+        self.readings.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.readings.is_empty()
+    }
+
+    /// Bins the boundary points by bearing into `[angle_min, angle_max]` in steps of
+    /// `increment` (all radians). Each bin holds the nearest boundary range inside it; a bin that
+    /// a `no_boundary` column falls in, with no boundary, is +inf; a bin that only too-close
+    /// columns fall in is -inf; a bin no column covers is +inf (no return).
+    pub fn to_laser_bins(
+        &self,
+        angle_min_rad: f64,
+        angle_max_rad: f64,
+        increment_rad: f64,
+    ) -> Result<LaserBins> {
+        if !(angle_min_rad.is_finite() && angle_max_rad.is_finite() && angle_max_rad > angle_min_rad)
+        {
+            return Err(invalid_option("angle_max", "must be finite and greater than angle_min"));
+        }
+        if !(increment_rad > 0.0 && increment_rad.is_finite()) {
+            return Err(invalid_option("angle_increment", "must be finite and > 0"));
+        }
+        let n = ((angle_max_rad - angle_min_rad) / increment_rad).round() as usize + 1;
+        if n > 1_000_000 {
+            return Err(invalid_option("angle_increment", "gives more than 10^6 bins"));
+        }
+        let mut ranges = vec![f64::INFINITY; n];
+        let mut has_boundary = vec![false; n];
+        let mut range_min = f64::INFINITY;
+        let mut range_max: f64 = 0.0;
+        for r in &self.readings {
+            let bearing = r.bearing_rad();
+            if !bearing.is_finite() {
+                continue;
+            }
+            let bin = ((bearing - angle_min_rad) / increment_rad).round();
+            if bin < 0.0 || bin >= n as f64 {
+                continue;
+            }
+            let b = bin as usize;
+            match r.outcome {
+                ColumnOutcome::Boundary { point, .. } => {
+                    let range = point.norm();
+                    if !has_boundary[b] || range < ranges[b] {
+                        ranges[b] = range;
+                    }
+                    has_boundary[b] = true;
+                    range_min = range_min.min(range);
+                    range_max = range_max.max(range);
+                }
+                ColumnOutcome::NoBoundary { farthest, .. } => {
+                    range_max = range_max.max(farthest.norm());
+                }
+                ColumnOutcome::TooClose => {
+                    if !has_boundary[b] {
+                        ranges[b] = f64::NEG_INFINITY;
+                    }
+                    if let Some(p) = r.near {
+                        range_min = range_min.min(p.norm());
+                    }
+                }
+                ColumnOutcome::Invalid { .. } => {}
+            }
+        }
+        Ok(LaserBins {
+            angle_min_rad,
+            angle_max_rad: angle_min_rad + (n - 1) as f64 * increment_rad,
+            angle_increment_rad: increment_rad,
+            range_min_m: if range_min.is_finite() { range_min } else { 0.0 },
+            range_max_m: range_max,
+            ranges_m: ranges,
+        })
+    }
+
+    /// Appends this scan's CSV lines (no header) to `out`. Non-finite values are written as
+    /// `nan`, `inf` and `-inf`, which Python's `float()` and numpy read back.
+    pub fn write_csv_lines(&self, out: &mut String) {
+        use std::fmt::Write;
+        for r in &self.readings {
+            let (x, y) = r.point().map_or((f64::NAN, f64::NAN), |p| (p.x, p.y));
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{},{},{},{}",
+                fmt_f64(self.timestamp_s),
+                r.column,
+                fmt_f64(r.row()),
+                r.status().as_str(),
+                fmt_f64(x),
+                fmt_f64(y),
+                fmt_f64(r.range_m()),
+                fmt_f64(r.bearing_rad()),
+            );
+        }
+    }
+}
+
+fn fmt_f64(v: f64) -> String {
+    if v.is_nan() {
+        "nan".into()
+    } else if v == f64::INFINITY {
+        "inf".into()
+    } else if v == f64::NEG_INFINITY {
+        "-inf".into()
+    } else {
+        // Shortest representation that round-trips.
+        format!("{v}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reading(column: u32, outcome: ColumnOutcome) -> ColumnReading {
+        ColumnReading { column, start_row: 230.0, near: Some(Point2::new(0.3, 0.0)), outcome }
+    }
+
+    fn boundary_at(column: u32, x: f64, y: f64) -> ColumnReading {
+        reading(column, ColumnOutcome::Boundary { row: 100.0, point: Point2::new(x, y) })
+    }
+
+    #[test]
+    fn status_names_and_codes_round_trip() {
+        for s in ColumnStatus::ALL {
+            assert_eq!(ColumnStatus::parse(s.as_str()), Some(s));
+            assert_eq!(ColumnStatus::from_code(s.code()), Some(s));
+        }
+        assert_eq!(ColumnStatus::from_code(4), None);
+    }
+
+    #[test]
+    fn ranges_follow_rep_117() {
+        let b = boundary_at(0, 3.0, 4.0);
+        assert_eq!(b.range_m(), 5.0);
+        let nb = reading(1, ColumnOutcome::NoBoundary { top_row: 60.0, farthest: Point2::new(4.0, 0.0) });
+        assert_eq!(nb.range_m(), f64::INFINITY);
+        assert_eq!(reading(2, ColumnOutcome::TooClose).range_m(), f64::NEG_INFINITY);
+        assert!(reading(3, ColumnOutcome::Invalid { row: None }).range_m().is_nan());
+    }
+
+    #[test]
+    fn laser_bins_keep_the_nearest_point_per_bin() {
+        let d = 0.1f64;
+        let scan = Scan {
+            timestamp_s: 1.0,
+            readings: vec![
+                boundary_at(0, 2.0 * (0.01f64).cos(), 2.0 * (0.01f64).sin()), // bin 0 (bearing 0.01)
+                boundary_at(1, 1.5 * (0.02f64).cos(), 1.5 * (0.02f64).sin()), // bin 0, nearer
+                boundary_at(2, 1.0 * (0.21f64).cos(), 1.0 * (0.21f64).sin()), // bin 2
+                reading(3, ColumnOutcome::NoBoundary { top_row: 50.0, farthest: Point2::new((0.1f64).cos() * 3.0, (0.1f64).sin() * 3.0) }),
+                boundary_at(4, 1.0, 5.0), // bearing 1.37: outside the range, ignored
+            ],
+        };
+        let bins = scan.to_laser_bins(0.0, 0.3, d).unwrap();
+        assert_eq!(bins.ranges_m.len(), 4);
+        assert!((bins.ranges_m[0] - 1.5).abs() < 1e-12);
+        assert_eq!(bins.ranges_m[1], f64::INFINITY);
+        assert!((bins.ranges_m[2] - 1.0).abs() < 1e-12);
+        assert_eq!(bins.ranges_m[3], f64::INFINITY);
+        assert!((bins.range_min_m - 1.0).abs() < 1e-12);
+        assert!(scan.to_laser_bins(0.3, 0.0, d).is_err());
+        assert!(scan.to_laser_bins(0.0, 0.3, 0.0).is_err());
+    }
+
+    #[test]
+    fn csv_lines_have_the_header_fields_in_order() {
+        let scan = Scan { timestamp_s: 0.5, readings: vec![boundary_at(7, 3.0, 4.0), reading(8, ColumnOutcome::TooClose)] };
+        let mut s = String::new();
+        scan.write_csv_lines(&mut s);
+        let lines: Vec<&str> = s.lines().collect();
+        assert_eq!(lines[0], "0.5,7,100,boundary,3,4,5,0.9272952180016122");
+        assert_eq!(lines[1], "0.5,8,230,too_close,0.3,0,-inf,0");
+        assert_eq!(SCAN_CSV_HEADER.split(',').count(), lines[0].split(',').count());
+    }
+}

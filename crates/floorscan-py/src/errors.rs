@@ -1,0 +1,55 @@
+//! Maps each core error variant to its own Python exception class (defined in
+//! `python/floorscan/errors.py`, all subclasses of `floorscan.FloorscanError`).
+
+use floorscan_core::Error;
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+
+/// The Python class name for a core error variant.
+fn class_name(e: &Error) -> &'static str {
+    match e {
+        Error::InvalidImage(_) => "ImageError",
+        Error::InvalidOption { .. } => "OptionError",
+        Error::InvalidTable(_) => "TableError",
+        Error::UnsupportedVersion { .. } => "UnsupportedVersionError",
+        Error::Malformed { .. } => "FileFormatError",
+        Error::InvalidGeometry(_) => "GeometryError",
+        Error::LengthMismatch(_) => "LengthMismatchError",
+        Error::OutOfBounds(_) => "OutOfBoundsError",
+    }
+}
+
+/// Converts a core error into the matching Python exception.
+pub fn to_pyerr(e: Error) -> PyErr {
+    Python::attach(|py| {
+        let message = e.to_string();
+        match py
+            .import("floorscan.errors")
+            .and_then(|m| m.getattr(class_name(&e)))
+        {
+            Ok(cls) => PyErr::from_type(cls.cast_into().expect("exception class"), message),
+            Err(_) => PyRuntimeError::new_err(message),
+        }
+    })
+}
+
+/// `?`-friendly conversion for core results.
+pub trait IntoPyResult<T> {
+    fn py(self) -> PyResult<T>;
+}
+
+impl<T> IntoPyResult<T> for floorscan_core::Result<T> {
+    fn py(self) -> PyResult<T> {
+        self.map_err(to_pyerr)
+    }
+}
+
+/// A Python exception of class `name` from `floorscan.errors` (for binding-level checks).
+pub fn error(name: &str, message: String) -> PyErr {
+    Python::attach(|py| {
+        match py.import("floorscan.errors").and_then(|m| m.getattr(name)) {
+            Ok(cls) => PyErr::from_type(cls.cast_into().expect("exception class"), message),
+            Err(_) => PyRuntimeError::new_err(message),
+        }
+    })
+}

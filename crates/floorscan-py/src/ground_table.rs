@@ -1,0 +1,128 @@
+//! Bindings of `floorscan_core::ground_table` and the model-based table of `mount`.
+
+use floorscan_core::mount::ground_table_from_camera;
+use floorscan_core::{CameraMount, GroundTable, Lens};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
+use pyo3::prelude::*;
+
+use crate::errors::{error, IntoPyResult};
+
+#[pyclass(name = "GroundTable", module = "floorscan._native", frozen)]
+#[derive(Clone)]
+pub struct PyGroundTable {
+    pub inner: GroundTable,
+}
+
+fn parse_json<T: serde::de::DeserializeOwned>(what: &str, text: &str) -> PyResult<T> {
+    serde_json::from_str(text).map_err(|e| error("OptionError", format!("invalid {what}: {e}")))
+}
+
+#[pymethods]
+impl PyGroundTable {
+    #[staticmethod]
+    fn from_arrays(
+        image_width: usize,
+        image_height: usize,
+        spacing_px: usize,
+        x_m: PyReadonlyArray1<'_, f64>,
+        y_m: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Self> {
+        let x = x_m.as_array().to_vec();
+        let y = y_m.as_array().to_vec();
+        let inner = GroundTable::from_arrays(image_width, image_height, spacing_px, &x, &y).py()?;
+        Ok(Self { inner })
+    }
+
+    #[staticmethod]
+    fn from_camera(
+        py: Python<'_>,
+        lens_json: &str,
+        mount_json: &str,
+        image_width: usize,
+        image_height: usize,
+        spacing_px: usize,
+        max_range_m: f64,
+    ) -> PyResult<Self> {
+        let lens: Lens = parse_json("lens", lens_json)?;
+        let mount: CameraMount = parse_json("mount", mount_json)?;
+        let inner = py
+            .detach(|| {
+                ground_table_from_camera(&lens, &mount, image_width, image_height, spacing_px, max_range_m)
+            })
+            .py()?;
+        Ok(Self { inner })
+    }
+
+    #[staticmethod]
+    fn from_json(text: &str) -> PyResult<Self> {
+        Ok(Self { inner: GroundTable::from_json(text).py()? })
+    }
+
+    fn to_json(&self) -> String {
+        self.inner.to_json()
+    }
+
+    /// Ground points at pixels (u, v): two float64 arrays, NaN where there is no ground.
+    fn lookup<'py>(
+        &self,
+        py: Python<'py>,
+        u: PyReadonlyArray1<'py, f64>,
+        v: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let (u, v) = (u.as_array(), v.as_array());
+        if u.len() != v.len() {
+            return Err(error(
+                "LengthMismatchError",
+                format!("u has {} values, v has {}", u.len(), v.len()),
+            ));
+        }
+        let (u, v) = (u.to_vec(), v.to_vec());
+        let (xs, ys): (Vec<f64>, Vec<f64>) = py.detach(|| {
+            u.iter()
+                .zip(&v)
+                .map(|(&u, &v)| self.inner.lookup(u, v).map_or((f64::NAN, f64::NAN), |p| (p.x, p.y)))
+                .unzip()
+        });
+        Ok((PyArray1::from_vec(py, xs), PyArray1::from_vec(py, ys)))
+    }
+
+    #[getter]
+    fn image_width(&self) -> usize {
+        self.inner.image_width()
+    }
+    #[getter]
+    fn image_height(&self) -> usize {
+        self.inner.image_height()
+    }
+    #[getter]
+    fn spacing_px(&self) -> usize {
+        self.inner.spacing_px()
+    }
+
+    /// Node values as two (nodes_v, nodes_u) float64 arrays, NaN for no ground.
+    fn node_arrays<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let (nu, nv) = self.inner.node_shape();
+        let x: Vec<f64> = self.inner.nodes().iter().map(|p| p.map_or(f64::NAN, |p| p.x)).collect();
+        let y: Vec<f64> = self.inner.nodes().iter().map(|p| p.map_or(f64::NAN, |p| p.y)).collect();
+        Ok((
+            PyArray1::from_vec(py, x).reshape([nv, nu])?,
+            PyArray1::from_vec(py, y).reshape([nv, nu])?,
+        ))
+    }
+
+    /// The free-form metadata as a JSON object string.
+    fn metadata_json(&self) -> String {
+        serde_json::to_string(&self.inner.metadata).unwrap_or_else(|_| "{}".into())
+    }
+
+    /// A copy of the table with `metadata` (a JSON object string) replacing its metadata.
+    fn with_metadata_json(&self, metadata: &str) -> PyResult<Self> {
+        let mut inner = self.inner.clone();
+        inner.metadata = parse_json("metadata", metadata)?;
+        Ok(Self { inner })
+    }
+
+    fn __eq__(&self, other: &Self) -> bool {
+        self.inner == other.inner
+    }
+}

@@ -1,0 +1,20 @@
+//! floorscan's native Python module (`floorscan._native`). Thin: numpy in and out, the GIL
+//! released on heavy calls, every core error mapped to its Python class. The public, documented
+//! API is the Python package `floorscan`, which wraps these classes.
+
+use pyo3::prelude::*;
+
+mod errors;
+mod ground_table;
+mod image;
+mod ranger;
+mod scan;
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<ground_table::PyGroundTable>()?;
+    m.add_class::<ranger::PyVisualRanger>()?;
+    m.add_class::<scan::PyScan>()?;
+    Ok(())
+}

@@ -1,0 +1,64 @@
+//! Bindings of `floorscan_core::ranger`. Options arrive as JSON (`RangerOptions` serde form),
+//! built and validated by the Python wrapper `floorscan.VisualRanger`.
+
+use floorscan_core::{RangerOptions, Scan, VisualRanger};
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+
+use crate::errors::{error, IntoPyResult};
+use crate::ground_table::PyGroundTable;
+use crate::image::BorrowedImage;
+use crate::scan::PyScan;
+
+#[pyclass(name = "VisualRanger", module = "floorscan._native")]
+pub struct PyVisualRanger {
+    inner: VisualRanger,
+}
+
+#[pymethods]
+impl PyVisualRanger {
+    #[new]
+    fn new(table: &PyGroundTable, options_json: &str) -> PyResult<Self> {
+        let options: RangerOptions = serde_json::from_str(options_json)
+            .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
+        Ok(Self { inner: VisualRanger::new(table.inner.clone(), options).py()? })
+    }
+
+    /// Scans a (H, W) uint8 or uint16 image; the GIL is released while scanning.
+    fn scan(&mut self, py: Python<'_>, image: &Bound<'_, PyAny>, timestamp: f64) -> PyResult<PyScan> {
+        let mut out = Scan::default();
+        if let Ok(a) = image.cast::<PyArray2<u8>>() {
+            let img = BorrowedImage::new(a)?;
+            let view = img.view()?;
+            let ranger = &mut self.inner;
+            py.detach(|| ranger.scan_into(&view, timestamp, &mut out)).py()?;
+        } else if let Ok(a) = image.cast::<PyArray2<u16>>() {
+            let img = BorrowedImage::new(a)?;
+            let view = img.view()?;
+            let ranger = &mut self.inner;
+            py.detach(|| ranger.scan_into(&view, timestamp, &mut out)).py()?;
+        } else {
+            return Err(error(
+                "ImageError",
+                "image must be a 2-D numpy array of uint8 or uint16 (H, W)".into(),
+            ));
+        }
+        Ok(PyScan { inner: out })
+    }
+
+    /// The sampled image columns, in output order.
+    #[getter]
+    fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
+        PyArray1::from_vec(py, self.inner.columns())
+    }
+
+    #[getter]
+    fn options_json(&self) -> String {
+        serde_json::to_string(self.inner.options()).unwrap_or_default()
+    }
+
+    #[getter]
+    fn table(&self) -> PyGroundTable {
+        PyGroundTable { inner: self.inner.table().clone() }
+    }
+}

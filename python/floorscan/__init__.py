@@ -1,0 +1,53 @@
+"""floorscan: one cheap camera as a laser-like range sensor, fused into occupancy maps.
+
+An implementation of Howard & Kitchen, *Fast Visual Mapping for Mobile Robot Navigation*.
+Conventions: SI units, REP 103 frames (x forward, y left, angles counter-clockwise in
+radians), REP 117 ranges (+inf no return), image rows counted from the top.
+"""
+
+from . import _native
+from .errors import (
+    CalibrationError,
+    ConfigError,
+    DatasetError,
+    FileFormatError,
+    FloorscanError,
+    GeometryError,
+    ImageError,
+    ImageTypeError,
+    LengthMismatchError,
+    OptionError,
+    OutOfBoundsError,
+    TableError,
+    UnsupportedVersionError,
+)
+from .ground_table import GroundTable
+from .lens import CameraMount, Lens
+from .ranger import VisualRanger
+from .scan import SCAN_CSV_HEADER, Scan, read_scans_csv, write_scans_csv
+
+__version__ = _native.__version__
+
+__all__ = [
+    "CalibrationError",
+    "CameraMount",
+    "ConfigError",
+    "DatasetError",
+    "FileFormatError",
+    "FloorscanError",
+    "GeometryError",
+    "GroundTable",
+    "ImageError",
+    "ImageTypeError",
+    "Lens",
+    "LengthMismatchError",
+    "OptionError",
+    "OutOfBoundsError",
+    "SCAN_CSV_HEADER",
+    "Scan",
+    "TableError",
+    "UnsupportedVersionError",
+    "VisualRanger",
+    "read_scans_csv",
+    "write_scans_csv",
+]

@@ -1,0 +1,47 @@
+"""Atomic file writes: write a temporary file beside the target, then rename it over the target,
+so a crash never leaves a half-written file where a good one was."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+from typing import Callable, Union
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def write_atomic(path: PathLike, data: Union[bytes, str]) -> Path:
+    """Writes ``data`` to ``path`` atomically; returns the path."""
+    payload = data.encode("utf-8") if isinstance(data, str) else data
+    return write_atomic_with(path, lambda f: f.write(payload))
+
+
+def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix: str = "") -> Path:
+    """Calls ``write(binary_file)`` on a temporary file, then renames it to ``path``."""
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix or ".tmp", dir=target.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, target)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    return target
+
+
+def temp_path_for(path: PathLike, suffix: str) -> Path:
+    """A fresh temporary path beside ``path`` (for writers that insist on a file name, such as
+    image encoders choosing a format by extension). Rename it with ``os.replace`` when done."""
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
+    os.close(fd)
+    return Path(tmp)

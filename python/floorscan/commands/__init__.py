@@ -1,0 +1,7 @@
+"""Command-line subcommands: one module per command, each with ``register(subparsers)``."""
+
+COMMAND_MODULES = [
+    "floorscan.commands.scan",
+    "floorscan.commands.overlay",
+    "floorscan.commands.demo",
+]
