@@ -21,7 +21,9 @@ def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix:
     """Calls ``write(binary_file)`` on a temporary file, then renames it to ``path``."""
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix or ".tmp", dir=target.parent)
+    fd, tmp = tempfile.mkstemp(
+        prefix=f".{target.name}.", suffix=suffix or ".tmp", dir=target.parent
+    )
     try:
         with os.fdopen(fd, "wb") as f:
             write(f)

@@ -14,7 +14,9 @@ def build_parser() -> argparse.ArgumentParser:
     from . import __version__
     from .commands import COMMAND_MODULES
 
-    parser = argparse.ArgumentParser(prog="floorscan", description="One camera as a range sensor, fused into occupancy maps.")
+    parser = argparse.ArgumentParser(
+        prog="floorscan", description="One camera as a range sensor, fused into occupancy maps."
+    )
     parser.add_argument("--version", action="version", version=f"floorscan {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMAND_MODULES:

@@ -25,7 +25,9 @@ def read_images_txt(folder: PathLike) -> List[ImageEntry]:
     try:
         lines = index.read_text(encoding="utf-8").splitlines()
     except OSError as e:
-        raise DatasetError(f"{folder} is not a dataset folder: cannot read images.txt ({e})") from None
+        raise DatasetError(
+            f"{folder} is not a dataset folder: cannot read images.txt ({e})"
+        ) from None
     entries: List[ImageEntry] = []
     for lineno, line in enumerate(lines, start=1):
         line = line.strip()
@@ -33,11 +35,15 @@ def read_images_txt(folder: PathLike) -> List[ImageEntry]:
             continue
         parts = line.split()
         if len(parts) != 2:
-            raise DatasetError(f"{index}:{lineno}: expected '<timestamp> <image path>', got {line!r}")
+            raise DatasetError(
+                f"{index}:{lineno}: expected '<timestamp> <image path>', got {line!r}"
+            )
         try:
             t = float(parts[0])
         except ValueError:
-            raise DatasetError(f"{index}:{lineno}: timestamp {parts[0]!r} is not a number") from None
+            raise DatasetError(
+                f"{index}:{lineno}: timestamp {parts[0]!r} is not a number"
+            ) from None
         entries.append(ImageEntry(t, folder / parts[1]))
     return entries
 

@@ -28,14 +28,20 @@ class GroundTable:
 
     __slots__ = ("_native",)
 
-    def __init__(self, native: "_native.GroundTable") -> None:
+    def __init__(self, native: _native.GroundTable) -> None:
         self._native = native
 
     # --- construction -------------------------------------------------------------------
     @classmethod
     def from_arrays(
-        cls, x_m: np.ndarray, y_m: np.ndarray, *, image_width: int, image_height: int, spacing_px: int
-    ) -> "GroundTable":
+        cls,
+        x_m: np.ndarray,
+        y_m: np.ndarray,
+        *,
+        image_width: int,
+        image_height: int,
+        spacing_px: int,
+    ) -> GroundTable:
         """From (nodes_v, nodes_u) arrays of ground x and y [m]; NaN marks "no ground".
 
         >>> import numpy as np
@@ -49,7 +55,9 @@ class GroundTable:
         """
         x = np.asarray(x_m, dtype=np.float64)
         y = np.asarray(y_m, dtype=np.float64)
-        nu, nv = cls.node_shape_for(image_width=image_width, image_height=image_height, spacing_px=spacing_px)
+        nu, nv = cls.node_shape_for(
+            image_width=image_width, image_height=image_height, spacing_px=spacing_px
+        )
         for name, a in (("x_m", x), ("y_m", y)):
             if a.shape != (nv, nu):
                 raise TableError(
@@ -58,7 +66,11 @@ class GroundTable:
                 )
         return cls(
             _native.GroundTable.from_arrays(
-                int(image_width), int(image_height), int(spacing_px), x.ravel().copy(), y.ravel().copy()
+                int(image_width),
+                int(image_height),
+                int(spacing_px),
+                x.ravel().copy(),
+                y.ravel().copy(),
             )
         )
 
@@ -70,15 +82,20 @@ class GroundTable:
         image_width: int,
         image_height: int,
         spacing_px: int,
-    ) -> "GroundTable":
+    ) -> GroundTable:
         """By evaluating ``ground_of_pixel(u, v) -> (x, y)`` (vectorised, NaN for no ground) on
         the node grid."""
-        nu, nv = cls.node_shape_for(image_width=image_width, image_height=image_height, spacing_px=spacing_px)
+        nu, nv = cls.node_shape_for(
+            image_width=image_width, image_height=image_height, spacing_px=spacing_px
+        )
         v, u = np.mgrid[0:nv, 0:nu].astype(np.float64) * spacing_px
         x, y = ground_of_pixel(u, v)
         return cls.from_arrays(
-            np.broadcast_to(x, u.shape), np.broadcast_to(y, u.shape),
-            image_width=image_width, image_height=image_height, spacing_px=spacing_px,
+            np.broadcast_to(x, u.shape),
+            np.broadcast_to(y, u.shape),
+            image_width=image_width,
+            image_height=image_height,
+            spacing_px=spacing_px,
         )
 
     @classmethod
@@ -91,12 +108,16 @@ class GroundTable:
         image_height: int,
         spacing_px: int = 8,
         max_range_m: float = 10.0,
-    ) -> "GroundTable":
+    ) -> GroundTable:
         """From a lens model and mount (for users with OpenCV intrinsics). "No ground" above
         the horizon and beyond ``max_range_m`` [m]."""
         return cls(
             _native.GroundTable.from_camera(
-                lens.to_json(), mount.to_json(), int(image_width), int(image_height), int(spacing_px),
+                lens.to_json(),
+                mount.to_json(),
+                int(image_width),
+                int(image_height),
+                int(spacing_px),
                 float(max_range_m),
             )
         )
@@ -131,7 +152,7 @@ class GroundTable:
         """Free-form provenance saved with the table (source, calibration report summary)."""
         return json.loads(self._native.metadata_json())
 
-    def with_metadata(self, metadata: Dict[str, Any]) -> "GroundTable":
+    def with_metadata(self, metadata: Dict[str, Any]) -> GroundTable:
         """A copy with ``metadata`` replacing the table's metadata."""
         return GroundTable(self._native.with_metadata_json(json.dumps(metadata)))
 
@@ -160,7 +181,7 @@ class GroundTable:
         return self._native.to_json()
 
     @classmethod
-    def from_json(cls, text: str) -> "GroundTable":
+    def from_json(cls, text: str) -> GroundTable:
         return cls(_native.GroundTable.from_json(text))
 
     def save(self, path: PathLike) -> Path:
@@ -168,7 +189,7 @@ class GroundTable:
         return write_atomic(path, self.to_json())
 
     @classmethod
-    def load(cls, path: PathLike) -> "GroundTable":
+    def load(cls, path: PathLike) -> GroundTable:
         """Reads a table file; a damaged file or another version raises FileFormatError."""
         try:
             text = Path(path).read_text(encoding="utf-8")

@@ -25,7 +25,9 @@ def as_grey(image) -> np.ndarray:
     elif image.ndim == 3 and image.shape[2] == 1:
         image = image[..., 0]
     if image.ndim != 2:
-        raise ImageError(f"image must be (H, W) greyscale or (H, W, 3) colour, got shape {image.shape}")
+        raise ImageError(
+            f"image must be (H, W) greyscale or (H, W, 3) colour, got shape {image.shape}"
+        )
     if image.shape[0] == 0 or image.shape[1] == 0:
         raise ImageError(f"image is empty: shape {image.shape} (H, W)")
     return image

@@ -31,7 +31,7 @@ class Lens:
     params: Dict[str, float]
 
     @classmethod
-    def pinhole(cls, *, fx: float, fy: float, cx: float, cy: float) -> "Lens":
+    def pinhole(cls, *, fx: float, fy: float, cx: float, cy: float) -> Lens:
         """Ideal perspective projection [px]."""
         return cls._make("pinhole", fx=fx, fy=fy, cx=cx, cy=cy)
 
@@ -48,12 +48,14 @@ class Lens:
         p1: float = 0.0,
         p2: float = 0.0,
         k3: float = 0.0,
-    ) -> "Lens":
+    ) -> Lens:
         """Perspective projection with OpenCV's plumb_bob distortion (k1, k2, p1, p2, k3)."""
-        return cls._make("pinhole_radial", fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3)
+        return cls._make(
+            "pinhole_radial", fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3
+        )
 
     @classmethod
-    def equidistant(cls, *, f: float, cx: float, cy: float) -> "Lens":
+    def equidistant(cls, *, f: float, cx: float, cy: float) -> Lens:
         """Equidistant fisheye: image radius = f * angle from the optical axis [px]."""
         return cls._make("equidistant", f=f, cx=cx, cy=cy)
 
@@ -69,12 +71,12 @@ class Lens:
         k2: float = 0.0,
         k3: float = 0.0,
         k4: float = 0.0,
-    ) -> "Lens":
+    ) -> Lens:
         """OpenCV's fisheye model: theta_d = theta (1 + k1 theta^2 + ... + k4 theta^8)."""
         return cls._make("kannala_brandt", fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, k3=k3, k4=k4)
 
     @classmethod
-    def _make(cls, model: str, **params: float) -> "Lens":
+    def _make(cls, model: str, **params: float) -> Lens:
         clean = {k: _finite(k, v) for k, v in params.items()}
         for k in ("fx", "fy", "f"):
             if k in clean and clean[k] <= 0:
@@ -82,7 +84,7 @@ class Lens:
         return cls(model, clean)
 
     @classmethod
-    def from_dict(cls, d: Dict[str, Any]) -> "Lens":
+    def from_dict(cls, d: Dict[str, Any]) -> Lens:
         """From ``{"model": ..., <params>}`` (the form in config files and table metadata)."""
         d = dict(d)
         model = d.pop("model", None)
@@ -93,7 +95,9 @@ class Lens:
             "kannala_brandt": cls.kannala_brandt,
         }
         if model not in makers:
-            raise OptionError(f"invalid option `lens.model`: expected one of {sorted(makers)}, got {model!r}")
+            raise OptionError(
+                f"invalid option `lens.model`: expected one of {sorted(makers)}, got {model!r}"
+            )
         try:
             return makers[model](**d)
         except TypeError as e:

@@ -18,7 +18,9 @@ STATUS_COLOURS = {
 }
 
 
-def draw_scan_overlay(image: np.ndarray, scan: Scan, *, truth_rows: Optional[np.ndarray] = None) -> np.ndarray:
+def draw_scan_overlay(
+    image: np.ndarray, scan: Scan, *, truth_rows: Optional[np.ndarray] = None
+) -> np.ndarray:
     """An RGB uint8 copy of ``image`` with the scan drawn on it (and, if given, the true
     boundary rows per sampled column as small white dashes)."""
     from PIL import Image, ImageDraw
@@ -35,7 +37,11 @@ def draw_scan_overlay(image: np.ndarray, scan: Scan, *, truth_rows: Optional[np.
         colour = STATUS_COLOURS[name]
         u = float(u)
         if name == "boundary":
-            draw.ellipse([u - radius, v - radius, u + radius, v + radius], outline=colour, width=max(1, radius // 2))
+            draw.ellipse(
+                [u - radius, v - radius, u + radius, v + radius],
+                outline=colour,
+                width=max(1, radius // 2),
+            )
         elif name == "no_boundary":
             draw.line([u, v, u, v + 2 * radius], fill=colour, width=2)
         elif name == "too_close":
@@ -47,5 +53,7 @@ def draw_scan_overlay(image: np.ndarray, scan: Scan, *, truth_rows: Optional[np.
     if truth_rows is not None:
         for u, t in zip(scan.columns, np.asarray(truth_rows, dtype=float)):
             if np.isfinite(t):
-                draw.line([float(u) - radius, t, float(u) + radius, t], fill=(255, 255, 255), width=1)
+                draw.line(
+                    [float(u) - radius, t, float(u) + radius, t], fill=(255, 255, 255), width=1
+                )
     return np.asarray(canvas)

@@ -132,7 +132,9 @@ def build_ranger_options(
     try:
         threshold = float(threshold)
     except (TypeError, ValueError):
-        raise OptionError(f"invalid option `threshold`: must be a number, got {threshold!r}") from None
+        raise OptionError(
+            f"invalid option `threshold`: must be a number, got {threshold!r}"
+        ) from None
     if not math.isfinite(threshold) or threshold < 0:
         raise OptionError(f"invalid option `threshold`: must be finite and >= 0, got {threshold}")
     if refine is False:
@@ -140,31 +142,51 @@ def build_ranger_options(
     elif refine is True:
         refine = "subpixel"
     if refine not in REFINEMENTS:
-        raise OptionError(f"invalid option `refine`: expected one of {sorted(REFINEMENTS)}, got {refine!r}")
+        raise OptionError(
+            f"invalid option `refine`: expected one of {sorted(REFINEMENTS)}, got {refine!r}"
+        )
     if isinstance(columns, (int, np.integer)) and not isinstance(columns, bool):
         if not 1 <= columns <= image_width:
-            raise OptionError(f"invalid option `columns`: count must be in 1..={image_width}, got {columns}")
+            raise OptionError(
+                f"invalid option `columns`: count must be in 1..={image_width}, got {columns}"
+            )
         column_sel: Dict[str, Any] = {"count": int(columns)}
     else:
         cols = np.asarray(columns)
         if cols.ndim != 1 or cols.size == 0 or cols.dtype.kind not in "iu":
-            raise OptionError("invalid option `columns`: give a count or a non-empty list of integers")
+            raise OptionError(
+                "invalid option `columns`: give a count or a non-empty list of integers"
+            )
         bad = cols[(cols < 0) | (cols >= image_width)]
         if bad.size:
-            raise OptionError(f"invalid option `columns`: column {int(bad[0])} is outside the image (width {image_width})")
+            raise OptionError(
+                f"invalid option `columns`: column {int(bad[0])} is outside the image (width {image_width})"
+            )
         column_sel = {"explicit": [int(c) for c in cols]}
     if mask is not None:
-        start: Dict[str, Any] = {"per_column": start_rows_from_mask(mask, image_width, image_height)}
+        start: Dict[str, Any] = {
+            "per_column": start_rows_from_mask(mask, image_width, image_height)
+        }
     else:
-        if isinstance(bottom_margin, bool) or not isinstance(bottom_margin, (int, np.integer)) or bottom_margin < 0:
-            raise OptionError(f"invalid option `bottom_margin`: must be an integer >= 0, got {bottom_margin!r}")
+        if (
+            isinstance(bottom_margin, bool)
+            or not isinstance(bottom_margin, (int, np.integer))
+            or bottom_margin < 0
+        ):
+            raise OptionError(
+                f"invalid option `bottom_margin`: must be an integer >= 0, got {bottom_margin!r}"
+            )
         if bottom_margin >= image_height:
-            raise OptionError(f"invalid option `bottom_margin`: {bottom_margin} rows leaves nothing of a {image_height}-row image")
+            raise OptionError(
+                f"invalid option `bottom_margin`: {bottom_margin} rows leaves nothing of a {image_height}-row image"
+            )
         start = {"bottom_margin": int(bottom_margin)}
     if max_range_m is not None:
         max_range_m = float(max_range_m)
         if not (math.isfinite(max_range_m) and max_range_m > 0):
-            raise OptionError(f"invalid option `max_range_m`: must be finite and > 0, got {max_range_m}")
+            raise OptionError(
+                f"invalid option `max_range_m`: must be finite and > 0, got {max_range_m}"
+            )
     return {
         "half_width_px": int(half_width),
         "threshold": threshold,
@@ -180,7 +202,9 @@ def start_rows_from_mask(mask: np.ndarray, image_width: int, image_height: int) 
     sees no floor and reads as ``invalid``)."""
     m = np.asarray(mask)
     if m.shape != (image_height, image_width):
-        raise OptionError(f"invalid option `mask`: shape must be (H, W) = ({image_height}, {image_width}), got {m.shape}")
+        raise OptionError(
+            f"invalid option `mask`: shape must be (H, W) = ({image_height}, {image_width}), got {m.shape}"
+        )
     m = m.astype(bool)
     flipped = m[::-1]
     any_true = flipped.any(axis=0)

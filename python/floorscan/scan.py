@@ -36,7 +36,7 @@ class Scan:
 
     __slots__ = ("_native",)
 
-    def __init__(self, native: "_native.Scan") -> None:
+    def __init__(self, native: _native.Scan) -> None:
         self._native = native
 
     @property
@@ -72,7 +72,9 @@ class Scan:
     ) -> Dict[str, object]:
         """Fixed angular binning with the fields of ``sensor_msgs/LaserScan`` [rad, m]: the
         nearest boundary per bin, +inf for no return (REP 117)."""
-        return self._native.to_laser_bins(float(angle_min), float(angle_max), float(angle_increment))
+        return self._native.to_laser_bins(
+            float(angle_min), float(angle_max), float(angle_increment)
+        )
 
     def csv_lines(self) -> str:
         """The scan's lines of the public CSV, without the header."""
@@ -90,7 +92,7 @@ class Scan:
         y,
         near_x=None,
         near_y=None,
-    ) -> "Scan":
+    ) -> Scan:
         """Builds a scan from arrays (``status`` as names or codes)."""
         status = np.asarray(status)
         if status.dtype.kind in "US" or status.dtype == object:
@@ -170,4 +172,6 @@ def _scan_from_rows(rows: List[List[str]], source: str) -> Scan:
     except ValueError as e:
         raise FileFormatError(f"{source}:{rows[0][-1]}: {e}") from None
     status = [r[3] for r in rows]
-    return Scan.from_arrays(timestamp=t, columns=cols, rows=vals[:, 0], status=status, x=vals[:, 1], y=vals[:, 2])
+    return Scan.from_arrays(
+        timestamp=t, columns=cols, rows=vals[:, 0], status=status, x=vals[:, 1], y=vals[:, 2]
+    )

@@ -66,8 +66,14 @@ impl GroundTable {
                 nodes.len()
             )));
         }
-        if nodes.iter().flatten().any(|p| !(p.x.is_finite() && p.y.is_finite())) {
-            return Err(Error::InvalidTable("ground points must be finite (use no-ground instead)".into()));
+        if nodes
+            .iter()
+            .flatten()
+            .any(|p| !(p.x.is_finite() && p.y.is_finite()))
+        {
+            return Err(Error::InvalidTable(
+                "ground points must be finite (use no-ground instead)".into(),
+            ));
         }
         Ok(Self {
             image_width,
@@ -298,7 +304,13 @@ mod tests {
             (!(u == 16.0 && v == 16.0)).then(|| affine(u, v))
         })
         .unwrap();
-        for (u, v) in [(9.0, 9.0), (23.0, 9.0), (9.0, 23.0), (23.0, 23.0), (16.0, 16.0)] {
+        for (u, v) in [
+            (9.0, 9.0),
+            (23.0, 9.0),
+            (9.0, 23.0),
+            (23.0, 23.0),
+            (16.0, 16.0),
+        ] {
             assert!(t.lookup(u, v).is_none(), "({u}, {v}) should be no ground");
         }
         for (u, v) in [(7.0, 7.0), (25.0, 25.0), (30.0, 12.0)] {
@@ -317,8 +329,10 @@ mod tests {
 
     #[test]
     fn json_round_trip_keeps_every_node_and_the_metadata() {
-        let mut t = GroundTable::from_fn(40, 30, 8, |u, v| (v > 8.0).then(|| affine(u, v))).unwrap();
-        t.metadata.insert("source".into(), serde_json::json!("test"));
+        let mut t =
+            GroundTable::from_fn(40, 30, 8, |u, v| (v > 8.0).then(|| affine(u, v))).unwrap();
+        t.metadata
+            .insert("source".into(), serde_json::json!("test"));
         let back = GroundTable::from_json(&t.to_json()).unwrap();
         assert_eq!(back, t);
     }
@@ -328,16 +342,25 @@ mod tests {
         let t = GroundTable::from_fn(40, 30, 8, |u, v| Some(affine(u, v))).unwrap();
         let json = t.to_json();
         let truncated = &json[..json.len() / 2];
-        assert!(matches!(GroundTable::from_json(truncated), Err(Error::Malformed { .. })));
+        assert!(matches!(
+            GroundTable::from_json(truncated),
+            Err(Error::Malformed { .. })
+        ));
         let v2 = json.replace("\"version\":1", "\"version\":2");
         assert!(matches!(
             GroundTable::from_json(&v2),
             Err(Error::UnsupportedVersion { found: 2, .. })
         ));
         let foreign = json.replace(GROUND_TABLE_FORMAT, "something.else");
-        assert!(matches!(GroundTable::from_json(&foreign), Err(Error::Malformed { .. })));
+        assert!(matches!(
+            GroundTable::from_json(&foreign),
+            Err(Error::Malformed { .. })
+        ));
         let short = json.replace("\"nodes_u\":6", "\"nodes_u\":7");
-        assert!(matches!(GroundTable::from_json(&short), Err(Error::Malformed { .. })));
+        assert!(matches!(
+            GroundTable::from_json(&short),
+            Err(Error::Malformed { .. })
+        ));
     }
 
     #[test]

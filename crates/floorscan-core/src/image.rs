@@ -58,7 +58,11 @@ impl<'a, P: Pixel> ImageView<'a, P> {
         }
         let last = (height - 1)
             .checked_mul(row_stride)
-            .and_then(|a| (width - 1).checked_mul(col_stride).and_then(|b| a.checked_add(b)))
+            .and_then(|a| {
+                (width - 1)
+                    .checked_mul(col_stride)
+                    .and_then(|b| a.checked_add(b))
+            })
             .ok_or_else(|| Error::InvalidImage("image strides overflow".into()))?;
         if last >= data.len() {
             return Err(Error::InvalidImage(format!(
@@ -121,7 +125,13 @@ mod tests {
     #[test]
     fn too_small_buffer_and_empty_image_are_errors() {
         let data = [0u8; 10];
-        assert!(matches!(ImageView::new(&data, 4, 3), Err(Error::InvalidImage(_))));
-        assert!(matches!(ImageView::new(&data, 0, 3), Err(Error::InvalidImage(_))));
+        assert!(matches!(
+            ImageView::new(&data, 4, 3),
+            Err(Error::InvalidImage(_))
+        ));
+        assert!(matches!(
+            ImageView::new(&data, 0, 3),
+            Err(Error::InvalidImage(_))
+        ));
     }
 }

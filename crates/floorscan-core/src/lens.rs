@@ -65,7 +65,10 @@ impl Lens {
             }
         };
         if !(fx > 0.0 && fy > 0.0 && fx.is_finite() && fy.is_finite()) {
-            return Err(invalid_option("lens", "focal lengths must be positive and finite"));
+            return Err(invalid_option(
+                "lens",
+                "focal lengths must be positive and finite",
+            ));
         }
         if !(cx.is_finite() && cy.is_finite() && finite) {
             return Err(invalid_option("lens", "parameters must be finite"));
@@ -168,7 +171,8 @@ impl Lens {
         for _ in 0..50 {
             let f = self.fisheye_distort(theta) - theta_d;
             let h = 1e-7;
-            let df = (self.fisheye_distort(theta + h) - self.fisheye_distort(theta - h)) / (2.0 * h);
+            let df =
+                (self.fisheye_distort(theta + h) - self.fisheye_distort(theta - h)) / (2.0 * h);
             if df <= 0.0 {
                 return None;
             }
@@ -212,7 +216,12 @@ fn undistort_plumb_bob(
         let h = 1e-7;
         let (fa_x, fb_x) = plumb_bob(a + h, b, k1, k2, p1, p2, k3);
         let (fa_y, fb_y) = plumb_bob(a, b + h, k1, k2, p1, p2, k3);
-        let (j00, j10, j01, j11) = ((fa_x - fa) / h, (fb_x - fb) / h, (fa_y - fa) / h, (fb_y - fb) / h);
+        let (j00, j10, j01, j11) = (
+            (fa_x - fa) / h,
+            (fb_x - fb) / h,
+            (fa_y - fa) / h,
+            (fb_y - fb) / h,
+        );
         let det = j00 * j11 - j01 * j10;
         if det.abs() < 1e-12 {
             return None;
@@ -231,22 +240,48 @@ mod tests {
 
     fn lenses() -> Vec<Lens> {
         vec![
-            Lens::Pinhole { fx: 300.0, fy: 310.0, cx: 160.0, cy: 120.0 },
-            Lens::PinholeRadial {
-                fx: 295.8, fy: 299.5, cx: 321.3, cy: 241.7,
-                k1: -0.2354, k2: 0.0364, p1: -0.0033, p2: -0.0012, k3: 0.0,
+            Lens::Pinhole {
+                fx: 300.0,
+                fy: 310.0,
+                cx: 160.0,
+                cy: 120.0,
             },
-            Lens::Equidistant { f: 120.0, cx: 160.0, cy: 120.0 },
+            Lens::PinholeRadial {
+                fx: 295.8,
+                fy: 299.5,
+                cx: 321.3,
+                cy: 241.7,
+                k1: -0.2354,
+                k2: 0.0364,
+                p1: -0.0033,
+                p2: -0.0012,
+                k3: 0.0,
+            },
+            Lens::Equidistant {
+                f: 120.0,
+                cx: 160.0,
+                cy: 120.0,
+            },
             Lens::KannalaBrandt {
-                fx: 120.0, fy: 121.0, cx: 159.5, cy: 119.5,
-                k1: -0.02, k2: 0.004, k3: -0.001, k4: 0.0001,
+                fx: 120.0,
+                fy: 121.0,
+                cx: 159.5,
+                cy: 119.5,
+                k1: -0.02,
+                k2: 0.004,
+                k3: -0.001,
+                k4: 0.0001,
             },
         ]
     }
 
     #[test]
     fn equidistant_radius_is_focal_times_angle() {
-        let lens = Lens::Equidistant { f: 100.0, cx: 0.0, cy: 0.0 };
+        let lens = Lens::Equidistant {
+            f: 100.0,
+            cx: 0.0,
+            cy: 0.0,
+        };
         let theta: f64 = 0.7;
         let p = lens.project([theta.sin(), 0.0, theta.cos()]).unwrap();
         assert!((p[0] - 70.0).abs() < 1e-9 && p[1].abs() < 1e-12);
@@ -259,8 +294,21 @@ mod tests {
 
     #[test]
     fn bad_focal_length_is_an_error() {
-        assert!(Lens::Pinhole { fx: 0.0, fy: 1.0, cx: 0.0, cy: 0.0 }.validate().is_err());
-        assert!(Lens::Equidistant { f: f64::NAN, cx: 0.0, cy: 0.0 }.validate().is_err());
+        assert!(Lens::Pinhole {
+            fx: 0.0,
+            fy: 1.0,
+            cx: 0.0,
+            cy: 0.0
+        }
+        .validate()
+        .is_err());
+        assert!(Lens::Equidistant {
+            f: f64::NAN,
+            cx: 0.0,
+            cy: 0.0
+        }
+        .validate()
+        .is_err());
     }
 
     proptest! {

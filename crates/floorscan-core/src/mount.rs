@@ -26,10 +26,17 @@ pub struct CameraMount {
 impl CameraMount {
     pub fn validate(&self) -> Result<()> {
         if !(self.height_m > 0.0 && self.height_m.is_finite()) {
-            return Err(invalid_option("height_m", format!("must be > 0, got {}", self.height_m)));
+            return Err(invalid_option(
+                "height_m",
+                format!("must be > 0, got {}", self.height_m),
+            ));
         }
-        if !(self.tilt_rad.is_finite() && self.tilt_rad.abs() < std::f64::consts::FRAC_PI_2 + 1e-9) {
-            return Err(invalid_option("tilt_rad", "must be finite, within [-pi/2, pi/2]"));
+        if !(self.tilt_rad.is_finite() && self.tilt_rad.abs() < std::f64::consts::FRAC_PI_2 + 1e-9)
+        {
+            return Err(invalid_option(
+                "tilt_rad",
+                "must be finite, within [-pi/2, pi/2]",
+            ));
         }
         if !self.roll_rad.is_finite() {
             return Err(invalid_option("roll_rad", "must be finite"));
@@ -88,9 +95,7 @@ pub fn pixel_to_ground(
     max_range_m: f64,
 ) -> Option<Point2> {
     let ray = lens.unproject([u, v])?;
-    mount
-        .ray_to_ground(ray)
-        .filter(|p| p.norm() <= max_range_m)
+    mount.ray_to_ground(ray).filter(|p| p.norm() <= max_range_m)
 }
 
 /// Pixel at which a ground point appears, or `None` if the lens cannot see it.
@@ -110,7 +115,7 @@ pub fn ground_table_from_camera(
 ) -> Result<GroundTable> {
     lens.validate()?;
     mount.validate()?;
-    if !(max_range_m > 0.0) {
+    if max_range_m.is_nan() || max_range_m <= 0.0 {
         return Err(invalid_option("max_range_m", "must be > 0"));
     }
     let mut table = GroundTable::from_fn(image_width, image_height, spacing_px, |u, v| {
@@ -161,14 +166,21 @@ mod tests {
 
     #[test]
     fn rays_at_or_above_the_horizon_have_no_ground() {
-        let level = CameraMount { tilt_rad: 0.0, ..MOUNT };
+        let level = CameraMount {
+            tilt_rad: 0.0,
+            ..MOUNT
+        };
         assert!(level.ray_to_ground([0.0, 0.0, 1.0]).is_none());
         assert!(level.ray_to_ground([0.0, -0.1, 1.0]).is_none());
     }
 
     #[test]
     fn ground_and_optical_rotations_are_inverse() {
-        let m = CameraMount { height_m: 0.3, tilt_rad: 0.7, roll_rad: 0.1 };
+        let m = CameraMount {
+            height_m: 0.3,
+            tilt_rad: 0.7,
+            roll_rad: 0.1,
+        };
         let r = [0.3, -0.2, 0.9];
         let back = m.optical_from_ground(m.ground_from_optical(r));
         for k in 0..3 {
@@ -179,7 +191,14 @@ mod tests {
     #[test]
     fn table_from_camera_matches_pixel_to_ground_and_round_trips() {
         let lens = Lens::KannalaBrandt {
-            fx: 110.0, fy: 110.0, cx: 159.5, cy: 119.5, k1: -0.01, k2: 0.002, k3: 0.0, k4: 0.0,
+            fx: 110.0,
+            fy: 110.0,
+            cx: 159.5,
+            cy: 119.5,
+            k1: -0.01,
+            k2: 0.002,
+            k3: 0.0,
+            k4: 0.0,
         };
         let t = ground_table_from_camera(&lens, &MOUNT, 320, 240, 4, 10.0).unwrap();
         let mut checked = 0;
@@ -189,7 +208,10 @@ mod tests {
                 if let (Some(e), Some(p)) = (exact, t.lookup(u as f64, v as f64)) {
                     // Interpolation error on a 4 px grid is small near the robot.
                     if e.norm() < 2.0 {
-                        assert!((e.x - p.x).hypot(e.y - p.y) < 0.01, "({u},{v}): {e:?} vs {p:?}");
+                        assert!(
+                            (e.x - p.x).hypot(e.y - p.y) < 0.01,
+                            "({u},{v}): {e:?} vs {p:?}"
+                        );
                         let px = ground_to_pixel(&lens, &MOUNT, e).unwrap();
                         assert!((px[0] - u as f64).abs() < 1e-6 && (px[1] - v as f64).abs() < 1e-6);
                         checked += 1;
@@ -204,7 +226,17 @@ mod tests {
 
     #[test]
     fn invalid_mounts_are_errors() {
-        assert!(CameraMount { height_m: 0.0, ..MOUNT }.validate().is_err());
-        assert!(CameraMount { tilt_rad: f64::NAN, ..MOUNT }.validate().is_err());
+        assert!(CameraMount {
+            height_m: 0.0,
+            ..MOUNT
+        }
+        .validate()
+        .is_err());
+        assert!(CameraMount {
+            tilt_rad: f64::NAN,
+            ..MOUNT
+        }
+        .validate()
+        .is_err());
     }
 }

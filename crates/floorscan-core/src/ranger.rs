@@ -51,7 +51,10 @@ impl VisualRanger {
         if 2 * d + 2 > height {
             return Err(crate::error::invalid_option(
                 "half_width",
-                format!("{d} px needs an image at least {} rows high, the table's has {height}", 2 * d + 2),
+                format!(
+                    "{d} px needs an image at least {} rows high, the table's has {height}",
+                    2 * d + 2
+                ),
             ));
         }
         let columns = options.column_indices(width)?;
@@ -69,7 +72,10 @@ impl VisualRanger {
                 if rows.len() != width {
                     return Err(crate::error::invalid_option(
                         "start_rows",
-                        format!("needs one start row per image column ({width}), got {}", rows.len()),
+                        format!(
+                            "needs one start row per image column ({width}), got {}",
+                            rows.len()
+                        ),
                     ));
                 }
                 if let Some(bad) = rows.iter().find(|&&r| r as usize >= height) {
@@ -85,7 +91,9 @@ impl VisualRanger {
             .iter()
             .map(|&c| plan_column(&table, &options, c, starts[c as usize]))
             .collect();
-        let scannable: Vec<usize> = (0..plans.len()).filter(|&j| plans[j].window.is_some()).collect();
+        let scannable: Vec<usize> = (0..plans.len())
+            .filter(|&j| plans[j].window.is_some())
+            .collect();
         let mut by_lo = scannable.clone();
         by_lo.sort_by_key(|&j| plans[j].window.unwrap().0);
         let mut by_hi = scannable;
@@ -130,6 +138,42 @@ impl VisualRanger {
         timestamp_s: f64,
         out: &mut Scan,
     ) -> Result<()> {
+        self.check_size(image)?;
+        self.run_columns(image);
+        self.fill_scan(timestamp_s, out);
+        Ok(())
+    }
+
+    /// The same scan computed column by column with the direct sum of eq. (1) at every row
+    /// (2d pixel reads per row instead of 4). A reference for tests and benchmarks.
+    pub fn scan_direct_into<P: Pixel>(
+        &mut self,
+        image: &ImageView<P>,
+        timestamp_s: f64,
+        out: &mut Scan,
+    ) -> Result<()> {
+        self.check_size(image)?;
+        let d = self.options.half_width_px;
+        for j in 0..self.plans.len() {
+            let plan = self.plans[j];
+            self.outcomes[j] = Some(match plan.window {
+                None => ColumnOutcome::Invalid { row: None },
+                Some((lo, hi)) => (lo..=hi)
+                    .find(|&k| {
+                        direct_response_at(image, plan.column as usize, k, d).abs()
+                            > self.threshold_sum
+                    })
+                    .map_or_else(
+                        || self.no_boundary(j, image.height()),
+                        |k| self.resolve_crossing(image, j, k),
+                    ),
+            });
+        }
+        self.fill_scan(timestamp_s, out);
+        Ok(())
+    }
+
+    fn check_size<P: Pixel>(&self, image: &ImageView<P>) -> Result<()> {
         let (width, height) = (self.table.image_width(), self.table.image_height());
         if image.width() != width || image.height() != height {
             return Err(Error::InvalidImage(format!(
@@ -138,18 +182,23 @@ impl VisualRanger {
                 image.height()
             )));
         }
-        self.run_columns(image);
+        Ok(())
+    }
+
+    fn fill_scan(&self, timestamp_s: f64, out: &mut Scan) {
         out.timestamp_s = timestamp_s;
         out.readings.clear();
-        out.readings.extend(self.plans.iter().zip(&self.outcomes).map(|(plan, outcome)| {
-            ColumnReading {
-                column: plan.column,
-                start_row: plan.start_row as f64,
-                near: plan.near,
-                outcome: outcome.unwrap_or(ColumnOutcome::Invalid { row: None }),
-            }
-        }));
-        Ok(())
+        out.readings.extend(
+            self.plans
+                .iter()
+                .zip(&self.outcomes)
+                .map(|(plan, outcome)| ColumnReading {
+                    column: plan.column,
+                    start_row: plan.start_row as f64,
+                    near: plan.near,
+                    outcome: outcome.unwrap_or(ColumnOutcome::Invalid { row: None }),
+                }),
+        );
     }
 
     fn run_columns<P: Pixel>(&mut self, image: &ImageView<P>) {
@@ -157,7 +206,10 @@ impl VisualRanger {
         let d = self.options.half_width_px;
         let row_of = |k: usize| height - 1 - k;
         for (o, plan) in self.outcomes.iter_mut().zip(&self.plans) {
-            *o = plan.window.is_none().then_some(ColumnOutcome::Invalid { row: None });
+            *o = plan
+                .window
+                .is_none()
+                .then_some(ColumnOutcome::Invalid { row: None });
         }
         if self.by_lo.is_empty() {
             return;
@@ -165,38 +217,25 @@ impl VisualRanger {
         for (off, plan) in self.offsets.iter_mut().zip(&self.plans) {
             *off = plan.column as usize * image.col_stride();
         }
+        // Consecutive image columns in a contiguous row: plain slices, which vectorise.
+        let max_offset = self.offsets.iter().copied().max().unwrap_or(0);
+        let contiguous =
+            image.col_stride() == 1 && self.offsets.windows(2).all(|w| w[1] == w[0] + 1);
         self.active_threshold.fill(i32::MAX);
         let k_first = self.plans[self.by_lo[0]].window.unwrap().0;
         for (j, plan) in self.plans.iter().enumerate() {
             self.sums[j] = direct_response_at(image, plan.column as usize, k_first, d);
         }
         let mut unresolved = self.by_lo.len();
-        let (mut next_lo, mut next_hi) = (0, 0);
+        let mut events = EventCursor::default();
         let mut k = k_first;
+        self.apply_window_events(&mut events, k, height, &mut unresolved);
+        let mut any_crossing = self
+            .sums
+            .iter()
+            .zip(&self.active_threshold)
+            .fold(false, |any, (s, t)| any | (s.abs() > *t));
         loop {
-            // Columns whose test window opens at k.
-            while next_lo < self.by_lo.len() && self.plans[self.by_lo[next_lo]].window.unwrap().0 == k {
-                self.active_threshold[self.by_lo[next_lo]] = self.threshold_sum;
-                next_lo += 1;
-            }
-            // Columns whose window closed below k without an edge: free up to their top row.
-            while next_hi < self.by_hi.len() && self.plans[self.by_hi[next_hi]].window.unwrap().1 < k {
-                let j = self.by_hi[next_hi];
-                next_hi += 1;
-                if self.outcomes[j].is_none() {
-                    self.outcomes[j] = Some(self.no_boundary(j, height));
-                    self.active_threshold[j] = i32::MAX;
-                    unresolved -= 1;
-                }
-            }
-            if unresolved == 0 {
-                break;
-            }
-            let any_crossing = self
-                .sums
-                .iter()
-                .zip(&self.active_threshold)
-                .fold(false, |any, (s, t)| any | (s.abs() > *t));
             if any_crossing {
                 for j in 0..self.plans.len() {
                     if self.sums[j].abs() > self.active_threshold[j] {
@@ -205,22 +244,72 @@ impl VisualRanger {
                         unresolved -= 1;
                     }
                 }
-                if unresolved == 0 {
-                    break;
-                }
             }
-            // Advance every running sum from k to k + 1 (the windows stay inside the image:
-            // every window ends at or below height - 1 - d).
-            let (ra, rb, rc, re) = (
-                image.row(row_of(k - d)),
-                image.row(row_of(k)),
-                image.row(row_of(k + 1)),
-                image.row(row_of(k + d + 1)),
-            );
-            for (s, &o) in self.sums.iter_mut().zip(&self.offsets) {
-                *s += re[o].to_i32() - rc[o].to_i32() - rb[o].to_i32() + ra[o].to_i32();
+            if unresolved == 0 {
+                break;
             }
+            // Past height - 1 - d no window fits in the image; no column tests a row there
+            // either (every window ends at or below it), so the events of k + 1 close them all.
+            let can_advance = k + d + 1 < height;
             k += 1;
+            self.apply_window_events(&mut events, k, height, &mut unresolved);
+            if unresolved == 0 || !can_advance {
+                break;
+            }
+            // Advance every running sum from k - 1 to k and test it, in one pass.
+            let (ra, rb, rc, re) = (
+                image.row(row_of(k - 1 - d)),
+                image.row(row_of(k - 1)),
+                image.row(row_of(k)),
+                image.row(row_of(k + d)),
+            );
+            any_crossing = if contiguous {
+                let (o, n) = (self.offsets[0], self.offsets.len());
+                advance_contiguous(
+                    &mut self.sums,
+                    &self.active_threshold,
+                    [&ra[o..o + n], &rb[o..o + n], &rc[o..o + n], &re[o..o + n]],
+                )
+            } else {
+                advance_gathered(
+                    &mut self.sums,
+                    &self.active_threshold,
+                    &self.offsets,
+                    max_offset,
+                    [ra, rb, rc, re],
+                )
+            };
+        }
+    }
+
+    /// Opens the test windows that start at k and closes those that ended below k (no edge:
+    /// free up to the column's top row).
+    fn apply_window_events(
+        &mut self,
+        cursor: &mut EventCursor,
+        k: usize,
+        height: usize,
+        unresolved: &mut usize,
+    ) {
+        while cursor.lo < self.by_lo.len()
+            && self.plans[self.by_lo[cursor.lo]].window.unwrap().0 <= k
+        {
+            let j = self.by_lo[cursor.lo];
+            if self.outcomes[j].is_none() {
+                self.active_threshold[j] = self.threshold_sum;
+            }
+            cursor.lo += 1;
+        }
+        while cursor.hi < self.by_hi.len()
+            && self.plans[self.by_hi[cursor.hi]].window.unwrap().1 < k
+        {
+            let j = self.by_hi[cursor.hi];
+            cursor.hi += 1;
+            if self.outcomes[j].is_none() {
+                self.outcomes[j] = Some(self.no_boundary(j, height));
+                self.active_threshold[j] = i32::MAX;
+                *unresolved -= 1;
+            }
         }
     }
 
@@ -233,7 +322,12 @@ impl VisualRanger {
         }
     }
 
-    fn resolve_crossing<P: Pixel>(&self, image: &ImageView<P>, j: usize, k_cross: usize) -> ColumnOutcome {
+    fn resolve_crossing<P: Pixel>(
+        &self,
+        image: &ImageView<P>,
+        j: usize,
+        k_cross: usize,
+    ) -> ColumnOutcome {
         let plan = &self.plans[j];
         let (lo, _) = plan.window.unwrap();
         if k_cross == lo {
@@ -256,8 +350,74 @@ impl VisualRanger {
     }
 }
 
+/// Positions in the ranger's window-start and window-end orders.
+#[derive(Default)]
+struct EventCursor {
+    lo: usize,
+    hi: usize,
+}
+
+/// `S(k) = S(k-1) + I(k+d) - I(k) - I(k-1) + I(k-1-d)` for every column whose pixels are the
+/// consecutive elements of the four rows `[k-1-d, k-1, k, k+d]`; returns whether any column's
+/// new |S| exceeds its active threshold.
+#[inline]
+fn advance_contiguous<P: Pixel>(sums: &mut [i32], thresholds: &[i32], rows: [&[P]; 4]) -> bool {
+    let [ra, rb, rc, re] = rows;
+    let mut any = false;
+    for (((((s, &t), &a), &b), &c), &e) in sums
+        .iter_mut()
+        .zip(thresholds)
+        .zip(ra)
+        .zip(rb)
+        .zip(rc)
+        .zip(re)
+    {
+        let v = *s + e.to_i32() - c.to_i32() - b.to_i32() + a.to_i32();
+        *s = v;
+        any |= v.abs() > t;
+    }
+    any
+}
+
+/// As [`advance_contiguous`] for columns at arbitrary element offsets into the rows.
+#[inline]
+fn advance_gathered<P: Pixel>(
+    sums: &mut [i32],
+    thresholds: &[i32],
+    offsets: &[usize],
+    max_offset: usize,
+    rows: [&[P]; 4],
+) -> bool {
+    let [ra, rb, rc, re] = rows;
+    let len = ra.len().min(rb.len()).min(rc.len()).min(re.len());
+    // Offsets come from column indices checked against the image width when the ranger was
+    // built, so this holds; checking the largest once saves four bounds checks per column.
+    assert!(max_offset < len, "column offset outside the row");
+    for (s, &o) in sums.iter_mut().zip(offsets) {
+        // SAFETY: o <= max_offset < len <= the length of each row (asserted above).
+        let (a, b, c, e) = unsafe {
+            (
+                *ra.get_unchecked(o),
+                *rb.get_unchecked(o),
+                *rc.get_unchecked(o),
+                *re.get_unchecked(o),
+            )
+        };
+        *s += e.to_i32() - c.to_i32() - b.to_i32() + a.to_i32();
+    }
+    // A separate pass: the comparison vectorises, the gather above cannot.
+    sums.iter()
+        .zip(thresholds)
+        .fold(false, |any, (s, t)| any | (s.abs() > *t))
+}
+
 /// Works out where a column's scan starts and how far up it may go.
-fn plan_column(table: &GroundTable, options: &RangerOptions, column: u32, start_row: usize) -> ColumnPlan {
+fn plan_column(
+    table: &GroundTable,
+    options: &RangerOptions,
+    column: u32,
+    start_row: usize,
+) -> ColumnPlan {
     let height = table.image_height();
     let d = options.half_width_px;
     let u = column as f64;
@@ -277,5 +437,14 @@ fn plan_column(table: &GroundTable, options: &RangerOptions, column: u32, start_
             window = Some((lo, hi));
         }
     }
-    ColumnPlan { column, start_row, near, window }
+    ColumnPlan {
+        column,
+        start_row,
+        near,
+        window,
+    }
 }
+
+#[cfg(test)]
+#[path = "ranger_tests.rs"]
+mod tests;

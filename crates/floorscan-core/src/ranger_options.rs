@@ -33,8 +33,10 @@ pub struct RangerOptions {
     /// Half-width d of the box filter [px], >= 1. Default 4: wide enough to average carpet
     /// texture, narrow enough to resolve a boundary a few pixels from the bottom.
     pub half_width_px: usize,
-    /// Edge threshold on |R|, the difference of the two window means, in the image's intensity
-    /// units (0-255 for 8-bit images), finite and >= 0. Default 12.
+    /// Edge threshold on |R| of the paper's eq. (1)-(2), R = (sum of the d pixels above - sum
+    /// of the d pixels below) / 2d, i.e. half the difference of the two window means, in the
+    /// image's intensity units (0-255 for 8-bit images), finite and >= 0. Default 12 (a step of
+    /// more than 24 grey levels between carpet and obstacle).
     pub threshold: f64,
     /// How the boundary row is placed after the first crossing. Default: sub-pixel peak.
     pub refinement: Refinement,
@@ -68,7 +70,10 @@ impl RangerOptions {
         if self.half_width_px < 1 || self.half_width_px > MAX_HALF_WIDTH_PX {
             return Err(invalid_option(
                 "half_width",
-                format!("must be in 1..={MAX_HALF_WIDTH_PX}, got {}", self.half_width_px),
+                format!(
+                    "must be in 1..={MAX_HALF_WIDTH_PX}, got {}",
+                    self.half_width_px
+                ),
             ));
         }
         if !(self.threshold.is_finite() && self.threshold >= 0.0) {
@@ -88,7 +93,10 @@ impl RangerOptions {
         }
         if let Some(r) = self.max_range_m {
             if !(r > 0.0 && r.is_finite()) {
-                return Err(invalid_option("max_range_m", format!("must be finite and > 0, got {r}")));
+                return Err(invalid_option(
+                    "max_range_m",
+                    format!("must be finite and > 0, got {r}"),
+                ));
             }
         }
         Ok(())
@@ -127,28 +135,61 @@ mod tests {
 
     #[test]
     fn evenly_spaced_columns_are_strip_centres() {
-        let o = RangerOptions { columns: ColumnSelection::Count(4), ..Default::default() };
+        let o = RangerOptions {
+            columns: ColumnSelection::Count(4),
+            ..Default::default()
+        };
         assert_eq!(o.column_indices(640).unwrap(), vec![80, 240, 400, 560]);
-        let all = RangerOptions { columns: ColumnSelection::Count(640), ..Default::default() };
-        assert_eq!(all.column_indices(640).unwrap(), (0..640).collect::<Vec<u32>>());
+        let all = RangerOptions {
+            columns: ColumnSelection::Count(640),
+            ..Default::default()
+        };
+        assert_eq!(
+            all.column_indices(640).unwrap(),
+            (0..640).collect::<Vec<u32>>()
+        );
     }
 
     #[test]
     fn every_bad_option_is_an_error() {
         let bad = [
-            RangerOptions { half_width_px: 0, ..Default::default() },
-            RangerOptions { threshold: f64::NAN, ..Default::default() },
-            RangerOptions { threshold: -1.0, ..Default::default() },
-            RangerOptions { columns: ColumnSelection::Count(0), ..Default::default() },
-            RangerOptions { columns: ColumnSelection::Explicit(vec![]), ..Default::default() },
-            RangerOptions { max_range_m: Some(0.0), ..Default::default() },
+            RangerOptions {
+                half_width_px: 0,
+                ..Default::default()
+            },
+            RangerOptions {
+                threshold: f64::NAN,
+                ..Default::default()
+            },
+            RangerOptions {
+                threshold: -1.0,
+                ..Default::default()
+            },
+            RangerOptions {
+                columns: ColumnSelection::Count(0),
+                ..Default::default()
+            },
+            RangerOptions {
+                columns: ColumnSelection::Explicit(vec![]),
+                ..Default::default()
+            },
+            RangerOptions {
+                max_range_m: Some(0.0),
+                ..Default::default()
+            },
         ];
         for o in bad {
             assert!(o.validate().is_err(), "{o:?}");
         }
-        let o = RangerOptions { columns: ColumnSelection::Explicit(vec![3, 700]), ..Default::default() };
+        let o = RangerOptions {
+            columns: ColumnSelection::Explicit(vec![3, 700]),
+            ..Default::default()
+        };
         assert!(o.column_indices(640).is_err());
-        let o = RangerOptions { columns: ColumnSelection::Count(641), ..Default::default() };
+        let o = RangerOptions {
+            columns: ColumnSelection::Count(641),
+            ..Default::default()
+        };
         assert!(o.column_indices(640).is_err());
     }
 }

@@ -169,16 +169,24 @@ impl Scan {
         angle_max_rad: f64,
         increment_rad: f64,
     ) -> Result<LaserBins> {
-        if !(angle_min_rad.is_finite() && angle_max_rad.is_finite() && angle_max_rad > angle_min_rad)
+        if !(angle_min_rad.is_finite()
+            && angle_max_rad.is_finite()
+            && angle_max_rad > angle_min_rad)
         {
-            return Err(invalid_option("angle_max", "must be finite and greater than angle_min"));
+            return Err(invalid_option(
+                "angle_max",
+                "must be finite and greater than angle_min",
+            ));
         }
         if !(increment_rad > 0.0 && increment_rad.is_finite()) {
             return Err(invalid_option("angle_increment", "must be finite and > 0"));
         }
         let n = ((angle_max_rad - angle_min_rad) / increment_rad).round() as usize + 1;
         if n > 1_000_000 {
-            return Err(invalid_option("angle_increment", "gives more than 10^6 bins"));
+            return Err(invalid_option(
+                "angle_increment",
+                "gives more than 10^6 bins",
+            ));
         }
         let mut ranges = vec![f64::INFINITY; n];
         let mut has_boundary = vec![false; n];
@@ -222,7 +230,11 @@ impl Scan {
             angle_min_rad,
             angle_max_rad: angle_min_rad + (n - 1) as f64 * increment_rad,
             angle_increment_rad: increment_rad,
-            range_min_m: if range_min.is_finite() { range_min } else { 0.0 },
+            range_min_m: if range_min.is_finite() {
+                range_min
+            } else {
+                0.0
+            },
             range_max_m: range_max,
             ranges_m: ranges,
         })
@@ -268,11 +280,22 @@ mod tests {
     use super::*;
 
     fn reading(column: u32, outcome: ColumnOutcome) -> ColumnReading {
-        ColumnReading { column, start_row: 230.0, near: Some(Point2::new(0.3, 0.0)), outcome }
+        ColumnReading {
+            column,
+            start_row: 230.0,
+            near: Some(Point2::new(0.3, 0.0)),
+            outcome,
+        }
     }
 
     fn boundary_at(column: u32, x: f64, y: f64) -> ColumnReading {
-        reading(column, ColumnOutcome::Boundary { row: 100.0, point: Point2::new(x, y) })
+        reading(
+            column,
+            ColumnOutcome::Boundary {
+                row: 100.0,
+                point: Point2::new(x, y),
+            },
+        )
     }
 
     #[test]
@@ -288,10 +311,21 @@ mod tests {
     fn ranges_follow_rep_117() {
         let b = boundary_at(0, 3.0, 4.0);
         assert_eq!(b.range_m(), 5.0);
-        let nb = reading(1, ColumnOutcome::NoBoundary { top_row: 60.0, farthest: Point2::new(4.0, 0.0) });
+        let nb = reading(
+            1,
+            ColumnOutcome::NoBoundary {
+                top_row: 60.0,
+                farthest: Point2::new(4.0, 0.0),
+            },
+        );
         assert_eq!(nb.range_m(), f64::INFINITY);
-        assert_eq!(reading(2, ColumnOutcome::TooClose).range_m(), f64::NEG_INFINITY);
-        assert!(reading(3, ColumnOutcome::Invalid { row: None }).range_m().is_nan());
+        assert_eq!(
+            reading(2, ColumnOutcome::TooClose).range_m(),
+            f64::NEG_INFINITY
+        );
+        assert!(reading(3, ColumnOutcome::Invalid { row: None })
+            .range_m()
+            .is_nan());
     }
 
     #[test]
@@ -303,7 +337,13 @@ mod tests {
                 boundary_at(0, 2.0 * (0.01f64).cos(), 2.0 * (0.01f64).sin()), // bin 0 (bearing 0.01)
                 boundary_at(1, 1.5 * (0.02f64).cos(), 1.5 * (0.02f64).sin()), // bin 0, nearer
                 boundary_at(2, 1.0 * (0.21f64).cos(), 1.0 * (0.21f64).sin()), // bin 2
-                reading(3, ColumnOutcome::NoBoundary { top_row: 50.0, farthest: Point2::new((0.1f64).cos() * 3.0, (0.1f64).sin() * 3.0) }),
+                reading(
+                    3,
+                    ColumnOutcome::NoBoundary {
+                        top_row: 50.0,
+                        farthest: Point2::new((0.1f64).cos() * 3.0, (0.1f64).sin() * 3.0),
+                    },
+                ),
                 boundary_at(4, 1.0, 5.0), // bearing 1.37: outside the range, ignored
             ],
         };
@@ -320,12 +360,21 @@ mod tests {
 
     #[test]
     fn csv_lines_have_the_header_fields_in_order() {
-        let scan = Scan { timestamp_s: 0.5, readings: vec![boundary_at(7, 3.0, 4.0), reading(8, ColumnOutcome::TooClose)] };
+        let scan = Scan {
+            timestamp_s: 0.5,
+            readings: vec![
+                boundary_at(7, 3.0, 4.0),
+                reading(8, ColumnOutcome::TooClose),
+            ],
+        };
         let mut s = String::new();
         scan.write_csv_lines(&mut s);
         let lines: Vec<&str> = s.lines().collect();
         assert_eq!(lines[0], "0.5,7,100,boundary,3,4,5,0.9272952180016122");
         assert_eq!(lines[1], "0.5,8,230,too_close,0.3,0,-inf,0");
-        assert_eq!(SCAN_CSV_HEADER.split(',').count(), lines[0].split(',').count());
+        assert_eq!(
+            SCAN_CSV_HEADER.split(',').count(),
+            lines[0].split(',').count()
+        );
     }
 }

@@ -46,10 +46,10 @@ impl<T> IntoPyResult<T> for floorscan_core::Result<T> {
 
 /// A Python exception of class `name` from `floorscan.errors` (for binding-level checks).
 pub fn error(name: &str, message: String) -> PyErr {
-    Python::attach(|py| {
-        match py.import("floorscan.errors").and_then(|m| m.getattr(name)) {
+    Python::attach(
+        |py| match py.import("floorscan.errors").and_then(|m| m.getattr(name)) {
             Ok(cls) => PyErr::from_type(cls.cast_into().expect("exception class"), message),
             Err(_) => PyRuntimeError::new_err(message),
-        }
-    })
+        },
+    )
 }

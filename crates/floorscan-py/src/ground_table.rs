@@ -7,6 +7,9 @@ use pyo3::prelude::*;
 
 use crate::errors::{error, IntoPyResult};
 
+/// Two numpy arrays (x and y).
+type ArrayPair<'py, A> = (Bound<'py, A>, Bound<'py, A>);
+
 #[pyclass(name = "GroundTable", module = "floorscan._native", frozen)]
 #[derive(Clone)]
 pub struct PyGroundTable {
@@ -47,7 +50,14 @@ impl PyGroundTable {
         let mount: CameraMount = parse_json("mount", mount_json)?;
         let inner = py
             .detach(|| {
-                ground_table_from_camera(&lens, &mount, image_width, image_height, spacing_px, max_range_m)
+                ground_table_from_camera(
+                    &lens,
+                    &mount,
+                    image_width,
+                    image_height,
+                    spacing_px,
+                    max_range_m,
+                )
             })
             .py()?;
         Ok(Self { inner })
@@ -55,7 +65,9 @@ impl PyGroundTable {
 
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Self> {
-        Ok(Self { inner: GroundTable::from_json(text).py()? })
+        Ok(Self {
+            inner: GroundTable::from_json(text).py()?,
+        })
     }
 
     fn to_json(&self) -> String {
@@ -68,7 +80,7 @@ impl PyGroundTable {
         py: Python<'py>,
         u: PyReadonlyArray1<'py, f64>,
         v: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<ArrayPair<'py, PyArray1<f64>>> {
         let (u, v) = (u.as_array(), v.as_array());
         if u.len() != v.len() {
             return Err(error(
@@ -80,7 +92,11 @@ impl PyGroundTable {
         let (xs, ys): (Vec<f64>, Vec<f64>) = py.detach(|| {
             u.iter()
                 .zip(&v)
-                .map(|(&u, &v)| self.inner.lookup(u, v).map_or((f64::NAN, f64::NAN), |p| (p.x, p.y)))
+                .map(|(&u, &v)| {
+                    self.inner
+                        .lookup(u, v)
+                        .map_or((f64::NAN, f64::NAN), |p| (p.x, p.y))
+                })
                 .unzip()
         });
         Ok((PyArray1::from_vec(py, xs), PyArray1::from_vec(py, ys)))
@@ -100,10 +116,20 @@ impl PyGroundTable {
     }
 
     /// Node values as two (nodes_v, nodes_u) float64 arrays, NaN for no ground.
-    fn node_arrays<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+    fn node_arrays<'py>(&self, py: Python<'py>) -> PyResult<ArrayPair<'py, PyArray2<f64>>> {
         let (nu, nv) = self.inner.node_shape();
-        let x: Vec<f64> = self.inner.nodes().iter().map(|p| p.map_or(f64::NAN, |p| p.x)).collect();
-        let y: Vec<f64> = self.inner.nodes().iter().map(|p| p.map_or(f64::NAN, |p| p.y)).collect();
+        let x: Vec<f64> = self
+            .inner
+            .nodes()
+            .iter()
+            .map(|p| p.map_or(f64::NAN, |p| p.x))
+            .collect();
+        let y: Vec<f64> = self
+            .inner
+            .nodes()
+            .iter()
+            .map(|p| p.map_or(f64::NAN, |p| p.y))
+            .collect();
         Ok((
             PyArray1::from_vec(py, x).reshape([nv, nu])?,
             PyArray1::from_vec(py, y).reshape([nv, nu])?,

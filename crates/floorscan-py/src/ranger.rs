@@ -21,22 +21,31 @@ impl PyVisualRanger {
     fn new(table: &PyGroundTable, options_json: &str) -> PyResult<Self> {
         let options: RangerOptions = serde_json::from_str(options_json)
             .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
-        Ok(Self { inner: VisualRanger::new(table.inner.clone(), options).py()? })
+        Ok(Self {
+            inner: VisualRanger::new(table.inner.clone(), options).py()?,
+        })
     }
 
     /// Scans a (H, W) uint8 or uint16 image; the GIL is released while scanning.
-    fn scan(&mut self, py: Python<'_>, image: &Bound<'_, PyAny>, timestamp: f64) -> PyResult<PyScan> {
+    fn scan(
+        &mut self,
+        py: Python<'_>,
+        image: &Bound<'_, PyAny>,
+        timestamp: f64,
+    ) -> PyResult<PyScan> {
         let mut out = Scan::default();
         if let Ok(a) = image.cast::<PyArray2<u8>>() {
             let img = BorrowedImage::new(a)?;
             let view = img.view()?;
             let ranger = &mut self.inner;
-            py.detach(|| ranger.scan_into(&view, timestamp, &mut out)).py()?;
+            py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
+                .py()?;
         } else if let Ok(a) = image.cast::<PyArray2<u16>>() {
             let img = BorrowedImage::new(a)?;
             let view = img.view()?;
             let ranger = &mut self.inner;
-            py.detach(|| ranger.scan_into(&view, timestamp, &mut out)).py()?;
+            py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
+                .py()?;
         } else {
             return Err(error(
                 "ImageError",
@@ -59,6 +68,8 @@ impl PyVisualRanger {
 
     #[getter]
     fn table(&self) -> PyGroundTable {
-        PyGroundTable { inner: self.inner.table().clone() }
+        PyGroundTable {
+            inner: self.inner.table().clone(),
+        }
     }
 }

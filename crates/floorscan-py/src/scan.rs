@@ -50,8 +50,14 @@ impl PyScan {
             near_y_m.as_array(),
         );
         let n = c.len();
-        if [r.len(), s.len(), x.len(), y.len(), nx.len(), ny.len()].iter().any(|&l| l != n) {
-            return Err(error("LengthMismatchError", "scan arrays must all have the same length".into()));
+        if [r.len(), s.len(), x.len(), y.len(), nx.len(), ny.len()]
+            .iter()
+            .any(|&l| l != n)
+        {
+            return Err(error(
+                "LengthMismatchError",
+                "scan arrays must all have the same length".into(),
+            ));
         }
         let point = |a: f64, b: f64| (a.is_finite() && b.is_finite()).then(|| Point2::new(a, b));
         let mut readings = Vec::with_capacity(n);
@@ -60,18 +66,49 @@ impl PyScan {
                 .ok_or_else(|| error("OptionError", format!("unknown status code {}", s[i])))?;
             let p = point(x[i], y[i]);
             let near = point(nx[i], ny[i]);
-            let missing = || error("GeometryError", format!("reading {i} ({}) needs a finite x and y", status.as_str()));
-            let outcome = match status {
-                ColumnStatus::Boundary => ColumnOutcome::Boundary { row: r[i], point: p.ok_or_else(missing)? },
-                ColumnStatus::NoBoundary => ColumnOutcome::NoBoundary { top_row: r[i], farthest: p.ok_or_else(missing)? },
-                ColumnStatus::TooClose => ColumnOutcome::TooClose,
-                ColumnStatus::Invalid => ColumnOutcome::Invalid { row: r[i].is_finite().then_some(r[i]) },
+            let missing = || {
+                error(
+                    "GeometryError",
+                    format!("reading {i} ({}) needs a finite x and y", status.as_str()),
+                )
             };
-            let near = if status == ColumnStatus::TooClose { near.or(p) } else { near };
-            let start_row = if status == ColumnStatus::TooClose { r[i] } else { f64::NAN };
-            readings.push(ColumnReading { column: c[i], start_row, near, outcome });
+            let outcome = match status {
+                ColumnStatus::Boundary => ColumnOutcome::Boundary {
+                    row: r[i],
+                    point: p.ok_or_else(missing)?,
+                },
+                ColumnStatus::NoBoundary => ColumnOutcome::NoBoundary {
+                    top_row: r[i],
+                    farthest: p.ok_or_else(missing)?,
+                },
+                ColumnStatus::TooClose => ColumnOutcome::TooClose,
+                ColumnStatus::Invalid => ColumnOutcome::Invalid {
+                    row: r[i].is_finite().then_some(r[i]),
+                },
+            };
+            let near = if status == ColumnStatus::TooClose {
+                near.or(p)
+            } else {
+                near
+            };
+            let start_row = if status == ColumnStatus::TooClose {
+                r[i]
+            } else {
+                f64::NAN
+            };
+            readings.push(ColumnReading {
+                column: c[i],
+                start_row,
+                near,
+                outcome,
+            });
         }
-        Ok(Self { inner: Scan { timestamp_s, readings } })
+        Ok(Self {
+            inner: Scan {
+                timestamp_s,
+                readings,
+            },
+        })
     }
 
     #[getter]
@@ -137,7 +174,10 @@ impl PyScan {
         angle_max: f64,
         angle_increment: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let bins = self.inner.to_laser_bins(angle_min, angle_max, angle_increment).py()?;
+        let bins = self
+            .inner
+            .to_laser_bins(angle_min, angle_max, angle_increment)
+            .py()?;
         let d = PyDict::new(py);
         d.set_item("angle_min", bins.angle_min_rad)?;
         d.set_item("angle_max", bins.angle_max_rad)?;

@@ -36,7 +36,9 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     lens = Lens.kannala_brandt(fx=160, fy=160, cx=319.5, cy=239.5, k1=-0.02, k2=0.003)
-    table = GroundTable.from_camera(lens, CameraMount(height_m=0.45, tilt_rad=0.55), image_width=640, image_height=480)
+    table = GroundTable.from_camera(
+        lens, CameraMount(height_m=0.45, tilt_rad=0.55), image_width=640, image_height=480
+    )
     image = synthetic_frame(table)
     ranger = VisualRanger(table, columns=48)
     scan = ranger.scan(image)

@@ -14,11 +14,19 @@ from ..scan import write_scans_csv
 
 def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--table", required=True, help="ground table JSON (from `floorscan calibrate`)")
-    p.add_argument("--columns", type=int, default=64, help="number of evenly spaced columns (default 64)")
-    p.add_argument("--half-width", type=int, default=4, help="box filter half-width d [px] (default 4)")
-    p.add_argument("--threshold", type=float, default=12.0, help="edge threshold, intensity units (default 12)")
+    p.add_argument(
+        "--columns", type=int, default=64, help="number of evenly spaced columns (default 64)"
+    )
+    p.add_argument(
+        "--half-width", type=int, default=4, help="box filter half-width d [px] (default 4)"
+    )
+    p.add_argument(
+        "--threshold", type=float, default=12.0, help="edge threshold, intensity units (default 12)"
+    )
     p.add_argument("--refine", choices=["subpixel", "peak", "none"], default="subpixel")
-    p.add_argument("--bottom-margin", type=int, default=2, help="rows skipped at the bottom [px] (default 2)")
+    p.add_argument(
+        "--bottom-margin", type=int, default=2, help="rows skipped at the bottom [px] (default 2)"
+    )
     p.add_argument("--max-range", type=float, default=None, help="farthest range scanned [m]")
 
 

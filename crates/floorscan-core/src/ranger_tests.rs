@@ -1,0 +1,489 @@
+//! Tests of the visual range sensor against independent expectations: a column-by-column
+//! brute-force scan with the direct sum of eq. (1), and synthetic images with known edges.
+
+use proptest::prelude::*;
+
+use crate::edge::{direct_response, refine_crossing, threshold_to_sum, Refinement};
+use crate::error::Error;
+use crate::ground_table::GroundTable;
+use crate::image::ImageView;
+use crate::pose::Point2;
+use crate::ranger::VisualRanger;
+use crate::ranger_options::{ColumnSelection, ColumnStart, RangerOptions};
+use crate::scan::{ColumnOutcome, ColumnStatus, Scan};
+
+/// A table with ground below `horizon_row` (rows v >= horizon_row): x grows upwards, y to the left.
+fn table(width: usize, height: usize, horizon_row: f64) -> GroundTable {
+    GroundTable::from_fn(width, height, 4, |u, v| {
+        (v >= horizon_row).then(|| {
+            Point2::new(
+                0.2 + (height as f64 - 1.0 - v) * 0.01,
+                (width as f64 / 2.0 - u) * 0.005,
+            )
+        })
+    })
+    .unwrap()
+}
+
+/// Floor intensity below the edge (rows v >= floor_from_row), obstacle above.
+fn step_image(
+    width: usize,
+    height: usize,
+    floor_from_row: &[usize],
+    floor: u8,
+    obstacle: u8,
+) -> Vec<u8> {
+    let mut img = vec![0u8; width * height];
+    for v in 0..height {
+        for u in 0..width {
+            img[v * width + u] = if v >= floor_from_row[u] {
+                floor
+            } else {
+                obstacle
+            };
+        }
+    }
+    img
+}
+
+fn options(
+    d: usize,
+    threshold: f64,
+    refinement: Refinement,
+    columns: ColumnSelection,
+) -> RangerOptions {
+    RangerOptions {
+        half_width_px: d,
+        threshold,
+        refinement,
+        columns,
+        start: ColumnStart::BottomMargin(0),
+        max_range_m: None,
+    }
+}
+
+/// Column-by-column reference: direct sums, first crossing, same refinement, independent plan.
+fn brute_force(
+    table: &GroundTable,
+    o: &RangerOptions,
+    img: &[u8],
+    width: usize,
+    height: usize,
+) -> Vec<(u32, ColumnStatus, f64)> {
+    let d = o.half_width_px;
+    let thr = threshold_to_sum(o.threshold, d);
+    let margin = match o.start {
+        ColumnStart::BottomMargin(m) => m,
+        _ => unreachable!(),
+    };
+    let start = height - 1 - margin;
+    o.column_indices(width)
+        .unwrap()
+        .into_iter()
+        .map(|c| {
+            let u = c as f64;
+            let column: Vec<i32> = (0..height)
+                .rev()
+                .map(|v| img[v * width + c as usize] as i32)
+                .collect(); // k from bottom
+            if table.lookup(u, start as f64).is_none() {
+                return (c, ColumnStatus::Invalid, f64::NAN);
+            }
+            let mut top = start;
+            while top > 0 && table.lookup(u, (top - 1) as f64).is_some() {
+                top -= 1;
+            }
+            let lo = (height - 1 - start) + d;
+            let hi = (height - 1 - top).min(height - 1 - d);
+            if lo > hi {
+                return (c, ColumnStatus::Invalid, f64::NAN);
+            }
+            for k in lo..=hi {
+                if direct_response(&column, k, d).abs() > thr {
+                    if k == lo {
+                        return (c, ColumnStatus::TooClose, start as f64);
+                    }
+                    let p = refine_crossing(o.refinement, k, d, lo, height - 1 - d, |k| {
+                        direct_response(&column, k, d)
+                    });
+                    let row = (height - 1) as f64 - p.k;
+                    return match table.lookup(u, row) {
+                        Some(_) => (c, ColumnStatus::Boundary, row),
+                        None => (c, ColumnStatus::Invalid, row),
+                    };
+                }
+            }
+            (c, ColumnStatus::NoBoundary, (height - 1 - hi) as f64)
+        })
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(120))]
+    /// The row-major incremental scan of all columns equals the column-by-column direct scan.
+    #[test]
+    fn scan_equals_brute_force_reference(
+        width in 8usize..40, height in 24usize..60, seed in any::<u64>(),
+        d in 1usize..6, threshold in 0.0..60.0f64, refinement_i in 0usize..3, n_cols in 1usize..8,
+        margin in 0usize..4, horizon in 0.0..20.0f64,
+    ) {
+        let mut rng = seed;
+        let mut next = || { rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17; rng };
+        // Blocky random image: runs of constant intensity, so edges and plateaus both occur.
+        let mut img = vec![0u8; width * height];
+        for u in 0..width {
+            let mut v = height;
+            while v > 0 {
+                let run = 1 + (next() % 12) as usize;
+                let val = (next() % 256) as u8;
+                for vv in v.saturating_sub(run)..v { img[vv * width + u] = val; }
+                v = v.saturating_sub(run);
+            }
+        }
+        let refinement = [Refinement::FirstCrossing, Refinement::Peak, Refinement::SubPixel][refinement_i];
+        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), ..options(d, threshold, refinement, ColumnSelection::Count(n_cols.min(width))) };
+        let t = table(width, height, horizon);
+        let reference = brute_force(&t, &o, &img, width, height);
+        match VisualRanger::new(t, o) {
+            Ok(mut ranger) => {
+                let view = ImageView::new(&img, width, height).unwrap();
+                let scan = ranger.scan(&view, 0.0).unwrap();
+                let mut direct = Scan::default();
+                ranger.scan_direct_into(&view, 0.0, &mut direct).unwrap();
+                prop_assert_eq!(&scan, &direct);
+                for (r, (c, status, row)) in scan.readings.iter().zip(reference) {
+                    prop_assert_eq!(r.column, c);
+                    prop_assert_eq!(r.status(), status, "column {}", c);
+                    if status != ColumnStatus::Invalid || row.is_finite() {
+                        prop_assert!((r.row() - row).abs() < 1e-9 || (r.row().is_nan() && row.is_nan()), "column {}: {} vs {}", c, r.row(), row);
+                    }
+                }
+            }
+            Err(Error::InvalidOption { name: "half_width", .. }) => prop_assert!(2 * d + 2 > height),
+            Err(e) => prop_assert!(false, "unexpected error {e}"),
+        }
+    }
+}
+
+#[test]
+fn sharp_step_edges_give_exact_rows_for_both_polarities() {
+    let (w, h) = (64, 120);
+    let floor_from: Vec<usize> = (0..w).map(|u| 40 + u).collect(); // one edge row per column
+    for (floor, obstacle) in [(80u8, 170u8), (170, 80)] {
+        let img = step_image(w, h, &floor_from, floor, obstacle);
+        for refinement in [Refinement::Peak, Refinement::SubPixel] {
+            let mut r = VisualRanger::new(
+                table(w, h, 0.0),
+                options(4, 20.0, refinement, ColumnSelection::Count(w)),
+            )
+            .unwrap();
+            let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+            for reading in &scan.readings {
+                let u = reading.column as usize;
+                assert_eq!(reading.status(), ColumnStatus::Boundary, "u={u}");
+                // The edge line lies between the first floor row and the obstacle row above it.
+                assert_eq!(
+                    reading.row(),
+                    floor_from[u] as f64 - 0.5,
+                    "u={u} {refinement:?}"
+                );
+                let expected = r
+                    .table()
+                    .lookup(u as f64, floor_from[u] as f64 - 0.5)
+                    .unwrap();
+                assert_eq!(reading.point(), Some(expected));
+            }
+        }
+    }
+}
+
+#[test]
+fn first_crossing_depends_on_contrast_and_peak_does_not() {
+    let (w, h) = (8, 80);
+    let floor_from = vec![40; w];
+    let rows = |contrast: u8, refinement| {
+        let img = step_image(w, h, &floor_from, 100, 100 + contrast);
+        let mut r = VisualRanger::new(
+            table(w, h, 0.0),
+            options(6, 6.0, refinement, ColumnSelection::Count(1)),
+        )
+        .unwrap();
+        r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0)
+            .unwrap()
+            .readings[0]
+            .row()
+    };
+    // R = (sum above - sum below) / 2d; on the ramp below an edge at k = 39.5 with contrast C,
+    // S(k) = (k + d - 39) C for k <= 39, crossing 2dT = 72 first at k = 38 (C = 15, row 41) and
+    // at k = 34 (C = 120, row 45): the paper's rule places strong edges lower in the image.
+    assert_eq!(rows(15, Refinement::FirstCrossing), 41.0);
+    assert_eq!(rows(120, Refinement::FirstCrossing), 45.0);
+    assert_eq!(rows(15, Refinement::SubPixel), 39.5);
+    assert_eq!(rows(120, Refinement::SubPixel), 39.5);
+}
+
+#[test]
+fn noisy_step_edges_are_found_within_a_pixel() {
+    let (w, h) = (64, 120);
+    let floor_from: Vec<usize> = (0..w).map(|u| 30 + (u * 7) % 60).collect();
+    let mut img = step_image(w, h, &floor_from, 90, 150);
+    let mut s: u64 = 12345;
+    for p in img.iter_mut() {
+        // Uniform noise in [-6, 6]: well below the 60-level step.
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        *p = (*p as i32 + ((s >> 33) % 13) as i32 - 6) as u8;
+    }
+    let mut r = VisualRanger::new(
+        table(w, h, 0.0),
+        options(4, 20.0, Refinement::SubPixel, ColumnSelection::Count(w)),
+    )
+    .unwrap();
+    let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+    for reading in &scan.readings {
+        let truth = floor_from[reading.column as usize] as f64 - 0.5;
+        assert_eq!(reading.status(), ColumnStatus::Boundary);
+        assert!(
+            (reading.row() - truth).abs() <= 1.0,
+            "u={} row {} truth {truth}",
+            reading.column,
+            reading.row()
+        );
+    }
+}
+
+#[test]
+fn sub_pixel_refinement_finds_a_blurred_edge_centre() {
+    let (w, h) = (16, 100);
+    let erf = |x: f64| {
+        // Abramowitz-Stegun 7.1.26, |error| < 1.5e-7.
+        let t = 1.0 / (1.0 + 0.3275911 * x.abs());
+        let y = 1.0
+            - (((((1.061405429 * t - 1.453152027) * t) + 1.421413741) * t - 0.284496736) * t
+                + 0.254829592)
+                * t
+                * (-x * x).exp();
+        y.copysign(x)
+    };
+    for (i, centre) in [40.0, 40.25, 47.5, 52.8, 61.1].into_iter().enumerate() {
+        for sigma in [0.8, 1.5, 2.5] {
+            // Pixel v covers [v - 0.5, v + 0.5]; the floor (dark) is below the edge centre.
+            let value = |v: f64| {
+                let cdf =
+                    |x: f64| 0.5 * (1.0 + erf((x - centre) / (sigma * std::f64::consts::SQRT_2)));
+                // Mean over the pixel of the obstacle share (obstacle above, i.e. at smaller v).
+                let share = (1..=20)
+                    .map(|s| 1.0 - cdf(v - 0.5 + (s as f64 - 0.5) / 20.0))
+                    .sum::<f64>()
+                    / 20.0;
+                (70.0 + 120.0 * share).round() as u8
+            };
+            let img: Vec<u8> = (0..h)
+                .flat_map(|v| std::iter::repeat_n(value(v as f64), w))
+                .collect();
+            let mut r = VisualRanger::new(
+                table(w, h, 0.0),
+                options(5, 15.0, Refinement::SubPixel, ColumnSelection::Count(2)),
+            )
+            .unwrap();
+            let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+            let row = scan.readings[0].row();
+            assert!(
+                (row - centre).abs() < 0.5,
+                "case {i}: centre {centre} sigma {sigma}: row {row}"
+            );
+        }
+    }
+}
+
+#[test]
+fn obstacle_in_the_first_window_is_too_close_and_no_edge_is_no_boundary() {
+    let (w, h) = (16, 60);
+    // Column 0..8: obstacle from the very bottom; 8..16: plain floor everywhere.
+    let floor_from: Vec<usize> = (0..w).map(|u| if u < 8 { h } else { 0 }).collect();
+    let mut img = step_image(w, h, &floor_from, 90, 180);
+    // The obstacle of the left half meets floor two rows from the bottom: inside the first window.
+    for v in h - 2..h {
+        for u in 0..8 {
+            img[v * w + u] = 90;
+        }
+    }
+    let t = table(w, h, 10.0);
+    let mut r = VisualRanger::new(
+        t,
+        options(
+            4,
+            20.0,
+            Refinement::SubPixel,
+            ColumnSelection::Explicit(vec![2, 12]),
+        ),
+    )
+    .unwrap();
+    let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+    assert_eq!(scan.readings[0].status(), ColumnStatus::TooClose);
+    assert_eq!(scan.readings[0].range_m(), f64::NEG_INFINITY);
+    match scan.readings[1].outcome {
+        ColumnOutcome::NoBoundary { top_row, farthest } => {
+            // Highest row with ground: nodes every 4 px, the first node at or below the horizon
+            // row 10 with ground is v = 12 (the cell from v = 8 has a no-ground corner).
+            assert_eq!(top_row, 12.0);
+            assert_eq!(Some(farthest), r.table().lookup(12.0, 12.0));
+        }
+        other => panic!("expected no boundary, got {other:?}"),
+    }
+}
+
+#[test]
+fn columns_without_ground_are_invalid() {
+    let (w, h) = (16, 60);
+    // No ground in the left half at all; ground above row 30 only in the right half.
+    let t = GroundTable::from_fn(w, h, 1, |u, v| {
+        (u >= 8.0 && v >= 30.0).then(|| Point2::new(1.0 + (59.0 - v) * 0.01, 0.0))
+    })
+    .unwrap();
+    let floor_from = vec![20usize; w]; // the edge lies above the calibrated region
+    let img = step_image(w, h, &floor_from, 90, 180);
+    let mut r = VisualRanger::new(
+        t,
+        options(
+            3,
+            20.0,
+            Refinement::SubPixel,
+            ColumnSelection::Explicit(vec![2, 12]),
+        ),
+    )
+    .unwrap();
+    let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+    assert_eq!(scan.readings[0].status(), ColumnStatus::Invalid);
+    assert!(scan.readings[0].near.is_none());
+    // Column 12 scans only up to row 30 and the edge at row 19.5 is beyond: free up to row 30.
+    assert_eq!(scan.readings[1].status(), ColumnStatus::NoBoundary);
+    // A mask start above the floor makes the column invalid, not too close.
+    let mut starts = vec![59u32; w];
+    starts[12] = 25;
+    let o = RangerOptions {
+        start: ColumnStart::PerColumn(starts),
+        ..options(
+            3,
+            20.0,
+            Refinement::SubPixel,
+            ColumnSelection::Explicit(vec![12]),
+        )
+    };
+    let mut r = VisualRanger::new(r.table().clone(), o).unwrap();
+    let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+    assert_eq!(scan.readings[0].status(), ColumnStatus::Invalid);
+}
+
+#[test]
+fn max_range_limits_how_far_columns_scan() {
+    let (w, h) = (8, 100);
+    let img = step_image(w, h, &[20; 8], 90, 180); // edge at row 19.5, x = 0.2 + 80 * 0.01 = 1.0 m
+    let base = options(
+        3,
+        20.0,
+        Refinement::SubPixel,
+        ColumnSelection::Explicit(vec![4]),
+    );
+    let mut near = VisualRanger::new(
+        table(w, h, 0.0),
+        RangerOptions {
+            max_range_m: Some(0.8),
+            ..base.clone()
+        },
+    )
+    .unwrap();
+    let mut far = VisualRanger::new(table(w, h, 0.0), base).unwrap();
+    let view = ImageView::new(&img, w, h).unwrap();
+    assert_eq!(
+        near.scan(&view, 0.0).unwrap().readings[0].status(),
+        ColumnStatus::NoBoundary
+    );
+    assert_eq!(
+        far.scan(&view, 0.0).unwrap().readings[0].status(),
+        ColumnStatus::Boundary
+    );
+}
+
+#[test]
+fn sixteen_bit_and_strided_images_scan_like_their_8_bit_copies() {
+    let (w, h) = (32, 80);
+    let floor_from: Vec<usize> = (0..w).map(|u| 20 + u).collect();
+    let img = step_image(w, h, &floor_from, 60, 200);
+    let wide: Vec<u16> = img.iter().map(|&p| p as u16 * 257).collect();
+    // Every other column of a 2w-wide buffer holds the image.
+    let mut strided = vec![0u8; 2 * w * h];
+    for v in 0..h {
+        for u in 0..w {
+            strided[v * 2 * w + 2 * u] = img[v * w + u];
+        }
+    }
+    let o = options(4, 20.0, Refinement::SubPixel, ColumnSelection::Count(w));
+    let mut r8 = VisualRanger::new(table(w, h, 0.0), o.clone()).unwrap();
+    let mut r16 = VisualRanger::new(
+        table(w, h, 0.0),
+        RangerOptions {
+            threshold: 20.0 * 257.0,
+            ..o
+        },
+    )
+    .unwrap();
+    let a = r8.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+    let b = r16
+        .scan(&ImageView::new(&wide, w, h).unwrap(), 0.0)
+        .unwrap();
+    let c = r8
+        .scan(
+            &ImageView::with_strides(&strided, w, h, 2 * w, 2).unwrap(),
+            0.0,
+        )
+        .unwrap();
+    assert_eq!(a, b);
+    assert_eq!(a, c);
+}
+
+#[test]
+fn wrong_image_size_and_impossible_options_are_errors() {
+    let t = table(32, 40, 0.0);
+    let mut r =
+        VisualRanger::new(t.clone(), RangerOptions::default().clone_with_columns(8)).unwrap();
+    let img = vec![0u8; 31 * 40];
+    assert!(matches!(
+        r.scan(&ImageView::new(&img, 31, 40).unwrap(), 0.0),
+        Err(Error::InvalidImage(_))
+    ));
+    assert!(VisualRanger::new(
+        t.clone(),
+        RangerOptions {
+            half_width_px: 20,
+            ..RangerOptions::default().clone_with_columns(8)
+        }
+    )
+    .is_err());
+    assert!(VisualRanger::new(
+        t.clone(),
+        RangerOptions {
+            start: ColumnStart::BottomMargin(40),
+            ..RangerOptions::default().clone_with_columns(8)
+        }
+    )
+    .is_err());
+    assert!(VisualRanger::new(
+        t,
+        RangerOptions {
+            start: ColumnStart::PerColumn(vec![3; 5]),
+            ..RangerOptions::default().clone_with_columns(8)
+        }
+    )
+    .is_err());
+}
+
+impl RangerOptions {
+    fn clone_with_columns(self, n: usize) -> Self {
+        RangerOptions {
+            columns: ColumnSelection::Count(n),
+            ..self
+        }
+    }
+}
