@@ -40,6 +40,9 @@ pub struct VisualRanger {
     sums: Vec<i32>,
     active_threshold: Vec<i32>,
     offsets: Vec<usize>,
+    /// The sampled pixels of the last 2d + 2 rows (row k in slot k mod (2d + 2)), so sparse
+    /// columns are gathered once per row and updated from contiguous memory.
+    ring: Vec<u16>,
     outcomes: Vec<Option<ColumnOutcome>>,
 }
 
@@ -102,6 +105,7 @@ impl VisualRanger {
         Ok(Self {
             threshold_sum: threshold_to_sum(options.threshold, d),
             offsets: vec![0; n],
+            ring: vec![0; (2 * d + 2) * n],
             sums: vec![0; n],
             active_threshold: vec![i32::MAX; n],
             outcomes: vec![None; n],
@@ -218,13 +222,18 @@ impl VisualRanger {
             *off = plan.column as usize * image.col_stride();
         }
         // Consecutive image columns in a contiguous row: plain slices, which vectorise.
-        let max_offset = self.offsets.iter().copied().max().unwrap_or(0);
         let contiguous =
             image.col_stride() == 1 && self.offsets.windows(2).all(|w| w[1] == w[0] + 1);
+        let ring_rows = 2 * d + 2;
         self.active_threshold.fill(i32::MAX);
         let k_first = self.plans[self.by_lo[0]].window.unwrap().0;
         for (j, plan) in self.plans.iter().enumerate() {
             self.sums[j] = direct_response_at(image, plan.column as usize, k_first, d);
+        }
+        if !contiguous {
+            for k in k_first - d..=k_first + d {
+                self.gather_row(image, k, ring_rows);
+            }
         }
         let mut unresolved = self.by_lo.len();
         let mut events = EventCursor::default();
@@ -257,28 +266,34 @@ impl VisualRanger {
                 break;
             }
             // Advance every running sum from k - 1 to k and test it, in one pass.
-            let (ra, rb, rc, re) = (
-                image.row(row_of(k - 1 - d)),
-                image.row(row_of(k - 1)),
-                image.row(row_of(k)),
-                image.row(row_of(k + d)),
-            );
             any_crossing = if contiguous {
                 let (o, n) = (self.offsets[0], self.offsets.len());
+                let row = |k: usize| &image.row(row_of(k))[o..o + n];
                 advance_contiguous(
                     &mut self.sums,
                     &self.active_threshold,
-                    [&ra[o..o + n], &rb[o..o + n], &rc[o..o + n], &re[o..o + n]],
+                    [row(k - 1 - d), row(k - 1), row(k), row(k + d)],
                 )
             } else {
-                advance_gathered(
+                self.gather_row(image, k + d, ring_rows);
+                let n = self.plans.len();
+                let slot = |k: usize| &self.ring[(k % ring_rows) * n..(k % ring_rows + 1) * n];
+                advance_contiguous(
                     &mut self.sums,
                     &self.active_threshold,
-                    &self.offsets,
-                    max_offset,
-                    [ra, rb, rc, re],
+                    [slot(k - 1 - d), slot(k - 1), slot(k), slot(k + d)],
                 )
             };
+        }
+    }
+
+    /// Copies the sampled pixels of row k (from the bottom) into its ring slot.
+    fn gather_row<P: Pixel>(&mut self, image: &ImageView<P>, k: usize, ring_rows: usize) {
+        let n = self.plans.len();
+        let start = (k % ring_rows) * n;
+        let row = image.row(image.height() - 1 - k);
+        for (dst, &o) in self.ring[start..start + n].iter_mut().zip(&self.offsets) {
+            *dst = row[o].to_i32() as u16;
         }
     }
 
@@ -377,38 +392,6 @@ fn advance_contiguous<P: Pixel>(sums: &mut [i32], thresholds: &[i32], rows: [&[P
         any |= v.abs() > t;
     }
     any
-}
-
-/// As [`advance_contiguous`] for columns at arbitrary element offsets into the rows.
-#[inline]
-fn advance_gathered<P: Pixel>(
-    sums: &mut [i32],
-    thresholds: &[i32],
-    offsets: &[usize],
-    max_offset: usize,
-    rows: [&[P]; 4],
-) -> bool {
-    let [ra, rb, rc, re] = rows;
-    let len = ra.len().min(rb.len()).min(rc.len()).min(re.len());
-    // Offsets come from column indices checked against the image width when the ranger was
-    // built, so this holds; checking the largest once saves four bounds checks per column.
-    assert!(max_offset < len, "column offset outside the row");
-    for (s, &o) in sums.iter_mut().zip(offsets) {
-        // SAFETY: o <= max_offset < len <= the length of each row (asserted above).
-        let (a, b, c, e) = unsafe {
-            (
-                *ra.get_unchecked(o),
-                *rb.get_unchecked(o),
-                *rc.get_unchecked(o),
-                *re.get_unchecked(o),
-            )
-        };
-        *s += e.to_i32() - c.to_i32() - b.to_i32() + a.to_i32();
-    }
-    // A separate pass: the comparison vectorises, the gather above cannot.
-    sums.iter()
-        .zip(thresholds)
-        .fold(false, |any, (s, t)| any | (s.abs() > *t))
 }
 
 /// Works out where a column's scan starts and how far up it may go.
