@@ -78,7 +78,9 @@ class VideoSource(FrameSource):
     """A video file (anything OpenCV reads); frame times from the container, offset by
     ``start_time`` [s] so they can match an odometry file's clock."""
 
-    def __init__(self, path: PathLike, *, odometry: Optional[PathLike] = None, start_time: float = 0.0) -> None:
+    def __init__(
+        self, path: PathLike, *, odometry: Optional[PathLike] = None, start_time: float = 0.0
+    ) -> None:
         import cv2
 
         self.path = Path(path)
@@ -101,7 +103,11 @@ class VideoSource(FrameSource):
             ok, img = self._cap.read()
             if not ok:
                 break
-            yield Frame(i, self.start_time + i / self._fps, as_grey(np.ascontiguousarray(img[..., ::-1]) if img.ndim == 3 else img))
+            yield Frame(
+                i,
+                self.start_time + i / self._fps,
+                as_grey(np.ascontiguousarray(img[..., ::-1]) if img.ndim == 3 else img),
+            )
             i += 1
         self._cap.release()
 
@@ -115,7 +121,9 @@ class CameraSource(FrameSource):
 
     live = True
 
-    def __init__(self, device: int, *, odometry: Optional[PathLike] = None, max_frames: Optional[int] = None) -> None:
+    def __init__(
+        self, device: int, *, odometry: Optional[PathLike] = None, max_frames: Optional[int] = None
+    ) -> None:
         import cv2
 
         self._cap = cv2.VideoCapture(int(device))
@@ -152,7 +160,9 @@ class CameraSource(FrameSource):
                 continue
             self.dropped += grabbed - seen - 1
             seen = grabbed
-            yield Frame(i, t, as_grey(np.ascontiguousarray(img[..., ::-1]) if img.ndim == 3 else img))
+            yield Frame(
+                i, t, as_grey(np.ascontiguousarray(img[..., ::-1]) if img.ndim == 3 else img)
+            )
             i += 1
 
     def close(self) -> None:
@@ -164,7 +174,9 @@ class CameraSource(FrameSource):
 class BagSource(FrameSource):
     """A ROS 1 (``.bag``) or ROS 2 (folder) bag: images and odometry from named topics."""
 
-    def __init__(self, path: PathLike, *, image_topic: str, odom_topic: Optional[str] = None) -> None:
+    def __init__(
+        self, path: PathLike, *, image_topic: str, odom_topic: Optional[str] = None
+    ) -> None:
         from .rosbag_io import read_bag_odometry
 
         self.path = Path(path)

@@ -4,4 +4,5 @@ COMMAND_MODULES = [
     "floorscan.commands.scan",
     "floorscan.commands.overlay",
     "floorscan.commands.demo",
+    "floorscan.commands.config",
 ]

@@ -1,0 +1,246 @@
+"""The one configuration file: every parameter of ranger, calibration, rig, map, sensors and
+outputs, with documented defaults. ``floorscan config --default`` prints it; command-line flags
+override it; unknown or ill-typed keys are errors that name the key.
+
+Each table is the options of one component (field names and meanings as in the Python API and
+the Rust options structs); values are checked again, for range, when the component is built.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any, Dict, Optional, Union, get_args, get_origin, get_type_hints
+
+from ._atomic import PathLike, write_atomic
+from ._toml import dumps_toml, load_toml, loads_toml
+from .errors import ConfigError
+
+
+def doc(text: str, default: Any = dataclasses.MISSING, **kw):
+    return field(default=default, metadata={"doc": text}, **kw)
+
+
+@dataclass
+class RangerConfig:
+    columns: int = doc("number of evenly spaced image columns sampled per frame", 64)
+    half_width: int = doc("box filter half-width d [px], >= 1", 4)
+    threshold: float = doc(
+        "edge threshold on |R| of eq. (1)-(2) (half the difference of the window means), intensity units",
+        12.0,
+    )
+    refine: str = doc(
+        "boundary placement: subpixel | peak | none (the paper's first crossing)", "subpixel"
+    )
+    bottom_margin: int = doc(
+        "rows skipped at the bottom of each column (bumper, dead rows) [px]", 2
+    )
+    max_range_m: Optional[float] = doc(
+        "farthest range scanned [m]; unset: as far as the table has ground", None
+    )
+
+
+@dataclass
+class CalibrationConfig:
+    spacing_px: int = doc("ground table node spacing [px]", 8)
+    extrapolate: bool = doc("trust the fitted model beyond the margin around the pattern", False)
+
+
+@dataclass
+class RigConfig:
+    x: Optional[float] = doc(
+        "camera ground frame x on the robot [m]; unset: the dataset's rig.toml, else 0", None
+    )
+    y: Optional[float] = doc(
+        "camera ground frame y on the robot [m]; unset: rig.toml, else 0", None
+    )
+    yaw: Optional[float] = doc("camera heading on the robot [rad]; unset: rig.toml, else 0", None)
+
+
+@dataclass
+class MapConfig:
+    cell_size_m: float = doc("cell side [m] (the paper: 4 cm)", 0.04)
+    clamp_min_nats: float = doc("lowest log-odds a cell holds [nats] (OctoMap-style clamp)", -2.0)
+    clamp_max_nats: float = doc("highest log-odds a cell holds [nats]", 3.5)
+    occupied_threshold: float = doc("probability at or above which a cell is occupied", 0.65)
+    free_threshold: float = doc("probability at or below which a cell is free", 0.196)
+    local_size_m: float = doc("side of the robot-centred local map [m] (the paper: 3.84 m)", 3.84)
+
+
+@dataclass
+class EvidenceConfig:
+    hit_nats: float = doc("log-odds added to a cell seen occupied [nats], > 0", 0.85)
+    miss_nats: float = doc("log-odds added to a cell seen free [nats], < 0", -0.4)
+
+
+@dataclass
+class SensorsConfig:
+    visual: EvidenceConfig = field(default_factory=EvidenceConfig, metadata={"doc": "camera scans"})
+    laser: EvidenceConfig = field(default_factory=EvidenceConfig, metadata={"doc": "laser scans"})
+    sonar: EvidenceConfig = field(
+        default_factory=lambda: EvidenceConfig(hit_nats=0.4, miss_nats=-0.2),
+        metadata={"doc": "sonar readings"},
+    )
+    too_close: str = doc("too_close columns: mark_near_edge | ignore", "mark_near_edge")
+
+
+@dataclass
+class OutputsConfig:
+    local_snapshot_period_s: float = doc(
+        "seconds between local map snapshots (PNG); 0 disables", 5.0
+    )
+    overlay: str = doc("frames with boundary points: gif | mp4 | none", "gif")
+    overlay_max_frames: int = doc(
+        "frames in the overlay animation (evenly spread over the run)", 120
+    )
+    bag: bool = doc("write scans (LaserScan) and the map (OccupancyGrid) to a ROS 2 bag", True)
+    bag_storage: str = doc("ROS 2 bag storage: mcap | sqlite3", "mcap")
+    laser_angle_increment_rad: float = doc("angular bin of the LaserScan conversion [rad]", 0.01)
+
+
+@dataclass
+class Config:
+    ranger: RangerConfig = field(default_factory=RangerConfig)
+    calibration: CalibrationConfig = field(default_factory=CalibrationConfig)
+    rig: RigConfig = field(default_factory=RigConfig)
+    map: MapConfig = field(default_factory=MapConfig)
+    sensors: SensorsConfig = field(default_factory=SensorsConfig)
+    outputs: OutputsConfig = field(default_factory=OutputsConfig)
+
+    # --- reading ------------------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, d: Dict[str, Any], *, source: str = "config") -> Config:
+        return _build(cls, d, source, "")
+
+    @classmethod
+    def load(cls, path: PathLike) -> Config:
+        return cls.from_dict(load_toml(Path(path)), source=str(path))
+
+    @classmethod
+    def from_toml(cls, text: str, *, source: str = "<config>") -> Config:
+        return cls.from_dict(loads_toml(text, source=source), source=source)
+
+    # --- writing ------------------------------------------------------------------------
+    def to_dict(self) -> Dict[str, Any]:
+        return _drop_none(dataclasses.asdict(self))
+
+    def to_toml(self, *, with_docs: bool = True) -> str:
+        comments = _docs(type(self), "") if with_docs else {}
+        text = dumps_toml(self.to_dict(), comments)
+        if with_docs:
+            # Unset optional keys appear commented out, so users see they exist.
+            lines = []
+            for line in text.splitlines():
+                lines.append(line)
+                if line.startswith("["):
+                    section = line.strip("[]")
+                    for key, note in _unset_keys(self, section):
+                        lines.append(f"# {key} = (unset)  # {note}")
+            text = "\n".join(lines) + "\n"
+        return "# floorscan configuration (floorscan config --default)\n" + text
+
+    def save(self, path: PathLike) -> Path:
+        return write_atomic(path, self.to_toml())
+
+    def with_overrides(self, overrides: Dict[str, Any]) -> Config:
+        """A copy with dotted keys replaced (``{"ranger.threshold": 9.0}``), type-checked."""
+        d = dataclasses.asdict(self)
+        for key, value in overrides.items():
+            if value is None:
+                continue
+            node = d
+            parts = key.split(".")
+            for p in parts[:-1]:
+                if p not in node or not isinstance(node[p], dict):
+                    raise ConfigError(f"unknown key `{key}`")
+                node = node[p]
+            if parts[-1] not in node:
+                raise ConfigError(f"unknown key `{key}`")
+            node[parts[-1]] = value
+        return Config.from_dict(_drop_none(d), source="command line")
+
+
+def _drop_none(d):
+    if isinstance(d, dict):
+        return {k: _drop_none(v) for k, v in d.items() if v is not None}
+    return d
+
+
+def _docs(cls, prefix: str) -> Dict[str, str]:
+    out = {}
+    for f in fields(cls):
+        if dataclasses.is_dataclass(f.type) or (
+            isinstance(f.type, str) and f.type.endswith("Config")
+        ):
+            continue
+        if "doc" in f.metadata:
+            out[f"{prefix}{f.name}"] = f.metadata["doc"]
+    hints = get_type_hints(cls)
+    for f in fields(cls):
+        t = hints[f.name]
+        if dataclasses.is_dataclass(t):
+            out.update(_docs(t, f"{prefix}{f.name}."))
+    return out
+
+
+def _unset_keys(cfg: Config, section: str):
+    node: Any = cfg
+    for p in section.split("."):
+        node = getattr(node, p, None)
+        if node is None:
+            return []
+    if not dataclasses.is_dataclass(node):
+        return []
+    return [
+        (f.name, f.metadata.get("doc", "")) for f in fields(node) if getattr(node, f.name) is None
+    ]
+
+
+def _check_value(value: Any, typ: Any, key: str, source: str) -> Any:
+    optional = get_origin(typ) is Union and type(None) in get_args(typ)
+    if optional:
+        typ = [a for a in get_args(typ) if a is not type(None)][0]
+    if typ is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(f"{source}: `{key}` must be true or false, got {value!r}")
+        return value
+    if typ is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ConfigError(f"{source}: `{key}` must be an integer, got {value!r}")
+        return value
+    if typ is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ConfigError(f"{source}: `{key}` must be a number, got {value!r}")
+        if not math.isfinite(value):
+            raise ConfigError(f"{source}: `{key}` must be finite, got {value!r}")
+        return float(value)
+    if typ is str:
+        if not isinstance(value, str):
+            raise ConfigError(f"{source}: `{key}` must be a string, got {value!r}")
+        return value
+    raise ConfigError(f"{source}: `{key}` has an unsupported type")  # pragma: no cover
+
+
+def _build(cls, d: Any, source: str, prefix: str):
+    if not isinstance(d, dict):
+        raise ConfigError(f"{source}: `{prefix.rstrip('.') or 'config'}` must be a table")
+    hints = get_type_hints(cls)
+    names = {f.name for f in fields(cls)}
+    for k in d:
+        if k not in names:
+            raise ConfigError(
+                f"{source}: unknown key `{prefix}{k}` (known: {', '.join(sorted(names))})"
+            )
+    kwargs = {}
+    for f in fields(cls):
+        if f.name not in d:
+            continue
+        t = hints[f.name]
+        key = f"{prefix}{f.name}"
+        if dataclasses.is_dataclass(t):
+            kwargs[f.name] = _build(t, d[f.name], source, key + ".")
+        else:
+            kwargs[f.name] = _check_value(d[f.name], t, key, source)
+    return cls(**kwargs)
