@@ -5,4 +5,5 @@ COMMAND_MODULES = [
     "floorscan.commands.overlay",
     "floorscan.commands.demo",
     "floorscan.commands.config",
+    "floorscan.commands.run",
 ]

@@ -1,0 +1,150 @@
+"""``floorscan run``: the main job. Camera frames and odometry in (dataset folder, video file,
+live camera, ROS 1/2 bag), range scans and occupancy maps out (see run_outputs.py)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..config import Config
+from ..errors import DatasetError, OptionError
+from ..ground_table import GroundTable
+from ..image_io import read_grey
+from ..pipeline import Mapper, run
+from ..progress import Progress
+from ..rig import Rig
+from ..run_outputs import RunOutputs
+from ..sources import BagSource, CameraSource, DatasetSource, FrameSource, VideoSource
+
+VIDEO_SUFFIXES = {".mp4", ".avi", ".mkv", ".mov", ".webm", ".m4v", ".mpg", ".mpeg"}
+
+
+def register(sub) -> None:
+    p = sub.add_parser("run", help="images + odometry in, scans and occupancy maps out")
+    p.add_argument(
+        "input", nargs="?", help="dataset folder, video file, ROS 1 .bag or ROS 2 bag folder"
+    )
+    p.add_argument("-o", "--output", required=True, help="output folder")
+    p.add_argument("--table", help="ground table JSON (from `floorscan calibrate`)")
+    p.add_argument(
+        "--calibrate",
+        metavar="PATTERN_IMAGE",
+        help="calibrate from this image first (pattern TOML beside it, or --pattern)",
+    )
+    p.add_argument("--pattern", help="pattern TOML for --calibrate")
+    p.add_argument("--config", help="configuration TOML (floorscan config --default)")
+    p.add_argument("--odometry", help="TUM odometry file (video or live input)")
+    p.add_argument(
+        "--camera",
+        type=int,
+        metavar="DEVICE",
+        help="live camera (OpenCV device index) instead of INPUT",
+    )
+    p.add_argument("--max-frames", type=int, help="stop after this many frames (live input)")
+    p.add_argument(
+        "--image-topic",
+        default="/camera/image_raw",
+        help="bag image topic (Image or CompressedImage)",
+    )
+    p.add_argument("--odom-topic", default="/odom", help="bag odometry topic (nav_msgs/Odometry)")
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="fail on an unreadable frame or missing odometry instead of skipping it",
+    )
+    p.add_argument(
+        "--rerun", action="store_true", help="also log to a Rerun recording (needs rerun-sdk)"
+    )
+    p.add_argument("--threshold", type=float, help="override ranger.threshold")
+    p.add_argument("--half-width", type=int, help="override ranger.half_width")
+    p.add_argument("--columns", type=int, help="override ranger.columns")
+    p.set_defaults(run=main)
+
+
+def open_source(args: argparse.Namespace) -> FrameSource:
+    if args.camera is not None:
+        return CameraSource(args.camera, odometry=args.odometry, max_frames=args.max_frames)
+    if not args.input:
+        raise OptionError("give an INPUT (dataset folder, video, bag) or --camera DEVICE")
+    path = Path(args.input)
+    if not path.exists():
+        raise DatasetError(f"input not found: {path}")
+    if path.is_dir() and (path / "images.txt").is_file():
+        return DatasetSource(path)
+    if path.suffix == ".bag" or (path.is_dir() and (path / "metadata.yaml").is_file()):
+        return BagSource(path, image_topic=args.image_topic, odom_topic=args.odom_topic)
+    if path.is_file() and path.suffix.lower() in VIDEO_SUFFIXES:
+        return VideoSource(path, odometry=args.odometry)
+    raise DatasetError(
+        f"{path}: not a dataset folder (images.txt), a bag or a video file ({', '.join(sorted(VIDEO_SUFFIXES))})"
+    )
+
+
+def load_table(args: argparse.Namespace, source: FrameSource, cfg: Config) -> GroundTable:
+    if args.table:
+        return GroundTable.load(args.table)
+    image_path = Path(args.calibrate) if args.calibrate else None
+    if (
+        image_path is None
+        and isinstance(source, DatasetSource)
+        and (source.folder / "calibration" / "pattern.png").is_file()
+    ):
+        image_path = source.folder / "calibration" / "pattern.png"
+    if image_path is None:
+        raise OptionError("no calibration: give --table TABLE.json or --calibrate PATTERN_IMAGE")
+    from ..calibration import calibrate
+
+    pattern = Path(args.pattern) if args.pattern else image_path.with_name("pattern.toml")
+    table, report = calibrate(
+        read_grey(image_path),
+        pattern,
+        spacing_px=cfg.calibration.spacing_px,
+        extrapolate=cfg.calibration.extrapolate,
+    )
+    print(f"calibrated from {image_path}: {report.summary()}", file=sys.stderr)
+    return table
+
+
+def rig_pose(source: FrameSource, cfg: Config):
+    rig = source.rig or Rig()
+    r = cfg.rig
+    return (
+        r.x if r.x is not None else rig.x,
+        r.y if r.y is not None else rig.y,
+        r.yaw if r.yaw is not None else rig.yaw,
+    )
+
+
+def main(args: argparse.Namespace) -> int:
+    cfg = Config.load(args.config) if args.config else Config()
+    cfg = cfg.with_overrides(
+        {
+            "ranger.threshold": args.threshold,
+            "ranger.half_width": args.half_width,
+            "ranger.columns": args.columns,
+        }
+    )
+    source = open_source(args)
+    table = load_table(args, source, cfg)
+    mapper = Mapper(table, cfg, robot_from_camera=rig_pose(source, cfg))
+    outputs = RunOutputs(args.output, cfg, expected_frames=len(source) or None)
+    if args.rerun:
+        from ..rerun_log import RerunOutputs
+
+        outputs = RerunOutputs(outputs)
+    if source.odometry is None:
+        print(
+            "no odometry: only the local map is built (the robot is taken as standing still)",
+            file=sys.stderr,
+        )
+    stats = run(source, mapper, outputs, strict=args.strict, progress=Progress(len(source) or None))
+    skipped = stats.frames_in - stats.frames_mapped
+    print(
+        f"{stats.frames_mapped} frames mapped, {skipped} skipped, {stats.boundary_points} boundary points"
+        + (" (interrupted: map saved)" if stats.interrupted else "")
+    )
+    print(
+        f"outputs in {outputs.out if hasattr(outputs, 'out') else args.output}/: map.yaml map.png scans.csv summary.json ..."
+    )
+    return 130 if stats.interrupted else 0

@@ -1,0 +1,209 @@
+"""The whole system as the paper's robot ran it: frames and odometry in, scans and occupancy
+maps out. :class:`Mapper` is the per-frame core (ranger + global map + local map);
+:func:`run` drives it over a frame source and writes every output through
+:class:`~floorscan.run_outputs.RunOutputs`.
+"""
+
+from __future__ import annotations
+
+import signal
+import time
+from dataclasses import dataclass, field
+from typing import Dict, Optional, Tuple
+
+import numpy as np
+
+from .config import Config
+from .errors import FloorscanError, ImageError
+from .ground_table import GroundTable
+from .ranger import VisualRanger
+from .scan import Scan
+from .sources import FrameSource
+from .trajectory import Pose2, Trajectory
+
+PoseTuple = Tuple[float, float, float]
+
+
+def ranger_from_config(table: GroundTable, cfg: Config) -> VisualRanger:
+    r = cfg.ranger
+    return VisualRanger(
+        table,
+        columns=r.columns,
+        half_width=r.half_width,
+        threshold=r.threshold,
+        refine=r.refine,
+        bottom_margin=r.bottom_margin,
+        max_range_m=r.max_range_m,
+    )
+
+
+def grid_kwargs(cfg: Config) -> Dict[str, object]:
+    m, s = cfg.map, cfg.sensors
+    return dict(
+        cell_size_m=m.cell_size_m,
+        clamp_min_nats=m.clamp_min_nats,
+        clamp_max_nats=m.clamp_max_nats,
+        occupied_threshold=m.occupied_threshold,
+        free_threshold=m.free_threshold,
+        visual=(s.visual.hit_nats, s.visual.miss_nats),
+        laser=(s.laser.hit_nats, s.laser.miss_nats),
+        sonar=(s.sonar.hit_nats, s.sonar.miss_nats),
+        too_close=s.too_close,
+    )
+
+
+@dataclass
+class StageTimes:
+    """Wall time per stage [s], summed over the run."""
+
+    decode_s: float = 0.0
+    ranging_s: float = 0.0
+    mapping_s: float = 0.0
+    output_s: float = 0.0
+
+    def as_dict(self) -> Dict[str, float]:
+        return {k: round(v, 6) for k, v in self.__dict__.items()}
+
+
+class Mapper:
+    """Ranger plus a growing global map (world frame) and a robot-centred local map.
+
+    ``robot_from_camera``: (x [m], y [m], yaw [rad]) of the camera ground frame on the robot.
+    Poses passed to :meth:`process` are ``world_from_robot`` (x, y, yaw) from odometry; with
+    ``None`` (no odometry), only the local map is updated, as if the robot stood still.
+    """
+
+    def __init__(
+        self, table: GroundTable, cfg: Config, *, robot_from_camera: PoseTuple = (0.0, 0.0, 0.0)
+    ) -> None:
+        from .grid import LocalMap, OccupancyGrid
+
+        self.cfg = cfg
+        self.ranger = ranger_from_config(table, cfg)
+        self.robot_from_camera = tuple(float(v) for v in robot_from_camera)
+        kw = grid_kwargs(cfg)
+        self.global_map = OccupancyGrid(**kw)
+        self.local_map = LocalMap(size_m=cfg.map.local_size_m, **kw)
+        self.times = StageTimes()
+        self.frames = 0
+        self.points = 0
+
+    def process(self, image: np.ndarray, *, timestamp: float, pose: Optional[PoseTuple]) -> Scan:
+        t0 = time.perf_counter()
+        scan = self.ranger.scan(image, timestamp=timestamp)
+        t1 = time.perf_counter()
+        if pose is not None:
+            self.global_map.insert_scan(scan, pose=pose, mount=self.robot_from_camera)
+            self.local_map.insert_scan(scan, pose=pose, mount=self.robot_from_camera)
+        else:
+            self.local_map.insert_scan(scan, pose=(0.0, 0.0, 0.0), mount=self.robot_from_camera)
+        t2 = time.perf_counter()
+        self.times.ranging_s += t1 - t0
+        self.times.mapping_s += t2 - t1
+        self.frames += 1
+        self.points += int(np.count_nonzero(scan.status_codes == 0))
+        return scan
+
+
+@dataclass
+class RunStats:
+    frames_in: int = 0
+    frames_mapped: int = 0
+    skipped_unreadable: int = 0
+    skipped_no_odometry: int = 0
+    skipped_wrong_size: int = 0
+    dropped_live: int = 0
+    boundary_points: int = 0
+    interrupted: bool = False
+    error: Optional[str] = None
+    wall_s: float = 0.0
+    skip_reasons: Dict[str, str] = field(default_factory=dict)
+
+    def as_dict(self) -> Dict[str, object]:
+        d = dict(self.__dict__)
+        d["skip_reasons"] = dict(list(self.skip_reasons.items())[:20])
+        return d
+
+
+def match_pose(odometry: Optional[Trajectory], t: float) -> Tuple[Optional[Pose2], bool]:
+    """(pose, ok): the interpolated pose at ``t``; ok is False when odometry exists but does
+    not cover ``t`` (the frame is skipped and counted, never guessed)."""
+    if odometry is None:
+        return None, True
+    p = odometry.pose_at(t)
+    return p, p is not None
+
+
+def run(
+    source: FrameSource,
+    mapper: Mapper,
+    outputs,
+    *,
+    strict: bool = False,
+    progress=None,
+) -> RunStats:
+    """Runs the mapper over every frame of ``source``; outputs are always finalised, on
+    Ctrl-C (SIGINT) and on error too, so the map built so far is never lost."""
+    stats = RunStats()
+    start = time.perf_counter()
+    shape = (mapper.ranger.table.image_height, mapper.ranger.table.image_width)
+    previous = signal.getsignal(signal.SIGINT)
+    try:
+        if previous is signal.SIG_IGN:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+        frames = iter(source)
+        while True:
+            t_dec = time.perf_counter()
+            frame = next(frames, None)
+            mapper.times.decode_s += time.perf_counter() - t_dec
+            if frame is None:
+                break
+            stats.frames_in += 1
+            if frame.image is None:
+                if strict:
+                    raise ImageError(f"frame {frame.index} (t={frame.timestamp}): {frame.error}")
+                stats.skipped_unreadable += 1
+                stats.skip_reasons.setdefault(f"frame {frame.index}", frame.error or "unreadable")
+                continue
+            if frame.image.shape[:2] != shape:
+                msg = f"frame {frame.index} is {frame.image.shape[1]}x{frame.image.shape[0]}, the calibration is for {shape[1]}x{shape[0]}"
+                if strict:
+                    raise ImageError(msg)
+                stats.skipped_wrong_size += 1
+                stats.skip_reasons.setdefault(f"frame {frame.index}", msg)
+                continue
+            pose, ok = match_pose(source.odometry, frame.timestamp)
+            if not ok:
+                if strict:
+                    raise FloorscanError(
+                        f"frame {frame.index} at t={frame.timestamp} is outside the odometry's time range"
+                    )
+                stats.skipped_no_odometry += 1
+                continue
+            pose_t = pose.as_tuple() if pose is not None else None
+            scan = mapper.process(frame.image, timestamp=frame.timestamp, pose=pose_t)
+            stats.frames_mapped += 1
+            t_out = time.perf_counter()
+            outputs.on_frame(frame, scan, pose_t, mapper)
+            mapper.times.output_s += time.perf_counter() - t_out
+            if progress is not None:
+                progress.update(
+                    stats.frames_in,
+                    skipped=stats.frames_in - stats.frames_mapped,
+                    dropped=source.dropped,
+                )
+    except KeyboardInterrupt:
+        stats.interrupted = True
+    except FloorscanError as e:
+        stats.error = str(e)
+        raise
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        if progress is not None:
+            progress.close()
+        source.close()
+        stats.dropped_live = source.dropped
+        stats.boundary_points = mapper.points
+        stats.wall_s = time.perf_counter() - start
+        outputs.finish(mapper, stats)
+    return stats

@@ -1,0 +1,164 @@
+"""Everything ``floorscan run`` writes into its output folder, written as the run goes and
+finalised (atomically, file by file) at the end, on Ctrl-C and on error:
+
+- ``map.yaml`` + ``map.pgm`` (ROS map_server) and ``map.png``: the global map;
+- ``local/local_<t>.png``: local map snapshots every N seconds (the paper's Fig. 2);
+- ``scans.csv``: every scan in the public CSV format;
+- ``bag/``: a ROS 2 bag with ``/scan`` (sensor_msgs/LaserScan) and ``/map``
+  (nav_msgs/OccupancyGrid);
+- ``overlay.gif`` (or ``.mp4``): frames with the boundary points circled (Fig. 1b);
+- ``summary.json``: counts, per-stage timings, the configuration used.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from pathlib import Path
+from typing import List, Optional
+
+import numpy as np
+
+from ._atomic import write_atomic
+from .config import Config
+from .overlay import draw_scan_overlay
+from .scan import SCAN_CSV_HEADER, Scan
+
+
+class RunOutputs:
+    def __init__(self, out_dir, cfg: Config, *, expected_frames: Optional[int] = None) -> None:
+        self.out = Path(out_dir)
+        self.out.mkdir(parents=True, exist_ok=True)
+        self.cfg = cfg
+        o = cfg.outputs
+        fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
+        self._csv = os.fdopen(fd, "w", encoding="utf-8")
+        self._csv.write(SCAN_CSV_HEADER + "\n")
+        self._overlay: List[np.ndarray] = []
+        self._overlay_every = (
+            max(1, (expected_frames or 0) // max(o.overlay_max_frames, 1)) if expected_frames else 1
+        )
+        self._frame_count = 0
+        self._next_snapshot: Optional[float] = None
+        self.snapshots: List[Path] = []
+        self._bag = None
+        self._laser_range: Optional[tuple] = None
+        self.extra_summary: dict = {}
+        if o.bag:
+            from .rosbag_io import Ros2BagWriter
+
+            self._bag = Ros2BagWriter(self.out / "bag", storage=o.bag_storage)
+
+    # --- per frame ----------------------------------------------------------------------
+    def laser_angles(self, scan: Scan) -> tuple:
+        """Fixed angular range of the LaserScan conversion, set from the first scan's columns."""
+        if self._laser_range is None:
+            inc = self.cfg.outputs.laser_angle_increment_rad
+            b = scan.bearings[np.isfinite(scan.bearings)]
+            lo, hi = (float(b.min()), float(b.max())) if b.size else (-0.5, 0.5)
+            self._laser_range = (math.floor(lo / inc) * inc, math.ceil(hi / inc) * inc, inc)
+        return self._laser_range
+
+    def on_frame(self, frame, scan: Scan, pose, mapper) -> None:
+        self._csv.write(scan.csv_lines())
+        if self._bag is not None:
+            lo, hi, inc = self.laser_angles(scan)
+            self._bag.write_laser_scan(
+                scan.timestamp, scan.to_laser_scan(angle_min=lo, angle_max=hi, angle_increment=inc)
+            )
+        o = self.cfg.outputs
+        if (
+            o.overlay != "none"
+            and self._frame_count % self._overlay_every == 0
+            and len(self._overlay) < o.overlay_max_frames
+        ):
+            self._overlay.append(draw_scan_overlay(frame.image, scan))
+        self._frame_count += 1
+        period = o.local_snapshot_period_s
+        if period > 0:
+            if self._next_snapshot is None:
+                self._next_snapshot = scan.timestamp + period
+            elif scan.timestamp >= self._next_snapshot:
+                self.snapshot_local(mapper, scan.timestamp)
+                self._next_snapshot += period * max(
+                    1, math.floor((scan.timestamp - self._next_snapshot) / period) + 1
+                )
+
+    def snapshot_local(self, mapper, t: float) -> Path:
+        path = self.out / "local" / f"local_{t:010.2f}.png"
+        mapper.local_map.to_png(path)
+        self.snapshots.append(path)
+        return path
+
+    # --- end of run ---------------------------------------------------------------------
+    def finish(self, mapper, stats) -> None:
+        self._csv.close()
+        os.replace(self._csv_tmp, self.out / "scans.csv")
+        grid = mapper.global_map
+        grid.save(self.out / "map.yaml")
+        grid.to_png(self.out / "map.png")
+        if mapper.frames:
+            mapper.local_map.to_png(self.out / "local" / "local_final.png")
+        if self._bag is not None:
+            try:
+                data, resolution, origin = grid.to_occupancy_grid()
+                self._bag.write_occupancy_grid(
+                    float(self.extra_summary.get("last_timestamp", 0.0)),
+                    data,
+                    resolution_m=resolution,
+                    origin_xy_yaw=origin,
+                )
+                self._bag.close()
+            except BaseException:
+                self._bag.abort()
+                raise
+        self._write_overlay()
+        self._write_summary(mapper, stats)
+
+    def _write_overlay(self) -> None:
+        o = self.cfg.outputs
+        if o.overlay == "none" or not self._overlay:
+            return
+        if o.overlay == "mp4":
+            import cv2
+
+            h, w = self._overlay[0].shape[:2]
+            tmp = self.out / ".overlay.tmp.mp4"
+            vw = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), 10.0, (w, h))
+            for f in self._overlay:
+                vw.write(f[..., ::-1])
+            vw.release()
+            os.replace(tmp, self.out / "overlay.mp4")
+            return
+        from PIL import Image
+
+        frames = [Image.fromarray(f) for f in self._overlay]
+        tmp = self.out / ".overlay.tmp.gif"
+        frames[0].save(
+            tmp, save_all=True, append_images=frames[1:], duration=100, loop=0, optimize=False
+        )
+        os.replace(tmp, self.out / "overlay.gif")
+
+    def _write_summary(self, mapper, stats) -> None:
+        t = mapper.times
+        n = max(mapper.frames, 1)
+        summary = {
+            "counts": stats.as_dict(),
+            "timings_s": t.as_dict(),
+            "ms_per_frame": {
+                "ranging": 1e3 * t.ranging_s / n,
+                "mapping": 1e3 * t.mapping_s / n,
+                "decode": 1e3 * t.decode_s / max(stats.frames_in, 1),
+            },
+            "points_per_frame": mapper.points / n,
+            "outputs": sorted(
+                str(p.relative_to(self.out))
+                for p in self.out.rglob("*")
+                if p.is_file() and not p.name.startswith(".")
+            ),
+            "config": self.cfg.to_dict(),
+            **self.extra_summary,
+        }
+        write_atomic(self.out / "summary.json", json.dumps(summary, indent=2, default=float))
