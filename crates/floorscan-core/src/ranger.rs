@@ -43,6 +43,8 @@ pub struct VisualRanger {
     /// The sampled pixels of the last 2d + 2 rows (row k in slot k mod (2d + 2)), so sparse
     /// columns are gathered once per row and updated from contiguous memory.
     ring: Vec<u16>,
+    /// Largest entry of `offsets` for the current frame.
+    max_offset: usize,
     outcomes: Vec<Option<ColumnOutcome>>,
 }
 
@@ -106,6 +108,7 @@ impl VisualRanger {
             threshold_sum: threshold_to_sum(options.threshold, d),
             offsets: vec![0; n],
             ring: vec![0; (2 * d + 2) * n],
+            max_offset: 0,
             sums: vec![0; n],
             active_threshold: vec![i32::MAX; n],
             outcomes: vec![None; n],
@@ -221,6 +224,7 @@ impl VisualRanger {
         for (off, plan) in self.offsets.iter_mut().zip(&self.plans) {
             *off = plan.column as usize * image.col_stride();
         }
+        self.max_offset = self.offsets.iter().copied().max().unwrap_or(0);
         // Consecutive image columns in a contiguous row: plain slices, which vectorise.
         let contiguous =
             image.col_stride() == 1 && self.offsets.windows(2).all(|w| w[1] == w[0] + 1);
@@ -292,8 +296,13 @@ impl VisualRanger {
         let n = self.plans.len();
         let start = (k % ring_rows) * n;
         let row = image.row(image.height() - 1 - k);
+        // Offsets come from columns checked against the image width when the ranger was built
+        // (and the image size against the table's), so every offset is inside the row; one
+        // check of the largest replaces a bounds check per pixel.
+        assert!(self.max_offset < row.len(), "column offset outside the row");
         for (dst, &o) in self.ring[start..start + n].iter_mut().zip(&self.offsets) {
-            *dst = row[o].to_i32() as u16;
+            // SAFETY: o <= max_offset < row.len() (asserted above).
+            *dst = unsafe { row.get_unchecked(o) }.to_i32() as u16;
         }
     }
 
@@ -377,21 +386,22 @@ struct EventCursor {
 /// new |S| exceeds its active threshold.
 #[inline]
 fn advance_contiguous<P: Pixel>(sums: &mut [i32], thresholds: &[i32], rows: [&[P]; 4]) -> bool {
-    let [ra, rb, rc, re] = rows;
-    let mut any = false;
-    for (((((s, &t), &a), &b), &c), &e) in sums
-        .iter_mut()
-        .zip(thresholds)
-        .zip(ra)
-        .zip(rb)
-        .zip(rc)
-        .zip(re)
-    {
-        let v = *s + e.to_i32() - c.to_i32() - b.to_i32() + a.to_i32();
-        *s = v;
-        any |= v.abs() > t;
+    // Equal-length slices and an index loop: the form LLVM vectorises reliably.
+    let n = sums.len();
+    let (t, a, b, c, e) = (
+        &thresholds[..n],
+        &rows[0][..n],
+        &rows[1][..n],
+        &rows[2][..n],
+        &rows[3][..n],
+    );
+    let mut hits = 0i32;
+    for i in 0..n {
+        let v = sums[i] + e[i].to_i32() - c[i].to_i32() - b[i].to_i32() + a[i].to_i32();
+        sums[i] = v;
+        hits |= (v.abs() > t[i]) as i32;
     }
-    any
+    hits != 0
 }
 
 /// Works out where a column's scan starts and how far up it may go.
