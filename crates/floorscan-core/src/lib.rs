@@ -10,11 +10,14 @@
 pub mod edge;
 pub mod error;
 pub mod ground_table;
+pub mod grid_options;
 pub mod image;
 pub mod lens;
+pub mod log_odds;
 pub mod mount;
 pub mod pose;
 pub mod ranger;
+pub mod raycast;
 pub mod ranger_options;
 pub mod scan;
 

@@ -1,0 +1,207 @@
+//! Options of an occupancy grid: one documented structure, validated when the grid is built.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{invalid_option, Result};
+use crate::log_odds::{log_odds_from_probability, LogOdds, MAX_ABS_NATS};
+use crate::pose::Point2;
+
+/// A world-aligned rectangle [m]: `min` is the lower-left corner, `max` the upper-right.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Bounds {
+    pub min: Point2,
+    pub max: Point2,
+}
+
+/// What a cell's evidence says, by the grid's thresholds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Occupancy {
+    Free,
+    Unknown,
+    Occupied,
+}
+
+impl Occupancy {
+    /// Small integer code used in numpy arrays: free 0, unknown 1, occupied 2.
+    pub fn code(self) -> u8 {
+        match self {
+            Occupancy::Free => 0,
+            Occupancy::Unknown => 1,
+            Occupancy::Occupied => 2,
+        }
+    }
+}
+
+/// Options of [`crate::grid::Grid`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GridOptions {
+    /// Side of a square cell [m], in [0.001, 10]. Default 0.04 (the paper's 4 cm).
+    pub cell_size_m: f64,
+    /// World position [m] of the lower-left corner of cell (0, 0): where the cell lattice is
+    /// anchored. Default (0, 0); a loaded map_server map puts its `origin` here.
+    pub origin_m: Point2,
+    /// `None` (default): the map grows as the robot explores, tiles allocated on demand.
+    /// `Some(bounds)`: the map covers exactly the cells overlapping `bounds` [m]; rays are
+    /// clipped to it and a pose outside it is an error.
+    pub bounds_m: Option<Bounds>,
+    /// Lowest log-odds a cell can hold [nats], in [-20, 0). Default -2.0 (p = 0.12, OctoMap's
+    /// lower clamp): a bound lets a free cell turn occupied after a few observations when the
+    /// world changes.
+    pub clamp_min_nats: f64,
+    /// Highest log-odds a cell can hold [nats], in (0, 20]. Default 3.5 (p = 0.97, OctoMap's
+    /// upper clamp).
+    pub clamp_max_nats: f64,
+    /// A cell is occupied when its probability is >= this, in (0.5, 1). Default 0.65 (ROS
+    /// map_server's `occupied_thresh`).
+    pub occupied_threshold: f64,
+    /// A cell is free when its probability is <= this, in (0, 0.5). Default 0.196 (ROS
+    /// map_server's `free_thresh`). Between the two thresholds a cell is unknown.
+    pub free_threshold: f64,
+}
+
+impl Default for GridOptions {
+    fn default() -> Self {
+        Self {
+            cell_size_m: 0.04,
+            origin_m: Point2::new(0.0, 0.0),
+            bounds_m: None,
+            clamp_min_nats: -2.0,
+            clamp_max_nats: 3.5,
+            occupied_threshold: 0.65,
+            free_threshold: 0.196,
+        }
+    }
+}
+
+/// The options in stored units, ready for the update loops.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CellLimits {
+    pub clamp_min: i16,
+    pub clamp_max: i16,
+    /// Occupied when value >= this.
+    pub occupied_at: i16,
+    /// Free when value <= this.
+    pub free_at: i16,
+}
+
+impl CellLimits {
+    pub fn classify(&self, value: i16) -> Occupancy {
+        if value >= self.occupied_at {
+            Occupancy::Occupied
+        } else if value <= self.free_at {
+            Occupancy::Free
+        } else {
+            Occupancy::Unknown
+        }
+    }
+}
+
+impl GridOptions {
+    pub fn validate(&self) -> Result<()> {
+        if !(self.cell_size_m.is_finite() && (0.001..=10.0).contains(&self.cell_size_m)) {
+            return Err(invalid_option("cell_size_m", format!("must be in [0.001, 10] m, got {}", self.cell_size_m)));
+        }
+        if !(self.origin_m.x.is_finite() && self.origin_m.y.is_finite()) {
+            return Err(invalid_option("origin_m", "must be finite"));
+        }
+        if let Some(b) = self.bounds_m {
+            let finite = [b.min.x, b.min.y, b.max.x, b.max.y].iter().all(|v| v.is_finite());
+            if !finite || b.max.x <= b.min.x || b.max.y <= b.min.y {
+                return Err(invalid_option(
+                    "bounds_m",
+                    format!("must be finite with max > min, got min ({}, {}) max ({}, {})", b.min.x, b.min.y, b.max.x, b.max.y),
+                ));
+            }
+        }
+        if !(self.clamp_min_nats < 0.0 && self.clamp_min_nats >= -MAX_ABS_NATS) {
+            return Err(invalid_option("clamp_min_nats", format!("must be in [-20, 0), got {}", self.clamp_min_nats)));
+        }
+        if !(self.clamp_max_nats > 0.0 && self.clamp_max_nats <= MAX_ABS_NATS) {
+            return Err(invalid_option("clamp_max_nats", format!("must be in (0, 20], got {}", self.clamp_max_nats)));
+        }
+        if !(self.occupied_threshold > 0.5 && self.occupied_threshold < 1.0) {
+            return Err(invalid_option("occupied_threshold", format!("must be in (0.5, 1), got {}", self.occupied_threshold)));
+        }
+        if !(self.free_threshold > 0.0 && self.free_threshold < 0.5) {
+            return Err(invalid_option("free_threshold", format!("must be in (0, 0.5), got {}", self.free_threshold)));
+        }
+        let limits = self.limits();
+        if limits.occupied_at > limits.clamp_max {
+            return Err(invalid_option(
+                "occupied_threshold",
+                format!("{} is above the upper clamp (p = {:.4}): no cell could ever be occupied", self.occupied_threshold, LogOdds(limits.clamp_max).probability()),
+            ));
+        }
+        if limits.free_at < limits.clamp_min {
+            return Err(invalid_option(
+                "free_threshold",
+                format!("{} is below the lower clamp (p = {:.4}): no cell could ever be free", self.free_threshold, LogOdds(limits.clamp_min).probability()),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The clamp bounds and thresholds in stored units. Thresholds are rounded towards
+    /// "unknown" so that a cell classified occupied really has p >= `occupied_threshold`.
+    pub fn limits(&self) -> CellLimits {
+        let units = |nats: f64| (nats * 1000.0).clamp(-32767.0, 32767.0);
+        CellLimits {
+            clamp_min: units(self.clamp_min_nats).round() as i16,
+            clamp_max: units(self.clamp_max_nats).round() as i16,
+            occupied_at: units(log_odds_from_probability(self.occupied_threshold)).ceil() as i16,
+            free_at: units(log_odds_from_probability(self.free_threshold)).floor() as i16,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_match_the_documented_probabilities() {
+        let o = GridOptions::default();
+        o.validate().unwrap();
+        let l = o.limits();
+        assert_eq!((l.clamp_min, l.clamp_max), (-2000, 3500));
+        assert!(LogOdds(l.occupied_at).probability() >= 0.65);
+        assert!(LogOdds(l.occupied_at - 1).probability() < 0.65);
+        assert!(LogOdds(l.free_at).probability() <= 0.196);
+        assert!(LogOdds(l.free_at + 1).probability() > 0.196);
+    }
+
+    #[test]
+    fn classification_follows_the_thresholds() {
+        let l = GridOptions::default().limits();
+        assert_eq!(l.classify(0), Occupancy::Unknown);
+        assert_eq!(l.classify(l.occupied_at), Occupancy::Occupied);
+        assert_eq!(l.classify(l.occupied_at - 1), Occupancy::Unknown);
+        assert_eq!(l.classify(l.free_at), Occupancy::Free);
+        assert_eq!(l.classify(l.free_at + 1), Occupancy::Unknown);
+    }
+
+    #[test]
+    fn each_invalid_field_is_named() {
+        let cases: Vec<(GridOptions, &str)> = vec![
+            (GridOptions { cell_size_m: 0.0, ..Default::default() }, "cell_size_m"),
+            (GridOptions { cell_size_m: f64::NAN, ..Default::default() }, "cell_size_m"),
+            (GridOptions { origin_m: Point2::new(f64::INFINITY, 0.0), ..Default::default() }, "origin_m"),
+            (
+                GridOptions { bounds_m: Some(Bounds { min: Point2::new(1.0, 0.0), max: Point2::new(0.0, 1.0) }), ..Default::default() },
+                "bounds_m",
+            ),
+            (GridOptions { clamp_min_nats: 0.5, ..Default::default() }, "clamp_min_nats"),
+            (GridOptions { clamp_max_nats: 25.0, ..Default::default() }, "clamp_max_nats"),
+            (GridOptions { occupied_threshold: 0.4, ..Default::default() }, "occupied_threshold"),
+            (GridOptions { free_threshold: 0.6, ..Default::default() }, "free_threshold"),
+            (GridOptions { occupied_threshold: 0.99, ..Default::default() }, "occupied_threshold"),
+            (GridOptions { free_threshold: 0.01, ..Default::default() }, "free_threshold"),
+        ];
+        for (o, name) in cases {
+            let e = o.validate().unwrap_err().to_string();
+            assert!(e.contains(name), "{e} should name {name}");
+        }
+    }
+}
