@@ -10,16 +10,21 @@
 pub mod edge;
 pub mod error;
 pub mod ground_table;
+pub mod grid;
 pub mod grid_options;
 pub mod image;
+pub mod inserter;
+pub mod laser;
 pub mod lens;
 pub mod log_odds;
 pub mod mount;
 pub mod pose;
 pub mod ranger;
+pub mod ray_update;
 pub mod raycast;
 pub mod ranger_options;
 pub mod scan;
+pub mod sonar;
 
 pub use edge::Refinement;
 pub use error::{Error, Result};

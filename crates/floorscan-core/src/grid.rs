@@ -1,0 +1,463 @@
+//! Storage of an occupancy grid: i16 log-odds cells ([`crate::log_odds`]) in square tiles of
+//! 64 x 64 cells allocated on demand, so a global map grows as the robot explores and costs
+//! 2 bytes per cell of the tiles it touched; or fixed bounds on request.
+//!
+//! Geometry: cell `(i, j)` covers the world square `origin + cell_size * ([i, i+1) x [j, j+1))`
+//! (x right, y up, REP 103). Cells never written hold 0 (p = 0.5, unknown).
+
+use crate::error::{Error, Result};
+use crate::grid_options::{CellLimits, GridOptions, Occupancy};
+use crate::log_odds::LogOdds;
+use crate::pose::Point2;
+use crate::raycast::{CellIndex, FixedPoint};
+
+/// log2 of the tile side.
+pub const TILE_BITS: u32 = 6;
+/// Tile side [cells].
+pub const TILE_SIZE: i32 = 1 << TILE_BITS;
+/// Cells per tile.
+pub const TILE_CELLS: usize = 1 << (2 * TILE_BITS);
+/// Most tile slots the directory may hold (2^24: 16 M tiles of 2.56 m at 4 cm, a square of
+/// about 10 km; the directory then takes 128 MB).
+pub const MAX_DIRECTORY_TILES: usize = 1 << 24;
+
+/// One tile: row-major, `index = y_local * TILE_SIZE + x_local`.
+pub type Tile = [i16; TILE_CELLS];
+
+/// A rectangle of cells, `min` included, `max` excluded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CellRect {
+    pub min: CellIndex,
+    pub max: CellIndex,
+}
+
+impl CellRect {
+    pub fn width(&self) -> usize {
+        (self.max.x - self.min.x).max(0) as usize
+    }
+    pub fn height(&self) -> usize {
+        (self.max.y - self.min.y).max(0) as usize
+    }
+    pub fn is_empty(&self) -> bool {
+        self.width() == 0 || self.height() == 0
+    }
+    pub fn contains(&self, c: CellIndex) -> bool {
+        c.x >= self.min.x && c.x < self.max.x && c.y >= self.min.y && c.y < self.max.y
+    }
+}
+
+/// The tile holding a cell, and the cell's index inside it.
+#[inline]
+pub fn tile_of(c: CellIndex) -> (i32, i32, usize) {
+    let (tx, ty) = (c.x >> TILE_BITS, c.y >> TILE_BITS);
+    let local = (((c.y & (TILE_SIZE - 1)) << TILE_BITS) | (c.x & (TILE_SIZE - 1))) as usize;
+    (tx, ty, local)
+}
+
+/// An occupancy grid of log-odds cells. Build with [`Grid::new`]; update with
+/// [`crate::inserter::Inserter`].
+#[derive(Clone)]
+pub struct Grid {
+    options: GridOptions,
+    limits: CellLimits,
+    /// Cells a fixed-bounds grid covers.
+    fixed: Option<CellRect>,
+    /// First tile of the directory, and its size [tiles].
+    dir_min: (i32, i32),
+    dir_w: usize,
+    dir_h: usize,
+    tiles: Vec<Option<Box<Tile>>>,
+    allocated: usize,
+}
+
+impl std::fmt::Debug for Grid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Grid")
+            .field("cell_size_m", &self.options.cell_size_m)
+            .field("fixed", &self.fixed)
+            .field("allocated_tiles", &self.allocated)
+            .finish()
+    }
+}
+
+impl Grid {
+    pub fn new(options: GridOptions) -> Result<Grid> {
+        options.validate()?;
+        let fixed = options.bounds_m.map(|b| {
+            let lo = options.to_cells(b.min);
+            let hi = options.to_cells(b.max);
+            CellRect {
+                min: CellIndex::new(lo.0.floor() as i32, lo.1.floor() as i32),
+                max: CellIndex::new(hi.0.ceil() as i32, hi.1.ceil() as i32),
+            }
+        });
+        if let Some(r) = fixed {
+            check_cell_range(r)?;
+        }
+        Grid::build(options, fixed)
+    }
+
+    /// A grid whose fixed bounds are exactly the cells `rect` (used by the local map, whose
+    /// window sits on whole cells).
+    pub fn with_cell_bounds(mut options: GridOptions, rect: CellRect) -> Result<Grid> {
+        options.validate()?;
+        if rect.is_empty() {
+            return Err(Error::InvalidOption { name: "bounds_m", reason: "the window is empty".into() });
+        }
+        check_cell_range(rect)?;
+        let s = options.cell_size_m;
+        let o = options.origin_m;
+        options.bounds_m = Some(crate::grid_options::Bounds {
+            min: Point2::new(o.x + s * f64::from(rect.min.x), o.y + s * f64::from(rect.min.y)),
+            max: Point2::new(o.x + s * f64::from(rect.max.x), o.y + s * f64::from(rect.max.y)),
+        });
+        Grid::build(options, Some(rect))
+    }
+
+    fn build(options: GridOptions, fixed: Option<CellRect>) -> Result<Grid> {
+        let limits = options.limits();
+        let mut grid = Grid { options, limits, fixed, dir_min: (0, 0), dir_w: 0, dir_h: 0, tiles: Vec::new(), allocated: 0 };
+        if let Some(r) = fixed {
+            let max = CellIndex::new(r.max.x - 1, r.max.y - 1);
+            grid.reserve_tiles(tile_of(r.min), tile_of(max), false)?;
+        }
+        Ok(grid)
+    }
+
+    pub fn options(&self) -> &GridOptions {
+        &self.options
+    }
+    pub fn limits(&self) -> CellLimits {
+        self.limits
+    }
+    pub fn cell_size_m(&self) -> f64 {
+        self.options.cell_size_m
+    }
+    pub fn origin_m(&self) -> Point2 {
+        self.options.origin_m
+    }
+    /// The cells of a fixed-bounds grid; `None` if the grid grows.
+    pub fn fixed_cells(&self) -> Option<CellRect> {
+        self.fixed
+    }
+
+    /// World point [m] to fractional cell units.
+    pub fn to_cells(&self, p: Point2) -> (f64, f64) {
+        self.options.to_cells(p)
+    }
+
+    /// The cell containing a world point [m], `None` if not finite or absurdly far.
+    pub fn cell_of(&self, p: Point2) -> Option<CellIndex> {
+        let (u, v) = self.to_cells(p);
+        FixedPoint::from_cells(u, v).map(FixedPoint::cell)
+    }
+
+    /// World position [m] of a cell's centre.
+    pub fn cell_center(&self, c: CellIndex) -> Point2 {
+        let s = self.options.cell_size_m;
+        let o = self.options.origin_m;
+        Point2::new(o.x + s * (f64::from(c.x) + 0.5), o.y + s * (f64::from(c.y) + 0.5))
+    }
+
+    /// Whether the grid may hold this cell (always true for a growing grid).
+    pub fn covers(&self, c: CellIndex) -> bool {
+        self.fixed.map_or(true, |r| r.contains(c))
+    }
+
+    /// The stored value of a cell (0, unknown, for cells never written or outside the grid).
+    pub fn get(&self, c: CellIndex) -> LogOdds {
+        let (tx, ty, local) = tile_of(c);
+        match self.dir_index(tx, ty) {
+            Some(i) => LogOdds(self.tiles[i].as_ref().map_or(0, |t| t[local])),
+            None => LogOdds(0),
+        }
+    }
+
+    /// What the thresholds say about a cell.
+    pub fn occupancy(&self, c: CellIndex) -> Occupancy {
+        self.limits.classify(self.get(c).0)
+    }
+
+    /// Writes a cell, clamped to the grid's bounds; [`Error::OutOfBounds`] outside a
+    /// fixed-bounds grid.
+    pub fn set(&mut self, c: CellIndex, value: LogOdds) -> Result<()> {
+        if !self.covers(c) {
+            return Err(Error::OutOfBounds(format!("cell ({}, {}) is outside the map", c.x, c.y)));
+        }
+        let v = value.0.clamp(self.limits.clamp_min, self.limits.clamp_max);
+        let (tx, ty, local) = tile_of(c);
+        let i = self.reserve_tiles((tx, ty, 0), (tx, ty, 0), true)?;
+        self.tile_mut(i)[local] = v;
+        Ok(())
+    }
+
+    /// Tiles allocated so far.
+    pub fn allocated_tiles(&self) -> usize {
+        self.allocated
+    }
+
+    /// Bytes held by the grid: cell storage plus the tile directory.
+    pub fn memory_bytes(&self) -> usize {
+        self.allocated * std::mem::size_of::<Tile>() + self.tiles.capacity() * std::mem::size_of::<Option<Box<Tile>>>()
+    }
+
+    /// The smallest rectangle holding every cell with a non-zero value, `None` if all are 0.
+    pub fn known_rect(&self) -> Option<CellRect> {
+        let mut rect: Option<CellRect> = None;
+        for (i, tile) in self.tiles.iter().enumerate() {
+            let Some(tile) = tile else { continue };
+            let tx = self.dir_min.0 + (i % self.dir_w) as i32;
+            let ty = self.dir_min.1 + (i / self.dir_w) as i32;
+            for (k, &v) in tile.iter().enumerate() {
+                if v != 0 {
+                    let c = CellIndex::new((tx << TILE_BITS) + (k & (TILE_SIZE as usize - 1)) as i32, (ty << TILE_BITS) + (k >> TILE_BITS) as i32);
+                    let r = rect.get_or_insert(CellRect { min: c, max: CellIndex::new(c.x + 1, c.y + 1) });
+                    r.min = CellIndex::new(r.min.x.min(c.x), r.min.y.min(c.y));
+                    r.max = CellIndex::new(r.max.x.max(c.x + 1), r.max.y.max(c.y + 1));
+                }
+            }
+        }
+        rect
+    }
+
+    /// The rectangle exported by default: the fixed bounds, or the known cells of a growing
+    /// grid (an empty rectangle if nothing is known).
+    pub fn extent(&self) -> CellRect {
+        self.fixed.or_else(|| self.known_rect()).unwrap_or(CellRect { min: CellIndex::default(), max: CellIndex::default() })
+    }
+
+    /// The values of `rect`, row-major with row 0 at `rect.min.y` (the lowest y, as in
+    /// `nav_msgs/OccupancyGrid`).
+    pub fn read_rect(&self, rect: CellRect, out: &mut Vec<i16>) {
+        out.clear();
+        out.resize(rect.width() * rect.height(), 0);
+        let w = rect.width();
+        for (row, y) in (rect.min.y..rect.max.y).enumerate() {
+            let mut x = rect.min.x;
+            while x < rect.max.x {
+                // Copy the part of this row that lies in one tile at once.
+                let (tx, ty, local) = tile_of(CellIndex::new(x, y));
+                let run = ((tx + 1) * TILE_SIZE).min(rect.max.x) - x;
+                if let Some(Some(tile)) = self.dir_index(tx, ty).map(|i| &self.tiles[i]) {
+                    let start = row * w + (x - rect.min.x) as usize;
+                    out[start..start + run as usize].copy_from_slice(&tile[local..local + run as usize]);
+                }
+                x += run;
+            }
+        }
+    }
+
+    /// Writes `values` (laid out as [`Grid::read_rect`] returns them) into `rect`, clamped.
+    /// Tiles that would stay all zero are not allocated.
+    pub fn write_rect(&mut self, rect: CellRect, values: &[i16]) -> Result<()> {
+        if values.len() != rect.width() * rect.height() {
+            return Err(Error::LengthMismatch(format!(
+                "{} values for a {} x {} rectangle",
+                values.len(),
+                rect.width(),
+                rect.height()
+            )));
+        }
+        if let Some(f) = self.fixed {
+            let inside = rect.is_empty()
+                || (f.contains(rect.min) && f.contains(CellIndex::new(rect.max.x - 1, rect.max.y - 1)));
+            if !inside {
+                return Err(Error::OutOfBounds("the rectangle is not inside the map's fixed bounds".into()));
+            }
+        }
+        let w = rect.width();
+        for (row, y) in (rect.min.y..rect.max.y).enumerate() {
+            for (col, x) in (rect.min.x..rect.max.x).enumerate() {
+                let v = values[row * w + col];
+                let c = CellIndex::new(x, y);
+                if v != 0 || self.get(c).0 != 0 {
+                    self.set(c, LogOdds(v))?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Makes the directory cover tiles `a..=b` (tile coordinates, local parts ignored),
+    /// growing it geometrically; returns the directory index of `a`. With `allocate`, the tile
+    /// at `a` is allocated too. Fails (changing nothing) past [`MAX_DIRECTORY_TILES`].
+    pub(crate) fn reserve_tiles(&mut self, a: (i32, i32, usize), b: (i32, i32, usize), allocate: bool) -> Result<usize> {
+        let (x0, y0) = (a.0.min(b.0), a.1.min(b.1));
+        let (x1, y1) = (a.0.max(b.0), a.1.max(b.1));
+        let covered = self.dir_w > 0
+            && x0 >= self.dir_min.0
+            && y0 >= self.dir_min.1
+            && x1 < self.dir_min.0 + self.dir_w as i32
+            && y1 < self.dir_min.1 + self.dir_h as i32;
+        if !covered {
+            self.grow_directory(x0, y0, x1, y1)?;
+        }
+        let i = self.dir_index(a.0, a.1).expect("covered after growing");
+        if allocate {
+            self.tile_mut(i);
+        }
+        Ok(i)
+    }
+
+    fn grow_directory(&mut self, x0: i32, y0: i32, x1: i32, y1: i32) -> Result<()> {
+        let (mut nx0, mut ny0, mut nx1, mut ny1) = (x0, y0, x1, y1);
+        if self.dir_w > 0 {
+            let (cx1, cy1) = (self.dir_min.0 + self.dir_w as i32 - 1, self.dir_min.1 + self.dir_h as i32 - 1);
+            nx0 = nx0.min(self.dir_min.0);
+            ny0 = ny0.min(self.dir_min.1);
+            nx1 = nx1.max(cx1);
+            ny1 = ny1.max(cy1);
+            if self.fixed.is_none() {
+                // Grow with slack on the sides that grew, so that exploring costs amortised O(1).
+                let (sx, sy) = ((self.dir_w as i32 / 2).max(4), (self.dir_h as i32 / 2).max(4));
+                if nx0 < self.dir_min.0 {
+                    nx0 -= sx;
+                }
+                if ny0 < self.dir_min.1 {
+                    ny0 -= sy;
+                }
+                if nx1 > cx1 {
+                    nx1 += sx;
+                }
+                if ny1 > cy1 {
+                    ny1 += sy;
+                }
+            }
+        }
+        let (w, h) = ((nx1 - nx0 + 1) as usize, (ny1 - ny0 + 1) as usize);
+        if w.saturating_mul(h) > MAX_DIRECTORY_TILES {
+            return Err(Error::OutOfBounds(format!(
+                "the map would span {} x {} tiles of {} cells (more than {} tiles): is a pose wrong?",
+                w, h, TILE_SIZE, MAX_DIRECTORY_TILES
+            )));
+        }
+        let mut tiles: Vec<Option<Box<Tile>>> = Vec::new();
+        tiles.resize_with(w * h, || None);
+        for (i, t) in self.tiles.drain(..).enumerate() {
+            if let Some(t) = t {
+                let tx = self.dir_min.0 + (i % self.dir_w) as i32;
+                let ty = self.dir_min.1 + (i / self.dir_w) as i32;
+                tiles[(ty - ny0) as usize * w + (tx - nx0) as usize] = Some(t);
+            }
+        }
+        self.tiles = tiles;
+        self.dir_min = (nx0, ny0);
+        self.dir_w = w;
+        self.dir_h = h;
+        Ok(())
+    }
+
+    /// Directory index of a tile, `None` outside the directory.
+    #[inline]
+    pub(crate) fn dir_index(&self, tx: i32, ty: i32) -> Option<usize> {
+        let (dx, dy) = (tx.wrapping_sub(self.dir_min.0), ty.wrapping_sub(self.dir_min.1));
+        ((dx as u32 as usize) < self.dir_w && (dy as u32 as usize) < self.dir_h).then(|| dy as usize * self.dir_w + dx as usize)
+    }
+
+    /// The tile at a directory index, allocated (all zero) on first use.
+    #[inline]
+    pub(crate) fn tile_mut(&mut self, dir_index: usize) -> &mut Tile {
+        let slot = &mut self.tiles[dir_index];
+        if slot.is_none() {
+            self.allocated += 1;
+        }
+        slot.get_or_insert_with(|| Box::new([0; TILE_CELLS]))
+    }
+}
+
+fn check_cell_range(r: CellRect) -> Result<()> {
+    let limit = crate::raycast::MAX_CELL_INDEX as i64;
+    let ok = [r.min.x, r.min.y, r.max.x, r.max.y].iter().all(|&v| i64::from(v).abs() < limit);
+    let tiles = (r.width() >> TILE_BITS).saturating_add(2).saturating_mul((r.height() >> TILE_BITS).saturating_add(2));
+    if !ok || tiles > MAX_DIRECTORY_TILES {
+        return Err(Error::InvalidOption { name: "bounds_m", reason: "the bounds hold too many cells".into() });
+    }
+    Ok(())
+}
+
+impl GridOptions {
+    /// World point [m] to fractional cell units of this lattice.
+    pub fn to_cells(&self, p: Point2) -> (f64, f64) {
+        ((p.x - self.origin_m.x) / self.cell_size_m, (p.y - self.origin_m.y) / self.cell_size_m)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid_options::Bounds;
+
+    #[test]
+    fn cells_follow_the_origin_and_size() {
+        let g = Grid::new(GridOptions { cell_size_m: 0.5, origin_m: Point2::new(-1.0, 2.0), ..Default::default() }).unwrap();
+        assert_eq!(g.cell_of(Point2::new(-1.0, 2.0)), Some(CellIndex::new(0, 0)));
+        assert_eq!(g.cell_of(Point2::new(-1.01, 1.99)), Some(CellIndex::new(-1, -1)));
+        assert_eq!(g.cell_of(Point2::new(0.2, 3.4)), Some(CellIndex::new(2, 2)));
+        assert_eq!(g.cell_center(CellIndex::new(2, 2)), Point2::new(0.25, 3.25));
+        assert_eq!(g.cell_of(Point2::new(f64::NAN, 0.0)), None);
+    }
+
+    #[test]
+    fn growing_grid_allocates_tiles_on_demand_and_keeps_values() {
+        let mut g = Grid::new(GridOptions::default()).unwrap();
+        assert_eq!(g.allocated_tiles(), 0);
+        assert_eq!(g.get(CellIndex::new(5, 5)), LogOdds(0));
+        g.set(CellIndex::new(5, 5), LogOdds(100)).unwrap();
+        g.set(CellIndex::new(-700, 900), LogOdds(-100)).unwrap();
+        g.set(CellIndex::new(3000, -20), LogOdds(7)).unwrap();
+        assert_eq!(g.allocated_tiles(), 3);
+        assert_eq!(g.get(CellIndex::new(5, 5)), LogOdds(100));
+        assert_eq!(g.get(CellIndex::new(-700, 900)), LogOdds(-100));
+        assert_eq!(g.get(CellIndex::new(3000, -20)), LogOdds(7));
+        assert_eq!(g.get(CellIndex::new(6, 5)), LogOdds(0));
+        assert_eq!(g.known_rect(), Some(CellRect { min: CellIndex::new(-700, -20), max: CellIndex::new(3001, 901) }));
+        assert!(g.memory_bytes() >= 3 * TILE_CELLS * 2);
+    }
+
+    #[test]
+    fn values_are_clamped_on_write() {
+        let mut g = Grid::new(GridOptions::default()).unwrap();
+        g.set(CellIndex::new(0, 0), LogOdds(30_000)).unwrap();
+        g.set(CellIndex::new(1, 0), LogOdds(-30_000)).unwrap();
+        assert_eq!(g.get(CellIndex::new(0, 0)), LogOdds(3500));
+        assert_eq!(g.get(CellIndex::new(1, 0)), LogOdds(-2000));
+        assert_eq!(g.occupancy(CellIndex::new(0, 0)), Occupancy::Occupied);
+        assert_eq!(g.occupancy(CellIndex::new(1, 0)), Occupancy::Free);
+        assert_eq!(g.occupancy(CellIndex::new(2, 0)), Occupancy::Unknown);
+    }
+
+    #[test]
+    fn fixed_bounds_cover_the_overlapping_cells_only() {
+        let b = Bounds { min: Point2::new(-0.1, 0.0), max: Point2::new(0.3, 0.2) };
+        let mut g = Grid::new(GridOptions { cell_size_m: 0.1, bounds_m: Some(b), ..Default::default() }).unwrap();
+        let r = g.fixed_cells().unwrap();
+        assert_eq!((r.min, r.max), (CellIndex::new(-1, 0), CellIndex::new(3, 2)));
+        assert!(g.set(CellIndex::new(2, 1), LogOdds(5)).is_ok());
+        assert!(matches!(g.set(CellIndex::new(3, 1), LogOdds(5)), Err(Error::OutOfBounds(_))));
+        assert_eq!(g.extent(), r);
+    }
+
+    #[test]
+    fn rect_round_trip_across_tiles() {
+        let mut g = Grid::new(GridOptions::default()).unwrap();
+        let rect = CellRect { min: CellIndex::new(-70, 60), max: CellIndex::new(75, 140) };
+        let values: Vec<i16> = (0..rect.width() * rect.height()).map(|i| ((i * 37) % 4001) as i16 - 2000).collect();
+        g.write_rect(rect, &values).unwrap();
+        let mut back = Vec::new();
+        g.read_rect(rect, &mut back);
+        assert_eq!(back, values);
+        // A cell by hand: row 3, column 5 of the rectangle.
+        assert_eq!(g.get(CellIndex::new(-65, 63)).0, values[3 * rect.width() + 5]);
+        assert!(g.write_rect(rect, &values[1..]).is_err());
+    }
+
+    #[test]
+    fn absurd_extents_are_refused_without_change() {
+        let mut g = Grid::new(GridOptions::default()).unwrap();
+        g.set(CellIndex::new(0, 0), LogOdds(1)).unwrap();
+        let far = CellIndex::new(500_000_000, 500_000_000);
+        assert!(matches!(g.set(far, LogOdds(1)), Err(Error::OutOfBounds(_))));
+        assert_eq!(g.get(CellIndex::new(0, 0)), LogOdds(1));
+        assert_eq!(g.allocated_tiles(), 1);
+    }
+}

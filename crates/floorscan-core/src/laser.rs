@@ -1,0 +1,128 @@
+//! A planar laser scan (the fields of `sensor_msgs/LaserScan`) and its rays.
+//!
+//! Range rules (REP 117): a range in `[range_min, range_max)` is a hit at that range, with free
+//! space from the laser to it; `+inf` or a range `>= range_max` is no return: free space up to
+//! `range_max`, nothing marked; `-inf` or a range below `range_min` is ignored (too close to
+//! measure); NaN is an error (an undefined measurement must not silently clear space).
+
+use crate::error::{invalid_option, Error, Result};
+use crate::pose::{Point2, Pose2};
+use crate::ray_update::Ray;
+
+/// Beam directions in the laser frame [rad, counter-clockwise from x].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BeamAngles<'a> {
+    /// Beam `i` points at `min_rad + i * increment_rad`.
+    Uniform { min_rad: f64, increment_rad: f64 },
+    /// One angle per beam.
+    Explicit(&'a [f64]),
+}
+
+/// One scan: a range per beam [m].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LaserScan<'a> {
+    pub ranges_m: &'a [f64],
+    pub angles: BeamAngles<'a>,
+    /// Shortest valid range [m], finite, >= 0.
+    pub range_min_m: f64,
+    /// Longest valid range [m], finite, > `range_min_m`: readings at or beyond it clear up to
+    /// it and mark nothing.
+    pub range_max_m: f64,
+}
+
+impl LaserScan<'_> {
+    /// Checks the layout and every range; the error names the first bad beam.
+    pub fn check(&self) -> Result<()> {
+        if !(self.range_min_m.is_finite() && self.range_min_m >= 0.0) {
+            return Err(invalid_option("range_min_m", format!("must be finite and >= 0, got {}", self.range_min_m)));
+        }
+        if !(self.range_max_m.is_finite() && self.range_max_m > self.range_min_m) {
+            return Err(invalid_option("range_max_m", format!("must be finite and > range_min_m, got {}", self.range_max_m)));
+        }
+        match self.angles {
+            BeamAngles::Uniform { min_rad, increment_rad } => {
+                if !(min_rad.is_finite() && increment_rad.is_finite()) {
+                    return Err(Error::InvalidGeometry("beam angles must be finite".into()));
+                }
+            }
+            BeamAngles::Explicit(a) => {
+                if a.len() != self.ranges_m.len() {
+                    return Err(Error::LengthMismatch(format!("{} ranges but {} angles", self.ranges_m.len(), a.len())));
+                }
+                if let Some(i) = a.iter().position(|v| !v.is_finite()) {
+                    return Err(Error::InvalidGeometry(format!("beam {i}: angle {} is not finite", a[i])));
+                }
+            }
+        }
+        if let Some(i) = self.ranges_m.iter().position(|r| r.is_nan()) {
+            return Err(Error::InvalidGeometry(format!("beam {i}: range is NaN (use +inf for no return)")));
+        }
+        Ok(())
+    }
+
+    /// The angle of beam `i` [rad].
+    pub fn angle(&self, i: usize) -> f64 {
+        match self.angles {
+            BeamAngles::Uniform { min_rad, increment_rad } => min_rad + i as f64 * increment_rad,
+            BeamAngles::Explicit(a) => a[i],
+        }
+    }
+
+    /// Appends this scan's rays, placed with `world_from_laser`.
+    pub fn rays(&self, world_from_laser: &Pose2, out: &mut Vec<Ray>) -> Result<()> {
+        self.check()?;
+        let origin = world_from_laser.translation();
+        for (i, &r) in self.ranges_m.iter().enumerate() {
+            if r < self.range_min_m {
+                continue;
+            }
+            let hit = r < self.range_max_m;
+            let range = if hit { r } else { self.range_max_m };
+            let (s, c) = self.angle(i).sin_cos();
+            let to = world_from_laser.transform_point(Point2::new(range * c, range * s));
+            out.push(Ray { from: origin, to, hit });
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scan(ranges: &[f64]) -> LaserScan<'_> {
+        LaserScan {
+            ranges_m: ranges,
+            angles: BeamAngles::Uniform { min_rad: 0.0, increment_rad: std::f64::consts::FRAC_PI_2 },
+            range_min_m: 0.1,
+            range_max_m: 5.0,
+        }
+    }
+
+    #[test]
+    fn ranges_follow_rep_117() {
+        let ranges = [2.0, f64::INFINITY, 0.05, f64::NEG_INFINITY, 7.0];
+        let mut rays = Vec::new();
+        scan(&ranges).rays(&Pose2::new(1.0, 1.0, 0.0), &mut rays).unwrap();
+        // Beam 0: hit at (3, 1); beam 1 (90 deg): no return, cleared to 5 m; beams 2-3 too
+        // close: ignored; beam 4 (360 deg) beyond range_max: cleared to 5 m.
+        assert_eq!(rays.len(), 3);
+        assert!(rays[0].hit && (rays[0].to.x - 3.0).abs() < 1e-12 && (rays[0].to.y - 1.0).abs() < 1e-12);
+        assert!(!rays[1].hit && (rays[1].to.y - 6.0).abs() < 1e-12 && (rays[1].to.x - 1.0).abs() < 1e-12);
+        assert!(!rays[2].hit && (rays[2].to.x - 6.0).abs() < 1e-9);
+        assert!(rays.iter().all(|r| r.from == Point2::new(1.0, 1.0)));
+    }
+
+    #[test]
+    fn bad_input_is_named() {
+        let mut rays = Vec::new();
+        let e = scan(&[1.0, f64::NAN]).rays(&Pose2::IDENTITY, &mut rays).unwrap_err();
+        assert!(e.to_string().contains("beam 1"));
+        let ranges = [1.0, 2.0];
+        let bad = LaserScan { angles: BeamAngles::Explicit(&[0.0]), ..scan(&ranges) };
+        assert!(matches!(bad.check(), Err(Error::LengthMismatch(_))));
+        let bad = LaserScan { range_max_m: 0.05, ..scan(&ranges) };
+        assert!(bad.check().unwrap_err().to_string().contains("range_max_m"));
+        assert!(rays.is_empty());
+    }
+}
