@@ -378,7 +378,8 @@ fn check_cell_range(r: CellRect) -> Result<()> {
 impl GridOptions {
     /// World point [m] to fractional cell units of this lattice.
     pub fn to_cells(&self, p: Point2) -> (f64, f64) {
-        ((p.x - self.origin_m.x) / self.cell_size_m, (p.y - self.origin_m.y) / self.cell_size_m)
+        let inv = 1.0 / self.cell_size_m;
+        ((p.x - self.origin_m.x) * inv, (p.y - self.origin_m.y) * inv)
     }
 }
 

@@ -46,11 +46,11 @@ pub struct GridOptions {
     /// `Some(bounds)`: the map covers exactly the cells overlapping `bounds` [m]; rays are
     /// clipped to it and a pose outside it is an error.
     pub bounds_m: Option<Bounds>,
-    /// Lowest log-odds a cell can hold [nats], in [-20, 0). Default -2.0 (p = 0.12, OctoMap's
+    /// Lowest log-odds a cell can hold [nats], in [-16, 0). Default -2.0 (p = 0.12, OctoMap's
     /// lower clamp): a bound lets a free cell turn occupied after a few observations when the
     /// world changes.
     pub clamp_min_nats: f64,
-    /// Highest log-odds a cell can hold [nats], in (0, 20]. Default 3.5 (p = 0.97, OctoMap's
+    /// Highest log-odds a cell can hold [nats], in (0, 16]. Default 3.5 (p = 0.97, OctoMap's
     /// upper clamp).
     pub clamp_max_nats: f64,
     /// A cell is occupied when its probability is >= this, in (0.5, 1). Default 0.65 (ROS
@@ -116,10 +116,10 @@ impl GridOptions {
             }
         }
         if !(self.clamp_min_nats < 0.0 && self.clamp_min_nats >= -MAX_ABS_NATS) {
-            return Err(invalid_option("clamp_min_nats", format!("must be in [-20, 0), got {}", self.clamp_min_nats)));
+            return Err(invalid_option("clamp_min_nats", format!("must be in [-16, 0), got {}", self.clamp_min_nats)));
         }
         if !(self.clamp_max_nats > 0.0 && self.clamp_max_nats <= MAX_ABS_NATS) {
-            return Err(invalid_option("clamp_max_nats", format!("must be in (0, 20], got {}", self.clamp_max_nats)));
+            return Err(invalid_option("clamp_max_nats", format!("must be in (0, 16], got {}", self.clamp_max_nats)));
         }
         if !(self.occupied_threshold > 0.5 && self.occupied_threshold < 1.0) {
             return Err(invalid_option("occupied_threshold", format!("must be in (0.5, 1), got {}", self.occupied_threshold)));

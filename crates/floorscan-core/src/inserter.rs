@@ -151,10 +151,13 @@ impl Inserter {
             let scan = LaserScan { ranges_m: &ranges_m[k * beams..(k + 1) * beams], ..*layout };
             scan.check().map_err(|e| prefix(e, &format!("scan {k}: ")))?;
         }
+        let directions = layout.beam_directions();
         let mut stats = UpdateStats::default();
         for (k, p) in world_from_robot.iter().enumerate() {
             let scan = LaserScan { ranges_m: &ranges_m[k * beams..(k + 1) * beams], ..*layout };
-            stats += self.insert_laser(grid, &scan, p, robot_from_laser)?;
+            self.rays.clear();
+            scan.rays_along(&directions, &p.compose(robot_from_laser), &mut self.rays);
+            stats += self.updater.apply(grid, &self.rays, self.options.laser)?;
         }
         Ok(stats)
     }

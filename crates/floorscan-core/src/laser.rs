@@ -68,21 +68,32 @@ impl LaserScan<'_> {
         }
     }
 
+    /// Unit vectors of the beams in the laser frame, `(cos, sin)` of each angle.
+    pub fn beam_directions(&self) -> Vec<(f64, f64)> {
+        (0..self.ranges_m.len()).map(|i| self.angle(i).sin_cos()).map(|(s, c)| (c, s)).collect()
+    }
+
     /// Appends this scan's rays, placed with `world_from_laser`.
     pub fn rays(&self, world_from_laser: &Pose2, out: &mut Vec<Ray>) -> Result<()> {
         self.check()?;
+        self.rays_along(&self.beam_directions(), world_from_laser, out);
+        Ok(())
+    }
+
+    /// [`Self::rays`] with the beam directions computed beforehand (scans sharing a layout);
+    /// the scan must have passed [`Self::check`] and `directions` be its own.
+    pub fn rays_along(&self, directions: &[(f64, f64)], world_from_laser: &Pose2, out: &mut Vec<Ray>) {
         let origin = world_from_laser.translation();
-        for (i, &r) in self.ranges_m.iter().enumerate() {
+        let (sy, cy) = world_from_laser.yaw.sin_cos();
+        for (&r, &(c, s)) in self.ranges_m.iter().zip(directions) {
             if r < self.range_min_m {
                 continue;
             }
             let hit = r < self.range_max_m;
             let range = if hit { r } else { self.range_max_m };
-            let (s, c) = self.angle(i).sin_cos();
-            let to = world_from_laser.transform_point(Point2::new(range * c, range * s));
-            out.push(Ray { from: origin, to, hit });
+            let (dx, dy) = (range * (cy * c - sy * s), range * (sy * c + cy * s));
+            out.push(Ray { from: origin, to: Point2::new(origin.x + dx, origin.y + dy), hit });
         }
-        Ok(())
     }
 }
 

@@ -7,6 +7,7 @@
 //! Conventions: SI units; REP 103 frames (x forward, y left, z up, angles counter-clockwise in
 //! radians); image rows count from the top (v = 0 is the top row); REP 117 ranges.
 
+pub mod branchless;
 pub mod edge;
 pub mod error;
 pub mod ground_table;

@@ -3,8 +3,8 @@
 //! A cell stores the log-odds `L(o) = ln(p / (1 - p))` of being occupied, in fixed point:
 //! [`LogOdds`] is an `i16` counting thousandths of a nat ([`UNITS_PER_NAT`] = 1000), so the
 //! update `L(o|m) = L(m|o) + L(o)` (eq. 7) is one saturating integer addition. 0 is p = 0.5 (no
-//! information, the prior). Every value the maps use lies within [`MAX_ABS_NATS`] (20 nats,
-//! p within 2e-9 of 0 or 1), where the conversions round-trip exactly and are strictly monotone
+//! information, the prior). Every value the maps use lies within [`MAX_ABS_NATS`] (16 nats,
+//! p within 1.2e-7 of 0 or 1), where the conversions round-trip exactly and are strictly monotone
 //! (tested over every value).
 
 use serde::{Deserialize, Serialize};
@@ -14,12 +14,13 @@ use crate::error::{invalid_option, Result};
 /// Fixed-point scale: stored units per nat of log-odds.
 pub const UNITS_PER_NAT: f64 = 1000.0;
 
-/// Largest magnitude of log-odds [nats] accepted anywhere (clamp bounds, increments): 20 nats,
-/// i.e. probabilities in [2.1e-9, 1 - 2.1e-9].
-pub const MAX_ABS_NATS: f64 = 20.0;
+/// Largest magnitude of log-odds [nats] accepted anywhere (clamp bounds, increments): 16 nats,
+/// i.e. probabilities in [1.1e-7, 1 - 1.1e-7]. A value plus an increment then always fits an
+/// i16 (2 x 16 000 < 32 767), so updates need no saturating arithmetic.
+pub const MAX_ABS_NATS: f64 = 16.0;
 
-/// Largest magnitude in stored units (20 000).
-pub const MAX_ABS_UNITS: i16 = 20_000;
+/// Largest magnitude in stored units (16 000).
+pub const MAX_ABS_UNITS: i16 = 16_000;
 
 /// A log-odds value in fixed point (thousandths of a nat). `LogOdds(0)` is p = 0.5.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default, Serialize, Deserialize)]
@@ -85,9 +86,9 @@ pub fn log_odds_from_probability(p: f64) -> f64 {
 /// drive faster); a noisy one gets small steps (many observations needed).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Evidence {
-    /// Added to a cell observed occupied [nats], in (0, 20].
+    /// Added to a cell observed occupied [nats], in (0, 16].
     pub hit_nats: f64,
-    /// Added to a cell observed free [nats], in [-20, 0).
+    /// Added to a cell observed free [nats], in [-16, 0).
     pub miss_nats: f64,
 }
 
@@ -113,10 +114,10 @@ impl Evidence {
     /// Checks the ranges; `name` prefixes the option name in the error (e.g. `laser`).
     pub fn validate(&self, name: &'static str) -> Result<()> {
         if !(self.hit_nats > 0.0 && self.hit_nats <= MAX_ABS_NATS) {
-            return Err(invalid_option(name, format!("hit_nats must be in (0, 20], got {}", self.hit_nats)));
+            return Err(invalid_option(name, format!("hit_nats must be in (0, 16], got {}", self.hit_nats)));
         }
         if !(self.miss_nats < 0.0 && self.miss_nats >= -MAX_ABS_NATS) {
-            return Err(invalid_option(name, format!("miss_nats must be in [-20, 0), got {}", self.miss_nats)));
+            return Err(invalid_option(name, format!("miss_nats must be in [-16, 0), got {}", self.miss_nats)));
         }
         let (hit, miss) = self.units();
         if hit == 0 || miss == 0 {
@@ -185,10 +186,10 @@ mod tests {
         for p in [0.0, 1.0, -0.1, 1.5, f64::NAN, 1e-12, 1.0 - 1e-12] {
             assert_eq!(LogOdds::from_probability(p), None, "{p}");
         }
-        for l in [f64::INFINITY, f64::NAN, 20.001, -25.0, 1e300] {
+        for l in [f64::INFINITY, f64::NAN, 16.001, -25.0, 1e300] {
             assert_eq!(LogOdds::from_nats(l), None, "{l}");
         }
-        assert_eq!(LogOdds::from_nats(-20.0), Some(LogOdds(-20_000)));
+        assert_eq!(LogOdds::from_nats(-16.0), Some(LogOdds(-16_000)));
     }
 
     #[test]

@@ -12,11 +12,12 @@
 //! finds their cells stamped and leaves them alone. The pool is only zeroed when the
 //! generation counter wraps (every 65 535 batches).
 
+use crate::branchless::free_update;
 use crate::error::{Error, Result};
 use crate::grid::{tile_of, Grid, Tile, TILE_BITS, TILE_CELLS, TILE_SIZE};
 use crate::log_odds::Evidence;
 use crate::pose::Point2;
-use crate::raycast::{CellIndex, FixedPoint, GridWalk, SUBCELL};
+use crate::raycast::{segment_fits, CellIndex, FixedPoint, GridWalk, SUBCELL};
 
 /// One ray in world coordinates [m]: free space from `from` to `to`; if `hit`, the cell at
 /// `to` is an obstacle (and is not counted free). A hit with `from == to` marks one cell.
@@ -34,15 +35,15 @@ pub struct UpdateStats {
     pub rays: u64,
     /// Cells visited by the walks, counting repeats (the work done).
     pub cells_traversed: u64,
-    /// Cells whose value was updated (each at most once per batch).
-    pub cells_updated: u64,
+    /// Cells marked occupied (each at most once per batch).
+    pub cells_hit: u64,
 }
 
 impl std::ops::AddAssign for UpdateStats {
     fn add_assign(&mut self, o: UpdateStats) {
         self.rays += o.rays;
         self.cells_traversed += o.cells_traversed;
-        self.cells_updated += o.cells_updated;
+        self.cells_hit += o.cells_hit;
     }
 }
 
@@ -91,8 +92,8 @@ impl RayUpdater {
             let (tile, stamps, local) = self.tile_and_stamps(grid, to.cell());
             if stamps[local] != generation {
                 stamps[local] = generation;
-                tile[local] = tile[local].saturating_add(hit).min(hi_v);
-                stats.cells_updated += 1;
+                tile[local] = (tile[local] + hit).min(hi_v);
+                stats.cells_hit += 1;
             }
         }
 
@@ -106,18 +107,12 @@ impl RayUpdater {
                 let min = CellIndex::new(tx << TILE_BITS, ty << TILE_BITS);
                 let stop = walk.last_cell_inside(min, CellIndex::new(min.x + TILE_SIZE, min.y + TILE_SIZE));
                 let (tile, stamps, _) = self.tile_and_stamps(grid, c);
-                let (mut visited, mut updated) = (0u64, 0u64);
-                walk.run_to(stop, local, TILE_SIZE as usize, |i| {
+                stats.cells_traversed += walk.run_to(stop, local, TILE_SIZE as usize, |i| {
                     let i = i & (TILE_CELLS - 1);
-                    let (s, v) = (stamps[i], tile[i]);
-                    let fresh = s != generation;
-                    tile[i] = if fresh { v.saturating_add(miss).max(lo_v) } else { v };
+                    // No overflow: |values| and |miss| are at most 16 000 (log_odds).
+                    tile[i] = free_update(tile[i], stamps[i], generation, miss, lo_v);
                     stamps[i] = generation;
-                    visited += 1;
-                    updated += u64::from(fresh);
                 });
-                stats.cells_traversed += visited;
-                stats.cells_updated += updated;
                 if walk.is_at_end() {
                     break;
                 }
@@ -163,7 +158,7 @@ impl RayUpdater {
                 fa = clamp(fa);
                 fb = clamp(fb);
             }
-            if GridWalk::new(fa, fb).is_err() {
+            if !segment_fits(fa, fb) {
                 let len_m = (r.to.x - r.from.x).hypot(r.to.y - r.from.y);
                 return Err(Error::InvalidGeometry(format!(
                     "ray {k} is {len_m:.1} m long, more than {} cells",
