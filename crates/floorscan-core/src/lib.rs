@@ -2,7 +2,10 @@
 //!
 //! An implementation of Howard & Kitchen, *Fast Visual Mapping for Mobile Robot Navigation*:
 //! the visual range subsystem ([`edge`], [`ground_table`], [`ranger`], [`scan`]) and the lens
-//! models and mounts ([`lens`], [`mount`]) used to build and check calibration tables.
+//! models and mounts ([`lens`], [`mount`]) used to build and check calibration tables; the map
+//! builder: log-odds maths ([`log_odds`]), grids ([`grid_options`], [`grid`], [`queries`]),
+//! the exact ray walk ([`raycast`]), updates from visual scans, lasers and sonars
+//! ([`inserter`], [`ray_update`], [`laser`], [`sonar`]) and the robot-centred [`local_map`].
 //!
 //! Conventions: SI units; REP 103 frames (x forward, y left, z up, angles counter-clockwise in
 //! radians); image rows count from the top (v = 0 is the top row); REP 117 ranges.
@@ -17,9 +20,11 @@ pub mod image;
 pub mod inserter;
 pub mod laser;
 pub mod lens;
+pub mod local_map;
 pub mod log_odds;
 pub mod mount;
 pub mod pose;
+pub mod queries;
 pub mod ranger;
 pub mod ray_update;
 pub mod raycast;
@@ -29,7 +34,16 @@ pub mod sonar;
 
 pub use edge::Refinement;
 pub use error::{Error, Result};
+pub use grid::{CellRect, Grid};
+pub use grid_options::{Bounds, GridOptions, Occupancy};
 pub use ground_table::GroundTable;
+pub use inserter::{Inserter, InserterOptions, TooClosePolicy};
+pub use laser::{BeamAngles, LaserScan};
+pub use local_map::{LocalMap, LocalMapOptions};
+pub use log_odds::{Evidence, LogOdds};
+pub use ray_update::{Ray, UpdateStats};
+pub use raycast::CellIndex;
+pub use sonar::SonarReading;
 pub use image::{ImageView, Pixel};
 pub use lens::Lens;
 pub use mount::CameraMount;
