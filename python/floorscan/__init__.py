@@ -21,8 +21,12 @@ from .errors import (
     TableError,
     UnsupportedVersionError,
 )
+from .grid import InsertStats, OccupancyGrid
+from .grid_options import Evidence
+from .grid_views import GridExtent
 from .ground_table import GroundTable
 from .lens import CameraMount, Lens
+from .local_map import LocalMap
 from .ranger import VisualRanger
 from .scan import SCAN_CSV_HEADER, Scan, read_scans_csv, write_scans_csv
 
@@ -33,14 +37,19 @@ __all__ = [
     "CameraMount",
     "ConfigError",
     "DatasetError",
+    "Evidence",
     "FileFormatError",
     "FloorscanError",
     "GeometryError",
+    "GridExtent",
     "GroundTable",
     "ImageError",
     "ImageTypeError",
+    "InsertStats",
     "Lens",
     "LengthMismatchError",
+    "LocalMap",
+    "OccupancyGrid",
     "OptionError",
     "OutOfBoundsError",
     "SCAN_CSV_HEADER",

@@ -5,8 +5,10 @@
 use pyo3::prelude::*;
 
 mod errors;
+mod grid;
 mod ground_table;
 mod image;
+mod local_map;
 mod ranger;
 mod scan;
 
@@ -16,5 +18,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<ground_table::PyGroundTable>()?;
     m.add_class::<ranger::PyVisualRanger>()?;
     m.add_class::<scan::PyScan>()?;
+    m.add_class::<grid::PyOccupancyGrid>()?;
+    m.add_class::<local_map::PyLocalMap>()?;
     Ok(())
 }

@@ -1,0 +1,297 @@
+//! Bindings of the map builder's global grid (`floorscan_core::{grid, inserter, queries}`):
+//! a grid and the inserter that feeds it. Options arrive as JSON (the core's serde form),
+//! built and validated by the Python wrapper `floorscan.OccupancyGrid`. Batch inserts release
+//! the GIL.
+
+use floorscan_core::{
+    BeamAngles, CellIndex, CellRect, Evidence, Grid, GridOptions, Inserter, InserterOptions, LaserScan, Point2, Pose2, Ray, SonarReading,
+    UpdateStats,
+};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use crate::errors::{error, IntoPyResult};
+use crate::scan::PyScan;
+
+pub type Stats = (u64, u64, u64);
+
+pub fn stats(s: UpdateStats) -> Stats {
+    (s.rays, s.cells_traversed, s.cells_hit)
+}
+
+pub fn pose(p: [f64; 3]) -> Pose2 {
+    Pose2::new(p[0], p[1], p[2])
+}
+
+pub fn parse_json<T: serde::de::DeserializeOwned>(what: &str, text: &str) -> PyResult<T> {
+    serde_json::from_str(text).map_err(|e| error("OptionError", format!("invalid {what}: {e}")))
+}
+
+/// A contiguous 1-D view, or a clear error naming the argument.
+pub fn slice1<'a>(a: &'a PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<&'a [f64]> {
+    a.as_slice().map_err(|_| error("LengthMismatchError", format!("`{name}` must be a contiguous 1-D float64 array")))
+}
+
+/// An (N, k) contiguous float64 array as a flat slice and N.
+pub fn rows<'a>(a: &'a PyReadonlyArray2<'_, f64>, k: usize, name: &str) -> PyResult<(&'a [f64], usize)> {
+    let shape = a.shape();
+    if shape[1] != k {
+        return Err(error("LengthMismatchError", format!("`{name}` must have shape (N, {k}), got ({}, {})", shape[0], shape[1])));
+    }
+    let s = a.as_slice().map_err(|_| error("LengthMismatchError", format!("`{name}` must be a contiguous float64 array")))?;
+    Ok((s, shape[0]))
+}
+
+/// The laser layout: explicit angles, or a uniform fan.
+pub fn laser_layout<'a>(
+    ranges: &'a [f64],
+    angles: Option<&'a [f64]>,
+    angle_min: f64,
+    angle_increment: f64,
+    range_min: f64,
+    range_max: f64,
+) -> LaserScan<'a> {
+    let angles = match angles {
+        Some(a) => BeamAngles::Explicit(a),
+        None => BeamAngles::Uniform { min_rad: angle_min, increment_rad: angle_increment },
+    };
+    LaserScan { ranges_m: ranges, angles, range_min_m: range_min, range_max_m: range_max }
+}
+
+/// Sonar readings and their mounts from arrays.
+pub fn sonar_readings(ranges: &[f64], mounts: &[f64], beam_width: f64, range_max: f64) -> PyResult<(Vec<SonarReading>, Vec<Pose2>)> {
+    if mounts.len() != 3 * ranges.len() {
+        return Err(error("LengthMismatchError", format!("{} sonar ranges but {} mounts", ranges.len(), mounts.len() / 3)));
+    }
+    let readings = ranges.iter().map(|&r| SonarReading { range_m: r, beam_width_rad: beam_width, range_max_m: range_max }).collect();
+    let poses = mounts.chunks(3).map(|m| Pose2::new(m[0], m[1], m[2])).collect();
+    Ok((readings, poses))
+}
+
+/// Read-only views shared by the global grid and the local map.
+pub fn values<'py>(py: Python<'py>, grid: &Grid, min_x: i32, min_y: i32, width: usize, height: usize) -> PyResult<Bound<'py, PyArray2<i16>>> {
+    let rect = CellRect { min: CellIndex::new(min_x, min_y), max: CellIndex::new(min_x + width as i32, min_y + height as i32) };
+    let mut out = Vec::new();
+    py.detach(|| grid.read_rect(rect, &mut out));
+    PyArray1::from_vec(py, out).reshape([height, width])
+}
+
+pub fn extent(grid: &Grid) -> (i32, i32, usize, usize) {
+    let r = grid.extent();
+    (r.min.x, r.min.y, r.width(), r.height())
+}
+
+pub fn occupancy_codes<'py>(py: Python<'py>, grid: &Grid, xs: &[f64], ys: &[f64]) -> PyResult<Bound<'py, PyArray1<u8>>> {
+    if xs.len() != ys.len() {
+        return Err(error("LengthMismatchError", format!("{} x but {} y coordinates", xs.len(), ys.len())));
+    }
+    let codes: Vec<u8> =
+        xs.iter().zip(ys).map(|(&x, &y)| grid.occupancy_at(Point2::new(x, y)).map(|o| o.code())).collect::<floorscan_core::Result<_>>().py()?;
+    Ok(PyArray1::from_vec(py, codes))
+}
+
+pub fn distances<'py>(py: Python<'py>, grid: &Grid, xs: &[f64], ys: &[f64], max_m: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    if xs.len() != ys.len() {
+        return Err(error("LengthMismatchError", format!("{} x but {} y coordinates", xs.len(), ys.len())));
+    }
+    let d: Vec<f64> = py
+        .detach(|| {
+            xs.iter()
+                .zip(ys)
+                .map(|(&x, &y)| grid.distance_to_occupied(Point2::new(x, y), max_m).map(|d| d.unwrap_or(f64::INFINITY)))
+                .collect::<floorscan_core::Result<_>>()
+        })
+        .py()?;
+    Ok(PyArray1::from_vec(py, d))
+}
+
+pub fn limits(grid: &Grid) -> (i16, i16, i16, i16) {
+    let l = grid.limits();
+    (l.clamp_min, l.clamp_max, l.occupied_at, l.free_at)
+}
+
+#[pyclass(name = "OccupancyGrid", module = "floorscan._native")]
+pub struct PyOccupancyGrid {
+    grid: Grid,
+    inserter: Inserter,
+}
+
+#[pymethods]
+impl PyOccupancyGrid {
+    #[new]
+    fn new(grid_options_json: &str, inserter_options_json: &str) -> PyResult<Self> {
+        let go: GridOptions = parse_json("grid options", grid_options_json)?;
+        let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
+        Ok(Self { grid: Grid::new(go).py()?, inserter: Inserter::new(io).py()? })
+    }
+
+    fn copy(&self) -> Self {
+        Self { grid: self.grid.clone(), inserter: self.inserter.clone() }
+    }
+
+    fn insert_scan(&mut self, py: Python<'_>, scan: &PyScan, pose: [f64; 3], mount: [f64; 3]) -> PyResult<Stats> {
+        let (grid, ins, scan) = (&mut self.grid, &mut self.inserter, &scan.inner);
+        py.detach(|| ins.insert_scan(grid, scan, &self::pose(pose), &self::pose(mount))).py().map(stats)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (ranges, angles, angle_min, angle_increment, range_min, range_max, pose, mount))]
+    fn insert_laser(
+        &mut self,
+        ranges: PyReadonlyArray1<'_, f64>,
+        angles: Option<PyReadonlyArray1<'_, f64>>,
+        angle_min: f64,
+        angle_increment: f64,
+        range_min: f64,
+        range_max: f64,
+        pose: [f64; 3],
+        mount: [f64; 3],
+    ) -> PyResult<Stats> {
+        let r = slice1(&ranges, "ranges")?;
+        let a = match &angles {
+            Some(a) => Some(slice1(a, "angles")?),
+            None => None,
+        };
+        let laser = laser_layout(r, a, angle_min, angle_increment, range_min, range_max);
+        self.inserter.insert_laser(&mut self.grid, &laser, &self::pose(pose), &self::pose(mount)).py().map(stats)
+    }
+
+    /// N scans of B beams: ranges (N, B), poses (N, 3). The GIL is released.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (ranges, poses, angles, angle_min, angle_increment, range_min, range_max, mount))]
+    fn insert_lasers(
+        &mut self,
+        py: Python<'_>,
+        ranges: PyReadonlyArray2<'_, f64>,
+        poses: PyReadonlyArray2<'_, f64>,
+        angles: Option<PyReadonlyArray1<'_, f64>>,
+        angle_min: f64,
+        angle_increment: f64,
+        range_min: f64,
+        range_max: f64,
+        mount: [f64; 3],
+    ) -> PyResult<Stats> {
+        let beams = ranges.shape()[1];
+        let (r, n) = rows(&ranges, beams, "ranges")?;
+        let (p, np) = rows(&poses, 3, "poses")?;
+        if n != np {
+            return Err(error("LengthMismatchError", format!("{n} scans but {np} poses")));
+        }
+        let a = match &angles {
+            Some(a) => Some(slice1(a, "angles")?),
+            None => None,
+        };
+        let first = &r[..beams.min(r.len())];
+        let layout = laser_layout(first, a, angle_min, angle_increment, range_min, range_max);
+        let poses: Vec<Pose2> = p.chunks(3).map(|c| Pose2::new(c[0], c[1], c[2])).collect();
+        let (grid, ins) = (&mut self.grid, &mut self.inserter);
+        py.detach(|| ins.insert_lasers(grid, &layout, r, &poses, &self::pose(mount))).py().map(stats)
+    }
+
+    fn insert_sonar(
+        &mut self,
+        ranges: PyReadonlyArray1<'_, f64>,
+        mounts: PyReadonlyArray2<'_, f64>,
+        beam_width: f64,
+        range_max: f64,
+        pose: [f64; 3],
+    ) -> PyResult<Stats> {
+        let (m, _) = rows(&mounts, 3, "mounts")?;
+        let (readings, mounts) = sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
+        self.inserter.insert_sonar(&mut self.grid, &readings, &self::pose(pose), &mounts).py().map(stats)
+    }
+
+    /// One batch of world rays: starts (N, 2), ends (N, 2), hits (N,). GIL released.
+    fn insert_rays(
+        &mut self,
+        py: Python<'_>,
+        starts: PyReadonlyArray2<'_, f64>,
+        ends: PyReadonlyArray2<'_, f64>,
+        hits: PyReadonlyArray1<'_, bool>,
+        hit_nats: f64,
+        miss_nats: f64,
+    ) -> PyResult<Stats> {
+        let (s, n) = rows(&starts, 2, "starts")?;
+        let (e, ne) = rows(&ends, 2, "ends")?;
+        let h = hits.as_slice().map_err(|_| error("LengthMismatchError", "`hits` must be a contiguous bool array".into()))?;
+        if ne != n || h.len() != n {
+            return Err(error("LengthMismatchError", format!("{n} starts, {ne} ends and {} hit flags", h.len())));
+        }
+        let rays: Vec<Ray> =
+            (0..n).map(|i| Ray { from: Point2::new(s[2 * i], s[2 * i + 1]), to: Point2::new(e[2 * i], e[2 * i + 1]), hit: h[i] }).collect();
+        let (grid, ins) = (&mut self.grid, &mut self.inserter);
+        py.detach(|| ins.insert_rays(grid, &rays, Evidence { hit_nats, miss_nats })).py().map(stats)
+    }
+
+    /// The exported rectangle (min x, min y, width, height) [cells].
+    fn extent(&self) -> (i32, i32, usize, usize) {
+        extent(&self.grid)
+    }
+
+    fn values<'py>(&self, py: Python<'py>, min_x: i32, min_y: i32, width: usize, height: usize) -> PyResult<Bound<'py, PyArray2<i16>>> {
+        values(py, &self.grid, min_x, min_y, width, height)
+    }
+
+    /// Writes an (H, W) int16 array of raw values with its first cell at (min_x, min_y).
+    fn write_values(&mut self, min_x: i32, min_y: i32, array: PyReadonlyArray2<'_, i16>) -> PyResult<()> {
+        let shape = array.shape();
+        let data = array.as_slice().map_err(|_| error("LengthMismatchError", "values must be a contiguous int16 array".into()))?;
+        let rect = CellRect { min: CellIndex::new(min_x, min_y), max: CellIndex::new(min_x + shape[1] as i32, min_y + shape[0] as i32) };
+        self.grid.write_rect(rect, data).py()
+    }
+
+    fn occupancy_codes<'py>(&self, py: Python<'py>, xs: PyReadonlyArray1<'_, f64>, ys: PyReadonlyArray1<'_, f64>) -> PyResult<Bound<'py, PyArray1<u8>>> {
+        occupancy_codes(py, &self.grid, slice1(&xs, "x")?, slice1(&ys, "y")?)
+    }
+
+    fn distances<'py>(&self, py: Python<'py>, xs: PyReadonlyArray1<'_, f64>, ys: PyReadonlyArray1<'_, f64>, max_m: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        distances(py, &self.grid, slice1(&xs, "x")?, slice1(&ys, "y")?, max_m)
+    }
+
+    /// (clamp_min, clamp_max, occupied_at, free_at) in stored units (1/1000 nat).
+    fn limits(&self) -> (i16, i16, i16, i16) {
+        limits(&self.grid)
+    }
+
+    #[getter]
+    fn cell_size_m(&self) -> f64 {
+        self.grid.cell_size_m()
+    }
+
+    #[getter]
+    fn origin_m(&self) -> (f64, f64) {
+        let o = self.grid.origin_m();
+        (o.x, o.y)
+    }
+
+    /// Fixed bounds (min x, min y, max x, max y) [cells, max excluded], None if growing.
+    #[getter]
+    fn fixed_cells(&self) -> Option<(i32, i32, i32, i32)> {
+        self.grid.fixed_cells().map(|r| (r.min.x, r.min.y, r.max.x, r.max.y))
+    }
+
+    #[getter]
+    fn memory_bytes(&self) -> usize {
+        self.grid.memory_bytes() + self.inserter.memory_bytes()
+    }
+
+    #[getter]
+    fn grid_memory_bytes(&self) -> usize {
+        self.grid.memory_bytes()
+    }
+
+    #[getter]
+    fn allocated_tiles(&self) -> usize {
+        self.grid.allocated_tiles()
+    }
+
+    #[getter]
+    fn grid_options_json(&self) -> String {
+        serde_json::to_string(self.grid.options()).unwrap_or_default()
+    }
+
+    #[getter]
+    fn inserter_options_json(&self) -> String {
+        serde_json::to_string(self.inserter.options()).unwrap_or_default()
+    }
+}
