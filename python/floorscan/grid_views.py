@@ -120,14 +120,21 @@ class GridViews:
         """(H, W) uint8 picture, row 0 at the top (highest y). ``"probability"`` (the paper's
         look): grey level 255 * (1 - p), so occupied is dark, free light, unknown mid grey.
         ``"trinary"``: map_server colours (occupied 0, free 254, unknown 205)."""
-        if style == "probability":
-            img = np.rint(255.0 * (1.0 - self.probabilities(extent))).astype(np.uint8)
-        elif style == "trinary":
-            classes = self.occupancy_classes(extent)
-            img = np.array([254, 205, 0], np.uint8)[classes]
-        else:
+        if style not in IMAGE_STYLES:
             raise OptionError(f"invalid option `style`: expected one of {IMAGE_STYLES}, got {style!r}")
-        return np.ascontiguousarray(img[::-1])
+        raw = self.raw(extent)[::-1]
+        # A lookup table over all int16 values: no float image in memory (large maps).
+        return np.ascontiguousarray(self._lut(style)[raw.astype(np.int32) + 32768])
+
+    def _lut(self, style: str) -> np.ndarray:
+        units = np.arange(-32768, 32768, dtype=np.float64)
+        if style == "probability":
+            return np.rint(255.0 * (1.0 - 1.0 / (1.0 + np.exp(-units / UNITS_PER_NAT)))).astype(np.uint8)
+        _, _, occupied_at, free_at = self._native.limits()
+        lut = np.full(units.shape, 205, np.uint8)
+        lut[units <= free_at] = 254
+        lut[units >= occupied_at] = 0
+        return lut
 
     def to_png(self, path: PathLike, *, scale: int = 1, style: str = "probability", extent: Optional[GridExtent] = None):
         """Writes :meth:`to_image` as a PNG (each cell ``scale`` x ``scale`` pixels),

@@ -39,11 +39,8 @@ def save_map(grid, path: PathLike, *, mode: str = "trinary", extent=None) -> Pat
     e = extent or grid.extent
     if e.width == 0 or e.height == 0:
         raise OptionError("the map is empty: nothing to save (insert data first or pass an extent)")
-    if mode == "trinary":
-        pixels = np.array([TRINARY_FREE, TRINARY_UNKNOWN, TRINARY_OCCUPIED], np.uint8)[grid.occupancy_classes(e)]
-    else:
-        pixels = np.rint(255.0 * (1.0 - grid.probabilities(e))).astype(np.uint8)
-    pixels = np.ascontiguousarray(pixels[::-1])
+    # Both styles of GridViews.to_image are exactly map_server's pixel values.
+    pixels = grid.to_image(style="trinary" if mode == "trinary" else "probability", extent=e)
     pgm_path = yaml_path.with_suffix(".pgm")
     header = f"P5\n# CREATOR: floorscan {e.cell_size_m!r} m/pix\n{e.width} {e.height}\n255\n".encode("ascii")
     write_atomic(pgm_path, header + pixels.tobytes())

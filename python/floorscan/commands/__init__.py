@@ -6,4 +6,5 @@ COMMAND_MODULES = [
     "floorscan.commands.demo",
     "floorscan.commands.config",
     "floorscan.commands.run",
+    "floorscan.commands.map_log",
 ]
