@@ -229,12 +229,12 @@ class OccupancyGrid(GridViews):
         return save_map(self, path, mode=mode, extent=extent)
 
     @classmethod
-    def load(cls, path: PathLike, **options) -> "OccupancyGrid":
-        """Reads a ROS map_server map (YAML + PGM/PNG). See
-        :func:`floorscan.map_server.load_map`."""
+    def load(cls, path: PathLike, *, grow: bool = False, **options) -> "OccupancyGrid":
+        """Reads a ROS map_server map (YAML + PGM/PNG): fixed to the image's bounds, or
+        growing with ``grow=True``. See :func:`floorscan.map_server.load_map`."""
         from .map_server import load_map
 
-        return load_map(path, **options)
+        return load_map(path, grow=grow, **options)
 
     def __repr__(self) -> str:
         e = self.extent

@@ -175,21 +175,28 @@ def read_map_image(path: PathLike) -> tuple:
         raise FileFormatError(f"cannot read map image {path}: {e}") from None
 
 
-def load_map(path: PathLike, **options):
+def load_map(path: PathLike, *, grow: bool = False, **options):
     """Reads a map_server map into an :class:`~floorscan.OccupancyGrid` whose lattice is the
-    image's: cell (0, 0) is the bottom-left pixel, at the YAML's origin. ``options`` are passed
-    to OccupancyGrid (``cell_size_m`` and ``origin_m`` come from the file). Occupied pixels get
-    the upper clamp, free ones the lower clamp, unknown ones 0; in ``scale`` mode every pixel's
-    probability is kept (clamped); in ``raw`` mode pixel values 0..100 are probabilities in
-    percent and others unknown."""
+    image's: cell (0, 0) is the bottom-left pixel, at the YAML's origin. The grid has the
+    image's fixed bounds, or grows (``grow=True``) if more data is to be added around it.
+    ``options`` are passed to OccupancyGrid (``cell_size_m``, ``origin_m`` and ``bounds_m``
+    come from the file). Occupied pixels get the upper clamp, free ones the lower clamp,
+    unknown ones 0; in ``scale`` mode every pixel's probability is kept (clamped); in ``raw``
+    mode pixel values 0..100 are probabilities in percent and others unknown."""
     from .grid import OccupancyGrid
 
     meta = read_map_yaml(path)
-    for key in ("cell_size_m", "origin_m"):
+    for key in ("cell_size_m", "origin_m", "bounds_m"):
         if key in options:
             raise OptionError(f"`{key}` comes from the map file; do not pass it")
     grey, alpha = read_map_image(meta["image"])
-    grid = OccupancyGrid(cell_size_m=meta["resolution"], origin_m=meta["origin"], **options)
+    res, (ox, oy) = meta["resolution"], meta["origin"]
+    h, w = grey.shape
+    bounds = None
+    if not grow:
+        # A quarter cell inside the image's edges: exactly its cells, whatever the rounding.
+        bounds = ((ox + 0.25 * res, oy + 0.25 * res), (ox + (w - 0.25) * res, oy + (h - 0.25) * res))
+    grid = OccupancyGrid(cell_size_m=res, origin_m=(ox, oy), bounds_m=bounds, **options)
     lo, hi, _, _ = grid._native.limits()
     values = _pixels_to_units(grey, alpha, meta, lo, hi)
     grid.write_raw(np.ascontiguousarray(values[::-1]), x_cell=0, y_cell=0)
