@@ -5,7 +5,6 @@ import math
 
 import numpy as np
 import pytest
-
 from floorscan import DatasetError
 from floorscan.carmen import parse_carmen_lines, read_carmen
 
@@ -24,7 +23,9 @@ def test_flaser_fields_and_beam_layout():
     np.testing.assert_array_equal(r.ranges, [1.0, 2.0, 3.0, 81.91])
     assert r.laser_pose == (0.5, -0.25, 0.1) and r.robot_pose == (0.6, -0.2, 0.15)
     # 4 beams over 180 degrees from -90: steps of 45 degrees (even count: pi / n).
-    assert r.angle_min == pytest.approx(-math.pi / 2) and r.angle_increment == pytest.approx(math.pi / 4)
+    assert r.angle_min == pytest.approx(-math.pi / 2) and r.angle_increment == pytest.approx(
+        math.pi / 4
+    )
     assert r.max_range is None
     odd = parse_carmen_lines(["FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0"]).lasers[0]
     assert odd.angle_increment == pytest.approx(math.pi / 2)  # 181-style: both ends included
@@ -35,13 +36,22 @@ def test_robotlaser1_fields():
     assert r.kind == "ROBOTLASER1" and r.max_range == 80.0
     np.testing.assert_array_equal(r.ranges, [1.5, 2.5, 81.91, 0.3, 0.4])
     assert r.angle_min == pytest.approx(-1.570796) and r.angle_increment == pytest.approx(0.785398)
-    assert r.laser_pose == (1.0, 2.0, 0.3) and r.robot_pose == (1.1, 2.1, 0.35) and r.timestamp == 100.25
+    assert (
+        r.laser_pose == (1.0, 2.0, 0.3)
+        and r.robot_pose == (1.1, 2.1, 0.35)
+        and r.timestamp == 100.25
+    )
 
 
 def test_odometry_and_other_lines():
     log = parse_carmen_lines(["# comment", "", "PARAM robot_x 1 h 0", ODOM, "NEFF 10", "NEFF 9"])
     (o,) = log.odometry
-    assert o.pose == (0.1, 0.2, 0.3) and (o.tv, o.rv) == (0.4, 0.5) and o.timestamp == 42.0 and o.line == 4
+    assert (
+        o.pose == (0.1, 0.2, 0.3)
+        and (o.tv, o.rv) == (0.4, 0.5)
+        and o.timestamp == 42.0
+        and o.line == 4
+    )
     assert log.skipped == {"PARAM": 1, "NEFF": 2}
 
 
@@ -59,7 +69,9 @@ def test_odometry_and_other_lines():
 )
 def test_bad_lines_are_named_by_line_number(line, message):
     lines = [ODOM, "PARAM a b", line, ODOM]
-    with pytest.raises(DatasetError, match=r"<log>:3: .*" + message.replace("(", r"\(").replace(")", r"\)")):
+    with pytest.raises(
+        DatasetError, match=r"<log>:3: .*" + message.replace("(", r"\(").replace(")", r"\)")
+    ):
         parse_carmen_lines(lines)
     log = parse_carmen_lines(lines, strict=False)
     assert [n for n, _ in log.bad_lines] == [3] and message in log.bad_lines[0][1]

@@ -9,7 +9,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from floorscan import OccupancyGrid
 from floorscan.carmen import read_carmen
 from floorscan.commands.map_log import map_lasers
@@ -26,7 +25,9 @@ def data_dir() -> Path:
 
 
 CARMEN = data_dir() / "carmen"
-pytestmark = pytest.mark.skipif(not CARMEN.is_dir(), reason=f"real CARMEN logs not found at {CARMEN} (set FLOORSCAN_DATA)")
+pytestmark = pytest.mark.skipif(
+    not CARMEN.is_dir(), reason=f"real CARMEN logs not found at {CARMEN} (set FLOORSCAN_DATA)"
+)
 
 
 def first_line(name: str, kind: str) -> list:
@@ -54,7 +55,11 @@ def test_csail_robotlaser1_log_parses_completely():
     assert len(log.lasers) == 686 and log.bad_lines == []
     fields = first_line("csail-robotlaser1.log.gz", "ROBOTLASER1")[1:]
     r = log.lasers[0]
-    assert (r.angle_min, r.angle_increment, r.max_range) == (float(fields[2]), float(fields[4]), float(fields[5]))
+    assert (r.angle_min, r.angle_increment, r.max_range) == (
+        float(fields[2]),
+        float(fields[4]),
+        float(fields[5]),
+    )
     assert r.ranges.size == int(fields[8]) == 361
     assert r.laser_pose == tuple(float(v) for v in fields[-14:-11])
 

@@ -3,10 +3,9 @@ errors (bad input raises and leaves the map unchanged)."""
 
 import math
 
+import floorscan
 import numpy as np
 import pytest
-
-import floorscan
 from floorscan import (
     GeometryError,
     LengthMismatchError,
@@ -81,7 +80,9 @@ def test_no_boundary_too_close_and_invalid_columns():
 def test_mount_places_the_camera_on_the_robot():
     g = unit_grid()
     # Robot at (5.5, 5.5) facing +y; camera 1 m ahead of it, looking to the robot's left.
-    g.insert_scan(scan([(2.0, 0.0)], [(1.0, 0.0)]), (5.5, 5.5, math.pi / 2), mount=(1.0, 0.0, math.pi / 2))
+    g.insert_scan(
+        scan([(2.0, 0.0)], [(1.0, 0.0)]), (5.5, 5.5, math.pi / 2), mount=(1.0, 0.0, math.pi / 2)
+    )
     assert row(g, 6, 7) == [0, 0, 0, HIT, MISS, 0, 0]
 
 
@@ -94,7 +95,9 @@ def test_clamping_bounds_the_evidence():
 
 def test_laser_max_range_clears_without_marking():
     g = unit_grid()
-    g.insert_laser([np.inf, 2.0], angle_min=0.0, angle_increment=math.pi, range_max_m=3.0, pose=(4.5, 0.5, 0.0))
+    g.insert_laser(
+        [np.inf, 2.0], angle_min=0.0, angle_increment=math.pi, range_max_m=3.0, pose=(4.5, 0.5, 0.0)
+    )
     # +inf to the right: cleared up to 3 m (cells 4..7); 2 m to the left: hit at cell 2.
     assert row(g, 0, 9) == [0, 0, HIT, MISS, MISS, MISS, MISS, MISS, 0]
 
@@ -103,7 +106,9 @@ def test_batch_insert_equals_one_by_one():
     rng = np.random.default_rng(1)
     ranges = rng.uniform(0.2, 4.0, size=(50, 32))
     ranges[rng.random(ranges.shape) < 0.1] = np.inf
-    poses = np.column_stack([rng.uniform(-2, 2, 50), rng.uniform(-2, 2, 50), rng.uniform(-3, 3, 50)])
+    poses = np.column_stack(
+        [rng.uniform(-2, 2, 50), rng.uniform(-2, 2, 50), rng.uniform(-3, 3, 50)]
+    )
     kw = dict(angle_min=-1.5, angle_increment=0.1, range_max_m=3.5, mount=(0.1, 0.0, 0.05))
     a, b = OccupancyGrid(), OccupancyGrid()
     total = a.insert_lasers(ranges, poses=poses, **kw)
@@ -171,7 +176,13 @@ def test_queries_match_brute_force():
     origin = (0.05, 0.05, 0.0)
     ranges = rng.uniform(0.5, 2.0, size=64)
     for _ in range(4):  # 4 misses: p = 0.17, free
-        g.insert_laser(ranges, angle_min=-math.pi, angle_increment=2 * math.pi / 64, range_max_m=3.0, pose=origin)
+        g.insert_laser(
+            ranges,
+            angle_min=-math.pi,
+            angle_increment=2 * math.pi / 64,
+            range_max_m=3.0,
+            pose=origin,
+        )
     classes = g.occupancy_classes()
     e = g.extent
     iy, ix = np.nonzero(classes == 2)
@@ -185,11 +196,16 @@ def test_queries_match_brute_force():
         want = np.hypot(dx, dy).min()
         assert got == pytest.approx(want) if want <= 1.0 else got == math.inf
     # Free and occupied agree with the classes array, scalars give plain bools.
-    fx, fy = e.origin_m[0] + 0.05 + np.arange(e.width) * 0.1, e.origin_m[1] + 0.05 + np.arange(e.height) * 0.1
+    fx, fy = (
+        e.origin_m[0] + 0.05 + np.arange(e.width) * 0.1,
+        e.origin_m[1] + 0.05 + np.arange(e.height) * 0.1,
+    )
     X, Y = np.meshgrid(fx, fy)
     np.testing.assert_array_equal(g.is_free(X.ravel(), Y.ravel()), (classes == 0).ravel())
     np.testing.assert_array_equal(g.is_occupied(X.ravel(), Y.ravel()), (classes == 2).ravel())
-    assert g.is_free(0.05, 0.05) is True and isinstance(g.distance_to_nearest_occupied(0.0, 0.0), float)
+    assert g.is_free(0.05, 0.05) is True and isinstance(
+        g.distance_to_nearest_occupied(0.0, 0.0), float
+    )
 
 
 def test_bad_input_raises_and_leaves_the_map_unchanged():
@@ -211,7 +227,9 @@ def test_bad_input_raises_and_leaves_the_map_unchanged():
     with pytest.raises(GeometryError, match="scan 2"):
         g.insert_lasers(bad, poses=np.zeros((3, 3)), angles=[0.0, 1.0], range_max_m=5.0)
     with pytest.raises(LengthMismatchError):
-        g.insert_sonar([1.0, 2.0], pose=(0, 0, 0), beam_width_rad=0.3, range_max_m=4.0, mounts=np.zeros((3, 3)))
+        g.insert_sonar(
+            [1.0, 2.0], pose=(0, 0, 0), beam_width_rad=0.3, range_max_m=4.0, mounts=np.zeros((3, 3))
+        )
     with pytest.raises(GeometryError):
         g.insert_scan(scan([(4.0, 0.0)], [(2.0, 0.0)]), (0, 0, np.inf))
     with pytest.raises(TypeError):
@@ -255,7 +273,9 @@ def test_options_are_validated_by_name(kwargs, name):
 
 def test_evidence_from_error_rates_and_copy():
     ev = floorscan.Evidence.from_error_rates(false_alarm=0.2, miss_rate=0.1)
-    assert ev.hit_nats == pytest.approx(math.log(0.9 / 0.2)) and ev.miss_nats == pytest.approx(math.log(0.1 / 0.8))
+    assert ev.hit_nats == pytest.approx(math.log(0.9 / 0.2)) and ev.miss_nats == pytest.approx(
+        math.log(0.1 / 0.8)
+    )
     g = OccupancyGrid(laser=ev)
     assert g.options["inserter"]["laser"]["hit_nats"] == pytest.approx(ev.hit_nats)
     g.insert_laser([1.0], angles=[0.0], range_max_m=5.0, pose=(0, 0, 0))

@@ -2,12 +2,13 @@
 agree with the world's true occupancy. Needs ``floorscan.sim`` (the simulator); skipped with a
 reason where this build does not have it."""
 
+import floorscan
 import numpy as np
 import pytest
 
-import floorscan
-
-sim = pytest.importorskip("floorscan.sim", reason="floorscan.sim (the simulator) is not in this build")
+sim = pytest.importorskip(
+    "floorscan.sim", reason="floorscan.sim (the simulator) is not in this build"
+)
 
 
 def simulator_api():

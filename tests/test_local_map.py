@@ -3,10 +3,9 @@ built from the same data over the window (cells that never left it)."""
 
 import math
 
+import floorscan
 import numpy as np
 import pytest
-
-import floorscan
 from floorscan import GeometryError, LocalMap, OccupancyGrid, OptionError
 
 
@@ -31,7 +30,9 @@ def test_local_map_equals_the_global_map_over_the_window():
         w = local.extent
         xs = start.x_cell + np.arange(start.width)
         ys = start.y_cell + np.arange(start.height)
-        inside &= ((ys[:, None] >= w.y_cell) & (ys[:, None] < w.y_cell + w.height)) & ((xs >= w.x_cell) & (xs < w.x_cell + w.width))[None, :]
+        inside &= ((ys[:, None] >= w.y_cell) & (ys[:, None] < w.y_cell + w.height)) & (
+            (xs >= w.x_cell) & (xs < w.x_cell + w.width)
+        )[None, :]
         ranges = rng.uniform(0.3, 3.0, size=120)
         local.insert_laser(ranges, **kw)
         world.insert_laser(ranges, pose=pose, **kw)
@@ -72,7 +73,9 @@ def test_robot_view_rotates_with_the_robot():
     p = local.robot_view(width=20, height=10)
     assert p.shape == (10, 20) and p.dtype == np.float64 and np.all((p >= 0) & (p <= 1))
     # In the local frame the same obstacle is 1 m along +y.
-    assert local.raw()[np.nonzero(local.raw() > 0)].size == 1 and local.is_occupied(0.02, 1.02) is True
+    assert (
+        local.raw()[np.nonzero(local.raw() > 0)].size == 1 and local.is_occupied(0.02, 1.02) is True
+    )
 
 
 def test_local_map_errors():
@@ -87,5 +90,7 @@ def test_local_map_errors():
     with pytest.raises(OptionError, match="kind"):
         local.robot_view(kind="colour")
     assert isinstance(repr(local), str) and local.options["size_m"] == 3.84
-    local.insert_sonar([1.0, 1.5], beam_width_rad=0.4, range_max_m=3.0, mounts=[[0, 0, 0], [0, 0, math.pi]])
+    local.insert_sonar(
+        [1.0, 1.5], beam_width_rad=0.4, range_max_m=3.0, mounts=[[0, 0, 0], [0, 0, math.pi]]
+    )
     assert (local.raw() > 0).any() and floorscan.LocalMap is LocalMap

@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-
 from floorscan import DatasetError, OccupancyGrid
 from floorscan.cli import main
 
@@ -36,7 +35,9 @@ def write_room_log(path, *, beams=180, bad_line=False):
         ranges = [cast(x, y, theta - math.pi / 2 + i * math.pi / beams) for i in range(beams)]
         ranges[5] = 81.91  # a no-return reading
         fields = " ".join(f"{r:.4f}" for r in ranges)
-        lines.append(f"FLASER {beams} {fields} {x} {y} {theta} {x} {y} {theta} {k * 0.1} sim {k * 0.1}")
+        lines.append(
+            f"FLASER {beams} {fields} {x} {y} {theta} {x} {y} {theta} {k * 0.1} sim {k * 0.1}"
+        )
         lines.append(f"ODOM {x} {y} {theta} 0 0 0 {k * 0.1} sim {k * 0.1}")
     if bad_line:
         lines.insert(7, "FLASER 3 1.0 2.0")
@@ -48,7 +49,21 @@ def test_map_log_draws_the_room(tmp_path, capsys):
     log = tmp_path / "room.log.gz"
     write_room_log(log)
     out = tmp_path / "out" / "room.yaml"
-    assert main(["map-log", str(log), "-o", str(out), "--png", str(tmp_path / "room.png"), "--cell-size", "0.05"]) == 0
+    assert (
+        main(
+            [
+                "map-log",
+                str(log),
+                "-o",
+                str(out),
+                "--png",
+                str(tmp_path / "room.png"),
+                "--cell-size",
+                "0.05",
+            ]
+        )
+        == 0
+    )
     assert "mapped 40 scans" in capsys.readouterr().err
     assert (tmp_path / "room.png").is_file() and (tmp_path / "out" / "room.pgm").is_file()
     g = OccupancyGrid.load(out)
@@ -56,7 +71,12 @@ def test_map_log_draws_the_room(tmp_path, capsys):
     # The walls run through the middle of cells: those cells are occupied (all but a few
     # near the corners, where grazing beams to the other wall clip them).
     xs, ys = np.arange(x0 + 0.3, x1 - 0.3, 0.05), np.arange(y0 + 0.3, y1 - 0.3, 0.05)
-    on_walls = [(x, y1) for x in xs] + [(x, y0) for x in xs] + [(x1, y) for y in ys] + [(x0, y) for y in ys]
+    on_walls = (
+        [(x, y1) for x in xs]
+        + [(x, y0) for x in xs]
+        + [(x1, y) for y in ys]
+        + [(x0, y) for y in ys]
+    )
     occupied = np.mean([g.is_occupied(x, y) for x, y in on_walls])
     assert occupied > 0.95, occupied
     # The interior is free, the outside unknown.
@@ -81,8 +101,8 @@ def test_map_log_reports_bad_lines(tmp_path, capsys):
 def test_map_log_without_lasers(tmp_path):
     (tmp_path / "empty.log").write_text("ODOM 0 0 0 0 0 0 1 h 1\n")
     with pytest.raises(DatasetError, match="no FLASER"):
-        from floorscan.commands.map_log import run
-
         import argparse
+
+        from floorscan.commands.map_log import run
 
         run(argparse.Namespace(log=str(tmp_path / "empty.log"), lenient=False))

@@ -2,13 +2,12 @@
 
 import math
 
+import floorscan
 import numpy as np
 import pytest
-from PIL import Image
-
-import floorscan
 from floorscan import FileFormatError, OccupancyGrid, OptionError
 from floorscan.map_server import load_map, read_map_yaml, save_map
+from PIL import Image
 
 
 def sample_grid(**kw):
@@ -16,7 +15,13 @@ def sample_grid(**kw):
     rng = np.random.default_rng(7)
     ranges = rng.uniform(0.3, 1.5, size=90)
     for k in range(6):
-        g.insert_laser(ranges, angle_min=-math.pi, angle_increment=2 * math.pi / 90, range_max_m=1.4, pose=(0.1 * k, 2.5, 0.2 * k))
+        g.insert_laser(
+            ranges,
+            angle_min=-math.pi,
+            angle_increment=2 * math.pi / 90,
+            range_max_m=1.4,
+            pose=(0.1 * k, 2.5, 0.2 * k),
+        )
     return g
 
 
@@ -88,8 +93,13 @@ def test_transparent_pixels_are_unknown(tmp_path):
     rgba[..., 3] = 255
     rgba[0, 0, 3] = 0
     Image.fromarray(rgba, mode="RGBA").save(tmp_path / "a.png")
-    (tmp_path / "a.yaml").write_text("image: a.png\nresolution: 1.0\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n")
-    classes = load_map(tmp_path / "a.yaml").occupancy_classes(floorscan.GridExtent(0, 0, 2, 2, 1.0, (0.0, 0.0)))
+    (tmp_path / "a.yaml").write_text(
+        "image: a.png\nresolution: 1.0\norigin: [0, 0, 0]\nnegate: 0\n"
+        "occupied_thresh: 0.65\nfree_thresh: 0.196\n"
+    )
+    classes = load_map(tmp_path / "a.yaml").occupancy_classes(
+        floorscan.GridExtent(0, 0, 2, 2, 1.0, (0.0, 0.0))
+    )
     assert classes[::-1].tolist() == [[1, 2], [2, 2]]
 
 

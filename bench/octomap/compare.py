@@ -24,9 +24,8 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-
 import floorscan
+import numpy as np
 from floorscan.carmen import read_carmen
 
 HERE = Path(__file__).resolve().parent
@@ -77,7 +76,13 @@ def run_ours(ranges, poses, angle_min, angle_increment, range_max, repeat: int):
     for _ in range(repeat):
         grid = floorscan.OccupancyGrid(cell_size_m=0.04)
         t0 = time.perf_counter()
-        stats = grid.insert_lasers(ranges, poses=poses, angle_min=angle_min, angle_increment=angle_increment, range_max_m=range_max)
+        stats = grid.insert_lasers(
+            ranges,
+            poses=poses,
+            angle_min=angle_min,
+            angle_increment=angle_increment,
+            range_max_m=range_max,
+        )
         seconds = time.perf_counter() - t0
         if best is None or seconds < best["seconds"]:
             cells = grid.allocated_tiles * 64 * 64
@@ -94,7 +99,9 @@ def run_ours(ranges, poses, angle_min, angle_increment, range_max, repeat: int):
 def run_octomap(binary: Path, rays_file: Path, repeat: int):
     best = None
     for _ in range(repeat):
-        out = subprocess.run([str(binary), str(rays_file), "0.04"], check=True, capture_output=True, text=True).stdout
+        out = subprocess.run(
+            [str(binary), str(rays_file), "0.04"], check=True, capture_output=True, text=True
+        ).stdout
         r = json.loads(out)
         if best is None or r["seconds"] < best["seconds"]:
             best = r
@@ -105,7 +112,8 @@ def row(name, lib, r):
     rays_s = r["rays"] / r["seconds"]
     cells_s = r["cells_traversed"] / r["seconds"]
     return (
-        f"| {name} | {lib} | {r['rays']:,} | {r['cells_traversed'] / r['rays']:.1f} | {rays_s:,.0f} | "
+        f"| {name} | {lib} | {r['rays']:,} | {r['cells_traversed'] / r['rays']:.1f} | "
+        f"{rays_s:,.0f} | "
         f"{cells_s / 1e6:,.1f} M | {1e9 / cells_s:.2f} |"
     )
 
@@ -115,11 +123,16 @@ def main(argv=None) -> int:
     p.add_argument("--scans", type=int, default=10_000)
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--octomap", default=str(HERE / "octomap_insert"))
-    p.add_argument("--log", default=str(REPO.parent / "shared" / "data" / "carmen" / "freiburg-079-corrected.log.gz"))
+    p.add_argument(
+        "--log",
+        default=str(REPO.parent / "shared" / "data" / "carmen" / "freiburg-079-corrected.log.gz"),
+    )
     args = p.parse_args(argv)
     binary = Path(args.octomap)
     if not binary.is_file():
-        print(f"build the OctoMap side first: make -C {HERE} (needs liboctomap-dev)", file=sys.stderr)
+        print(
+            f"build the OctoMap side first: make -C {HERE} (needs liboctomap-dev)", file=sys.stderr
+        )
         return 2
     workloads = [(f"synthetic {args.scans} x 64 rays, <= 4 m", synthetic(args.scans))]
     if Path(args.log).is_file():
@@ -141,7 +154,8 @@ def main(argv=None) -> int:
             speedup = (ours["rays"] / ours["seconds"]) / (octo["rays"] / octo["seconds"])
             lines.append(
                 f"| | speed-up | | | **{speedup:.0f}x** | | "
-                f"(floorscan {ours['bytes_per_cell']:.3f} B/cell, {ours['memory_bytes'] / 1e6:.1f} MB; "
+                f"(floorscan {ours['bytes_per_cell']:.3f} B/cell, "
+                f"{ours['memory_bytes'] / 1e6:.1f} MB; "
                 f"OctoMap {octo['memory_bytes'] / 1e6:.1f} MB for {octo['leaf_nodes']:,} leaves) |"
             )
     print("\n".join(lines))

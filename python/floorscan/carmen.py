@@ -83,13 +83,18 @@ class _Fields:
 
     def need(self, count: int) -> None:
         if len(self.parts) < count:
-            raise self.error(f"expected at least {count} fields, got {len(self.parts)} (truncated line?)")
+            raise self.error(
+                f"expected at least {count} fields, got {len(self.parts)} (truncated line?)"
+            )
 
     def number(self, i: int, name: str) -> float:
         try:
             v = float(self.parts[i])
         except (IndexError, ValueError):
-            raise self.error(f"field {i} ({name}) is not a number: {self.parts[i] if i < len(self.parts) else '<missing>'!r}") from None
+            raise self.error(
+                f"field {i} ({name}) is not a number: "
+                f"{self.parts[i] if i < len(self.parts) else '<missing>'!r}"
+            ) from None
         if math.isnan(v):
             raise self.error(f"field {i} ({name}) is NaN")
         return v
@@ -112,7 +117,11 @@ class _Fields:
         return a
 
     def pose(self, i: int, name: str) -> Pose:
-        return (self.number(i, f"{name} x"), self.number(i + 1, f"{name} y"), self.number(i + 2, f"{name} theta"))
+        return (
+            self.number(i, f"{name} x"),
+            self.number(i + 1, f"{name} y"),
+            self.number(i + 2, f"{name} theta"),
+        )
 
     def expect_length(self, n: int) -> None:
         if len(self.parts) != n:
@@ -137,12 +146,19 @@ def _flaser(f: _Fields) -> LaserReading:
     step = math.pi / n if n % 2 == 0 else math.pi / max(n - 1, 1)
     laser = f.pose(2 + n, "laser pose")
     odom = f.pose(5 + n, "odometry pose")
-    return LaserReading("FLASER", f.lineno, f.number(8 + n, "timestamp"), ranges, -math.pi / 2, step, laser, odom)
+    return LaserReading(
+        "FLASER", f.lineno, f.number(8 + n, "timestamp"), ranges, -math.pi / 2, step, laser, odom
+    )
 
 
 def _robotlaser1(f: _Fields) -> LaserReading:
     f.need(9)
-    start, _fov, res, max_range = (f.number(2, "start_angle"), f.number(3, "fov"), f.number(4, "angular_res"), f.number(5, "max_range"))
+    start, _fov, res, max_range = (
+        f.number(2, "start_angle"),
+        f.number(3, "fov"),
+        f.number(4, "angular_res"),
+        f.number(5, "max_range"),
+    )
     n = f.count(8, "number of ranges")
     ranges = f.numbers(9, n, "range")
     n_rem = f.count(9 + n, "number of remissions")
@@ -152,15 +168,29 @@ def _robotlaser1(f: _Fields) -> LaserReading:
         raise f.error("no ranges")
     laser = f.pose(tail, "laser pose")
     robot = f.pose(tail + 3, "robot pose")
-    return LaserReading("ROBOTLASER1", f.lineno, f.number(tail + 11, "timestamp"), ranges, start, res, laser, robot, max_range)
+    return LaserReading(
+        "ROBOTLASER1",
+        f.lineno,
+        f.number(tail + 11, "timestamp"),
+        ranges,
+        start,
+        res,
+        laser,
+        robot,
+        max_range,
+    )
 
 
 def _odom(f: _Fields) -> OdometryReading:
     f.expect_length(10)
-    return OdometryReading(f.lineno, f.number(7, "timestamp"), f.pose(1, "pose"), f.number(4, "tv"), f.number(5, "rv"))
+    return OdometryReading(
+        f.lineno, f.number(7, "timestamp"), f.pose(1, "pose"), f.number(4, "tv"), f.number(5, "rv")
+    )
 
 
-def parse_carmen_lines(lines: Iterable[str], *, source: str = "<log>", strict: bool = True) -> CarmenLog:
+def parse_carmen_lines(
+    lines: Iterable[str], *, source: str = "<log>", strict: bool = True
+) -> CarmenLog:
     """Parses log lines (see the module docs)."""
     log = CarmenLog(source)
     skipped: Counter = Counter()

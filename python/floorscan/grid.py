@@ -56,7 +56,9 @@ def sonar_args(ranges, mounts):
         m = np.tile(m, (r.size, 1))
     m = np.ascontiguousarray(m)
     if r.ndim != 1 or m.shape != (r.size, 3):
-        raise LengthMismatchError(f"{r.size} sonar ranges need {r.size} mounts (x, y, yaw), got shape {np.shape(mounts)}")
+        raise LengthMismatchError(
+            f"{r.size} sonar ranges need {r.size} mounts (x, y, yaw), got shape {np.shape(mounts)}"
+        )
     return r, m
 
 
@@ -115,19 +117,22 @@ class OccupancyGrid(GridViews):
         self._native = _native.OccupancyGrid(json.dumps(go), json.dumps(io))
 
     @classmethod
-    def _wrap(cls, native) -> "OccupancyGrid":
+    def _wrap(cls, native) -> OccupancyGrid:
         g = cls.__new__(cls)
         g._native = native
         return g
 
-    def copy(self) -> "OccupancyGrid":
+    def copy(self) -> OccupancyGrid:
         """An independent copy."""
         return OccupancyGrid._wrap(self._native.copy())
 
     @property
     def options(self) -> Dict[str, Any]:
         """The validated grid and inserter options (the core's serde form)."""
-        return {"grid": json.loads(self._native.grid_options_json), "inserter": json.loads(self._native.inserter_options_json)}
+        return {
+            "grid": json.loads(self._native.grid_options_json),
+            "inserter": json.loads(self._native.inserter_options_json),
+        }
 
     @property
     def memory_bytes(self) -> int:
@@ -147,7 +152,9 @@ class OccupancyGrid(GridViews):
         see :mod:`floorscan.grid` for the rules. The GIL is released."""
         if not isinstance(scan, Scan):
             raise TypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
-        return InsertStats(*self._native.insert_scan(scan._native, as_pose(pose, "pose"), as_pose(mount, "mount")))
+        return InsertStats(
+            *self._native.insert_scan(scan._native, as_pose(pose, "pose"), as_pose(mount, "mount"))
+        )
 
     def insert_laser(
         self,
@@ -167,7 +174,16 @@ class OccupancyGrid(GridViews):
         range_max_m) mark their cell; ``+inf`` or >= ``range_max_m`` clear up to range_max_m
         without marking; ``-inf`` or below range_min_m are ignored; NaN raises GeometryError."""
         r, a, amin, ainc = laser_args(ranges, angles, angle_min, angle_increment)
-        out = self._native.insert_laser(r, a, amin, ainc, float(range_min_m), float(range_max_m), as_pose(pose, "pose"), as_pose(mount, "mount"))
+        out = self._native.insert_laser(
+            r,
+            a,
+            amin,
+            ainc,
+            float(range_min_m),
+            float(range_max_m),
+            as_pose(pose, "pose"),
+            as_pose(mount, "mount"),
+        )
         return InsertStats(*out)
 
     def insert_lasers(
@@ -190,18 +206,28 @@ class OccupancyGrid(GridViews):
         p = as_poses(poses, "poses")
         if p.shape[0] != r.shape[0]:
             raise LengthMismatchError(f"{r.shape[0]} scans but {p.shape[0]} poses")
-        out = self._native.insert_lasers(r, p, a, amin, ainc, float(range_min_m), float(range_max_m), as_pose(mount, "mount"))
+        out = self._native.insert_lasers(
+            r, p, a, amin, ainc, float(range_min_m), float(range_max_m), as_pose(mount, "mount")
+        )
         return InsertStats(*out)
 
-    def insert_sonar(self, ranges, *, pose, beam_width_rad: float, range_max_m: float, mounts=(0.0, 0.0, 0.0)) -> InsertStats:
+    def insert_sonar(
+        self, ranges, *, pose, beam_width_rad: float, range_max_m: float, mounts=(0.0, 0.0, 0.0)
+    ) -> InsertStats:
         """Sonar readings fired together at ``pose``: ``ranges`` [m] (a number or (K,)), one
         mount (``robot_from_sonar``) per reading as (K, 3). The arc at each range gets
         occupied evidence, the cone inside it free; ``+inf`` or >= range_max_m clears the cone
         up to range_max_m."""
         r, m = sonar_args(ranges, mounts)
-        return InsertStats(*self._native.insert_sonar(r, m, float(beam_width_rad), float(range_max_m), as_pose(pose, "pose")))
+        return InsertStats(
+            *self._native.insert_sonar(
+                r, m, float(beam_width_rad), float(range_max_m), as_pose(pose, "pose")
+            )
+        )
 
-    def insert_rays(self, starts, ends, *, hits=True, evidence: EvidenceLike = (0.85, -0.4)) -> InsertStats:
+    def insert_rays(
+        self, starts, ends, *, hits=True, evidence: EvidenceLike = (0.85, -0.4)
+    ) -> InsertStats:
         """Any other range sensor: one batch of world rays, ``starts`` and ``ends`` (N, 2) [m];
         ``hits`` (bool or (N,)) says whether each end is an obstacle. Free space runs from
         start to end. GIL released."""
@@ -211,7 +237,9 @@ class OccupancyGrid(GridViews):
         e = np.ascontiguousarray(ends, dtype=np.float64).reshape(-1, 2)
         h = np.ascontiguousarray(np.broadcast_to(np.asarray(hits, dtype=bool), (s.shape[0],)))
         ev = as_evidence(evidence, "evidence")
-        return InsertStats(*self._native.insert_rays(s, e, h, float(ev.hit_nats), float(ev.miss_nats)))
+        return InsertStats(
+            *self._native.insert_rays(s, e, h, float(ev.hit_nats), float(ev.miss_nats))
+        )
 
     def write_raw(self, values: np.ndarray, *, x_cell: int, y_cell: int) -> None:
         """Writes an (H, W) int16 array of log-odds [1/1000 nat] with its first cell at
@@ -229,7 +257,7 @@ class OccupancyGrid(GridViews):
         return save_map(self, path, mode=mode, extent=extent)
 
     @classmethod
-    def load(cls, path: PathLike, *, grow: bool = False, **options) -> "OccupancyGrid":
+    def load(cls, path: PathLike, *, grow: bool = False, **options) -> OccupancyGrid:
         """Reads a ROS map_server map (YAML + PGM/PNG): fixed to the image's bounds, or
         growing with ``grow=True``. See :func:`floorscan.map_server.load_map`."""
         from .map_server import load_map
@@ -240,4 +268,7 @@ class OccupancyGrid(GridViews):
         e = self.extent
         fixed = self._native.fixed_cells
         kind = "fixed bounds" if fixed else "growing"
-        return f"OccupancyGrid({kind}, {self.cell_size_m} m cells, extent {e.width} x {e.height} cells at {e.origin_m})"
+        return (
+            f"OccupancyGrid({kind}, {self.cell_size_m} m cells, "
+            f"extent {e.width} x {e.height} cells at {e.origin_m})"
+        )

@@ -33,7 +33,7 @@ class Evidence:
     miss_nats: float
 
     @classmethod
-    def from_error_rates(cls, *, false_alarm: float, miss_rate: float) -> "Evidence":
+    def from_error_rates(cls, *, false_alarm: float, miss_rate: float) -> Evidence:
         """Log-likelihood ratios of a detector that reports an obstacle where there is none
         with probability ``false_alarm`` and misses one with probability ``miss_rate`` (both
         in (0, 0.5)): ``hit = ln((1 - miss_rate) / false_alarm)``,
@@ -44,7 +44,10 @@ class Evidence:
         return cls(math.log((1 - miss_rate) / false_alarm), math.log(miss_rate / (1 - false_alarm)))
 
     def to_native(self, name: str) -> Dict[str, float]:
-        hit, miss = _number(f"{name}.hit_nats", self.hit_nats), _number(f"{name}.miss_nats", self.miss_nats)
+        hit, miss = (
+            _number(f"{name}.hit_nats", self.hit_nats),
+            _number(f"{name}.miss_nats", self.miss_nats),
+        )
         return {"hit_nats": hit, "miss_nats": miss}
 
 
@@ -57,7 +60,9 @@ def as_evidence(value: EvidenceLike, name: str) -> Evidence:
     try:
         hit, miss = value
     except (TypeError, ValueError):
-        raise OptionError(f"invalid option `{name}`: give an Evidence or (hit_nats, miss_nats), got {value!r}") from None
+        raise OptionError(
+            f"invalid option `{name}`: give an Evidence or (hit_nats, miss_nats), got {value!r}"
+        ) from None
     return Evidence(float(hit), float(miss))
 
 
@@ -94,7 +99,10 @@ def grid_options(
         try:
             lo, hi = bounds_m
         except (TypeError, ValueError):
-            raise OptionError(f"invalid option `bounds_m`: give ((x_min, y_min), (x_max, y_max)) [m], got {bounds_m!r}") from None
+            raise OptionError(
+                "invalid option `bounds_m`: give ((x_min, y_min), (x_max, y_max)) [m], "
+                f"got {bounds_m!r}"
+            ) from None
         (x0, y0), (x1, y1) = _pair("bounds_m", lo), _pair("bounds_m", hi)
         bounds = {"min": {"x": x0, "y": y0}, "max": {"x": x1, "y": y1}}
     return {
@@ -108,10 +116,15 @@ def grid_options(
     }
 
 
-def inserter_options(*, visual: EvidenceLike, laser: EvidenceLike, sonar: EvidenceLike, too_close: str) -> Dict[str, Any]:
+def inserter_options(
+    *, visual: EvidenceLike, laser: EvidenceLike, sonar: EvidenceLike, too_close: str
+) -> Dict[str, Any]:
     """The core's ``InserterOptions`` (see crates/floorscan-core/src/inserter.rs)."""
     if too_close not in TOO_CLOSE_POLICIES:
-        raise OptionError(f"invalid option `too_close`: expected one of {sorted(TOO_CLOSE_POLICIES)}, got {too_close!r}")
+        raise OptionError(
+            f"invalid option `too_close`: expected one of {sorted(TOO_CLOSE_POLICIES)}, "
+            f"got {too_close!r}"
+        )
     return {
         "visual": as_evidence(visual, "visual").to_native("visual"),
         "laser": as_evidence(laser, "laser").to_native("laser"),

@@ -116,12 +116,16 @@ class GridViews:
         out[raw == 0] = -1
         return out
 
-    def to_image(self, *, style: str = "probability", extent: Optional[GridExtent] = None) -> np.ndarray:
+    def to_image(
+        self, *, style: str = "probability", extent: Optional[GridExtent] = None
+    ) -> np.ndarray:
         """(H, W) uint8 picture, row 0 at the top (highest y). ``"probability"`` (the paper's
         look): grey level 255 * (1 - p), so occupied is dark, free light, unknown mid grey.
         ``"trinary"``: map_server colours (occupied 0, free 254, unknown 205)."""
         if style not in IMAGE_STYLES:
-            raise OptionError(f"invalid option `style`: expected one of {IMAGE_STYLES}, got {style!r}")
+            raise OptionError(
+                f"invalid option `style`: expected one of {IMAGE_STYLES}, got {style!r}"
+            )
         raw = self.raw(extent)[::-1]
         # A lookup table over all int16 values: no float image in memory (large maps).
         return np.ascontiguousarray(self._lut(style)[raw.astype(np.int32) + 32768])
@@ -129,14 +133,23 @@ class GridViews:
     def _lut(self, style: str) -> np.ndarray:
         units = np.arange(-32768, 32768, dtype=np.float64)
         if style == "probability":
-            return np.rint(255.0 * (1.0 - 1.0 / (1.0 + np.exp(-units / UNITS_PER_NAT)))).astype(np.uint8)
+            return np.rint(255.0 * (1.0 - 1.0 / (1.0 + np.exp(-units / UNITS_PER_NAT)))).astype(
+                np.uint8
+            )
         _, _, occupied_at, free_at = self._native.limits()
         lut = np.full(units.shape, 205, np.uint8)
         lut[units <= free_at] = 254
         lut[units >= occupied_at] = 0
         return lut
 
-    def to_png(self, path: PathLike, *, scale: int = 1, style: str = "probability", extent: Optional[GridExtent] = None):
+    def to_png(
+        self,
+        path: PathLike,
+        *,
+        scale: int = 1,
+        style: str = "probability",
+        extent: Optional[GridExtent] = None,
+    ):
         """Writes :meth:`to_image` as a PNG (each cell ``scale`` x ``scale`` pixels),
         atomically; returns the path."""
         import os
@@ -144,11 +157,19 @@ class GridViews:
 
         from PIL import Image
 
-        if isinstance(scale, bool) or not isinstance(scale, (int, np.integer)) or not 1 <= scale <= 64:
-            raise OptionError(f"invalid option `scale`: must be an integer in 1..=64, got {scale!r}")
+        if (
+            isinstance(scale, bool)
+            or not isinstance(scale, (int, np.integer))
+            or not 1 <= scale <= 64
+        ):
+            raise OptionError(
+                f"invalid option `scale`: must be an integer in 1..=64, got {scale!r}"
+            )
         img = self.to_image(style=style, extent=extent)
         if img.size == 0:
-            raise OptionError("the map is empty: nothing to draw (insert data first or pass an extent)")
+            raise OptionError(
+                "the map is empty: nothing to draw (insert data first or pass an extent)"
+            )
         if scale > 1:
             img = np.repeat(np.repeat(img, scale, axis=0), scale, axis=1)
         tmp = temp_path_for(path, ".png")
@@ -173,7 +194,9 @@ class GridViews:
         occ = self._native.occupancy_codes(xs, ys) == 2
         return bool(occ[0]) if scalar else occ
 
-    def distance_to_nearest_occupied(self, x: Coordinate, y: Coordinate, *, max_distance_m: float = 2.0):
+    def distance_to_nearest_occupied(
+        self, x: Coordinate, y: Coordinate, *, max_distance_m: float = 2.0
+    ):
         """Distance [m] from the point (x, y) [m] to the nearest occupied cell (its nearest
         point; 0 inside one); ``inf`` if none lies within ``max_distance_m``. Scalars give a
         float, arrays an array."""

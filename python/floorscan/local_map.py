@@ -71,7 +71,9 @@ class LocalMap(GridViews):
         try:
             size = float(size_m)
         except (TypeError, ValueError):
-            raise OptionError(f"invalid option `size_m`: must be a number, got {size_m!r}") from None
+            raise OptionError(
+                f"invalid option `size_m`: must be a number, got {size_m!r}"
+            ) from None
         options = {"size_m": size, "grid": go}
         io = inserter_options(visual=visual, laser=laser, sonar=sonar, too_close=too_close)
         self._native = _native.LocalMap(json.dumps(options), json.dumps(io), as_pose(pose, "pose"))
@@ -115,15 +117,29 @@ class LocalMap(GridViews):
         """A laser scan seen from the current pose (rules as
         :meth:`floorscan.OccupancyGrid.insert_laser`)."""
         r, a, amin, ainc = laser_args(ranges, angles, angle_min, angle_increment)
-        return InsertStats(*self._native.insert_laser(r, a, amin, ainc, float(range_min_m), float(range_max_m), as_pose(mount, "mount")))
+        return InsertStats(
+            *self._native.insert_laser(
+                r, a, amin, ainc, float(range_min_m), float(range_max_m), as_pose(mount, "mount")
+            )
+        )
 
-    def insert_sonar(self, ranges, *, beam_width_rad: float, range_max_m: float, mounts=(0.0, 0.0, 0.0)) -> InsertStats:
+    def insert_sonar(
+        self, ranges, *, beam_width_rad: float, range_max_m: float, mounts=(0.0, 0.0, 0.0)
+    ) -> InsertStats:
         """Sonar readings taken at the current pose (rules as
         :meth:`floorscan.OccupancyGrid.insert_sonar`)."""
         r, m = sonar_args(ranges, mounts)
-        return InsertStats(*self._native.insert_sonar(r, m, float(beam_width_rad), float(range_max_m)))
+        return InsertStats(
+            *self._native.insert_sonar(r, m, float(beam_width_rad), float(range_max_m))
+        )
 
-    def robot_view(self, *, width: Optional[int] = None, height: Optional[int] = None, kind: str = "probability") -> np.ndarray:
+    def robot_view(
+        self,
+        *,
+        width: Optional[int] = None,
+        height: Optional[int] = None,
+        kind: str = "probability",
+    ) -> np.ndarray:
         """The window resampled in the robot's frame (x forward, y left), centred on the
         robot, cells of the map's size: (height, width) array, row 0 at the robot's right
         (most negative y), column 0 behind it (most negative x); default the window's size.
@@ -132,7 +148,9 @@ class LocalMap(GridViews):
         w = self.extent.width if width is None else int(width)
         h = self.extent.height if height is None else int(height)
         if w < 1 or h < 1 or w > 8192 or h > 8192:
-            raise OptionError(f"invalid option `width`/`height`: must be in 1..=8192, got {w} x {h}")
+            raise OptionError(
+                f"invalid option `width`/`height`: must be in 1..=8192, got {w} x {h}"
+            )
         raw = self._native.robot_view(w, h)
         if kind == "raw":
             return raw
@@ -140,8 +158,12 @@ class LocalMap(GridViews):
             return (raw.astype(np.float32) / np.float32(UNITS_PER_NAT)).astype(np.float32)
         if kind == "probability":
             return 1.0 / (1.0 + np.exp(-raw.astype(np.float64) / UNITS_PER_NAT))
-        raise OptionError(f"invalid option `kind`: expected probability, log_odds or raw, got {kind!r}")
+        raise OptionError(
+            f"invalid option `kind`: expected probability, log_odds or raw, got {kind!r}"
+        )
 
     def __repr__(self) -> str:
         e = self.extent
-        return f"LocalMap({e.width} x {e.height} cells of {self.cell_size_m} m, robot at {self.pose})"
+        return (
+            f"LocalMap({e.width} x {e.height} cells of {self.cell_size_m} m, robot at {self.pose})"
+        )

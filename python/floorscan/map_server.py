@@ -42,7 +42,11 @@ def save_map(grid, path: PathLike, *, mode: str = "trinary", extent=None) -> Pat
     # Both styles of GridViews.to_image are exactly map_server's pixel values.
     pixels = grid.to_image(style="trinary" if mode == "trinary" else "probability", extent=e)
     pgm_path = yaml_path.with_suffix(".pgm")
-    header = f"P5\n# CREATOR: floorscan {e.cell_size_m!r} m/pix\n{e.width} {e.height}\n255\n".encode("ascii")
+    header = (
+        f"P5\n# CREATOR: floorscan {e.cell_size_m!r} m/pix\n{e.width} {e.height}\n255\n".encode(
+            "ascii"
+        )
+    )
     write_atomic(pgm_path, header + pixels.tobytes())
     ox, oy = e.origin_m
     text = (
@@ -130,19 +134,29 @@ def _check_keys(raw: Dict[str, Any], path: Path) -> Dict[str, Any]:
         raise FileFormatError(f"{path}:{line}: `image` must be a file name, got {image!r}")
     resolution = number("resolution", required=True)
     if resolution <= 0:
-        raise FileFormatError(f"{path}:{raw['resolution'][1]}: `resolution` must be > 0, got {resolution}")
+        raise FileFormatError(
+            f"{path}:{raw['resolution'][1]}: `resolution` must be > 0, got {resolution}"
+        )
     origin, line = get("origin", required=True)
-    if not (isinstance(origin, list) and len(origin) == 3 and all(isinstance(v, (int, float)) and math.isfinite(v) for v in origin)):
+    if not (
+        isinstance(origin, list)
+        and len(origin) == 3
+        and all(isinstance(v, (int, float)) and math.isfinite(v) for v in origin)
+    ):
         raise FileFormatError(f"{path}:{line}: `origin` must be [x, y, yaw], got {origin!r}")
     if origin[2] != 0:
-        raise FileFormatError(f"{path}:{line}: rotated map origins (yaw {origin[2]}) are not supported")
+        raise FileFormatError(
+            f"{path}:{line}: rotated map origins (yaw {origin[2]}) are not supported"
+        )
     negate, line = get("negate", 0)
     if negate not in (0, 1):
         raise FileFormatError(f"{path}:{line}: `negate` must be 0 or 1, got {negate!r}")
     occ = number("occupied_thresh", 0.65)
     free = number("free_thresh", 0.196)
     if not 0.0 <= free < occ <= 1.0:
-        raise FileFormatError(f"{path}: need 0 <= free_thresh < occupied_thresh <= 1, got {free} and {occ}")
+        raise FileFormatError(
+            f"{path}: need 0 <= free_thresh < occupied_thresh <= 1, got {free} and {occ}"
+        )
     mode, line = get("mode", "trinary")
     if mode not in MODES:
         raise FileFormatError(f"{path}:{line}: `mode` must be one of {MODES}, got {mode!r}")
@@ -195,7 +209,10 @@ def load_map(path: PathLike, *, grow: bool = False, **options):
     bounds = None
     if not grow:
         # A quarter cell inside the image's edges: exactly its cells, whatever the rounding.
-        bounds = ((ox + 0.25 * res, oy + 0.25 * res), (ox + (w - 0.25) * res, oy + (h - 0.25) * res))
+        bounds = (
+            (ox + 0.25 * res, oy + 0.25 * res),
+            (ox + (w - 0.25) * res, oy + (h - 0.25) * res),
+        )
     grid = OccupancyGrid(cell_size_m=res, origin_m=(ox, oy), bounds_m=bounds, **options)
     lo, hi, _, _ = grid._native.limits()
     values = _pixels_to_units(grey, alpha, meta, lo, hi)
@@ -203,7 +220,9 @@ def load_map(path: PathLike, *, grow: bool = False, **options):
     return grid
 
 
-def _pixels_to_units(grey: np.ndarray, alpha: Optional[np.ndarray], meta: Dict[str, Any], lo: int, hi: int) -> np.ndarray:
+def _pixels_to_units(
+    grey: np.ndarray, alpha: Optional[np.ndarray], meta: Dict[str, Any], lo: int, hi: int
+) -> np.ndarray:
     """Map server's interpretation of each pixel, as int16 log-odds units (row 0 at the top)."""
     mode = meta["mode"]
     out = np.zeros(grey.shape, np.int16)

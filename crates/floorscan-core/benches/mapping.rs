@@ -50,7 +50,10 @@ fn workload() -> Workload {
 fn layout(ranges: &[f64]) -> LaserScan<'_> {
     LaserScan {
         ranges_m: ranges,
-        angles: BeamAngles::Uniform { min_rad: -std::f64::consts::PI, increment_rad: std::f64::consts::TAU / BEAMS as f64 },
+        angles: BeamAngles::Uniform {
+            min_rad: -std::f64::consts::PI,
+            increment_rad: std::f64::consts::TAU / BEAMS as f64,
+        },
         range_min_m: 0.0,
         range_max_m: 4.5,
     }
@@ -61,7 +64,15 @@ fn bench_laser(c: &mut Criterion) {
     let mut grid = Grid::new(GridOptions::default()).unwrap();
     let mut inserter = Inserter::new(InserterOptions::default()).unwrap();
     let zeros = [0.0; BEAMS];
-    let stats = inserter.insert_lasers(&mut grid, &layout(&zeros), &w.ranges, &w.poses, &Pose2::IDENTITY).unwrap();
+    let stats = inserter
+        .insert_lasers(
+            &mut grid,
+            &layout(&zeros),
+            &w.ranges,
+            &w.poses,
+            &Pose2::IDENTITY,
+        )
+        .unwrap();
     eprintln!(
         "laser workload: {} rays, {} traversed cells ({:.1} per ray), {} cells hit; grid {} tiles, {} bytes ({:.3} bytes per allocated cell)",
         stats.rays,
@@ -76,7 +87,17 @@ fn bench_laser(c: &mut Criterion) {
     group.sample_size(10);
     group.throughput(Throughput::Elements(stats.rays));
     group.bench_function("laser_10k_scans_64_rays_4m", |b| {
-        b.iter(|| inserter.insert_lasers(&mut grid, &layout(&zeros), black_box(&w.ranges), &w.poses, &Pose2::IDENTITY).unwrap())
+        b.iter(|| {
+            inserter
+                .insert_lasers(
+                    &mut grid,
+                    &layout(&zeros),
+                    black_box(&w.ranges),
+                    &w.poses,
+                    &Pose2::IDENTITY,
+                )
+                .unwrap()
+        })
     });
 
     // The bare walk, no storage: a floor for the per-cell cost.
@@ -86,7 +107,8 @@ fn bench_laser(c: &mut Criterion) {
         .zip(w.ranges.chunks(BEAMS))
         .flat_map(|(p, rs)| {
             rs.iter().enumerate().map(move |(i, r)| {
-                let a = p.yaw - std::f64::consts::PI + i as f64 * std::f64::consts::TAU / BEAMS as f64;
+                let a =
+                    p.yaw - std::f64::consts::PI + i as f64 * std::f64::consts::TAU / BEAMS as f64;
                 let fp = |x: f64, y: f64| FixedPoint::from_cells(x / 0.04, y / 0.04).unwrap();
                 (fp(p.x, p.y), fp(p.x + r * a.cos(), p.y + r * a.sin()))
             })
@@ -122,7 +144,10 @@ fn bench_visual(c: &mut Criterion) {
                         column: i as u32,
                         start_row: 470.0,
                         near: Some(Point2::new(0.3 * c, 0.3 * s)),
-                        outcome: ColumnOutcome::Boundary { row: 200.0, point: Point2::new(r.max(0.3) * c, r.max(0.3) * s) },
+                        outcome: ColumnOutcome::Boundary {
+                            row: 200.0,
+                            point: Point2::new(r.max(0.3) * c, r.max(0.3) * s),
+                        },
                     }
                 })
                 .collect(),

@@ -102,21 +102,39 @@ impl Grid {
     pub fn with_cell_bounds(mut options: GridOptions, rect: CellRect) -> Result<Grid> {
         options.validate()?;
         if rect.is_empty() {
-            return Err(Error::InvalidOption { name: "bounds_m", reason: "the window is empty".into() });
+            return Err(Error::InvalidOption {
+                name: "bounds_m",
+                reason: "the window is empty".into(),
+            });
         }
         check_cell_range(rect)?;
         let s = options.cell_size_m;
         let o = options.origin_m;
         options.bounds_m = Some(crate::grid_options::Bounds {
-            min: Point2::new(o.x + s * f64::from(rect.min.x), o.y + s * f64::from(rect.min.y)),
-            max: Point2::new(o.x + s * f64::from(rect.max.x), o.y + s * f64::from(rect.max.y)),
+            min: Point2::new(
+                o.x + s * f64::from(rect.min.x),
+                o.y + s * f64::from(rect.min.y),
+            ),
+            max: Point2::new(
+                o.x + s * f64::from(rect.max.x),
+                o.y + s * f64::from(rect.max.y),
+            ),
         });
         Grid::build(options, Some(rect))
     }
 
     fn build(options: GridOptions, fixed: Option<CellRect>) -> Result<Grid> {
         let limits = options.limits();
-        let mut grid = Grid { options, limits, fixed, dir_min: (0, 0), dir_w: 0, dir_h: 0, tiles: Vec::new(), allocated: 0 };
+        let mut grid = Grid {
+            options,
+            limits,
+            fixed,
+            dir_min: (0, 0),
+            dir_w: 0,
+            dir_h: 0,
+            tiles: Vec::new(),
+            allocated: 0,
+        };
         if let Some(r) = fixed {
             let max = CellIndex::new(r.max.x - 1, r.max.y - 1);
             grid.reserve_tiles(tile_of(r.min), tile_of(max), false)?;
@@ -156,12 +174,18 @@ impl Grid {
     pub fn cell_center(&self, c: CellIndex) -> Point2 {
         let s = self.options.cell_size_m;
         let o = self.options.origin_m;
-        Point2::new(o.x + s * (f64::from(c.x) + 0.5), o.y + s * (f64::from(c.y) + 0.5))
+        Point2::new(
+            o.x + s * (f64::from(c.x) + 0.5),
+            o.y + s * (f64::from(c.y) + 0.5),
+        )
     }
 
     /// Whether the grid may hold this cell (always true for a growing grid).
     pub fn covers(&self, c: CellIndex) -> bool {
-        self.fixed.map_or(true, |r| r.contains(c))
+        match self.fixed {
+            Some(r) => r.contains(c),
+            None => true,
+        }
     }
 
     /// The stored value of a cell (0, unknown, for cells never written or outside the grid).
@@ -182,7 +206,10 @@ impl Grid {
     /// fixed-bounds grid.
     pub fn set(&mut self, c: CellIndex, value: LogOdds) -> Result<()> {
         if !self.covers(c) {
-            return Err(Error::OutOfBounds(format!("cell ({}, {}) is outside the map", c.x, c.y)));
+            return Err(Error::OutOfBounds(format!(
+                "cell ({}, {}) is outside the map",
+                c.x, c.y
+            )));
         }
         let v = value.0.clamp(self.limits.clamp_min, self.limits.clamp_max);
         let (tx, ty, local) = tile_of(c);
@@ -198,7 +225,8 @@ impl Grid {
 
     /// Bytes held by the grid: cell storage plus the tile directory.
     pub fn memory_bytes(&self) -> usize {
-        self.allocated * std::mem::size_of::<Tile>() + self.tiles.capacity() * std::mem::size_of::<Option<Box<Tile>>>()
+        self.allocated * std::mem::size_of::<Tile>()
+            + self.tiles.capacity() * std::mem::size_of::<Option<Box<Tile>>>()
     }
 
     /// The smallest rectangle holding every cell with a non-zero value, `None` if all are 0.
@@ -210,8 +238,14 @@ impl Grid {
             let ty = self.dir_min.1 + (i / self.dir_w) as i32;
             for (k, &v) in tile.iter().enumerate() {
                 if v != 0 {
-                    let c = CellIndex::new((tx << TILE_BITS) + (k & (TILE_SIZE as usize - 1)) as i32, (ty << TILE_BITS) + (k >> TILE_BITS) as i32);
-                    let r = rect.get_or_insert(CellRect { min: c, max: CellIndex::new(c.x + 1, c.y + 1) });
+                    let c = CellIndex::new(
+                        (tx << TILE_BITS) + (k & (TILE_SIZE as usize - 1)) as i32,
+                        (ty << TILE_BITS) + (k >> TILE_BITS) as i32,
+                    );
+                    let r = rect.get_or_insert(CellRect {
+                        min: c,
+                        max: CellIndex::new(c.x + 1, c.y + 1),
+                    });
                     r.min = CellIndex::new(r.min.x.min(c.x), r.min.y.min(c.y));
                     r.max = CellIndex::new(r.max.x.max(c.x + 1), r.max.y.max(c.y + 1));
                 }
@@ -223,7 +257,12 @@ impl Grid {
     /// The rectangle exported by default: the fixed bounds, or the known cells of a growing
     /// grid (an empty rectangle if nothing is known).
     pub fn extent(&self) -> CellRect {
-        self.fixed.or_else(|| self.known_rect()).unwrap_or(CellRect { min: CellIndex::default(), max: CellIndex::default() })
+        self.fixed
+            .or_else(|| self.known_rect())
+            .unwrap_or(CellRect {
+                min: CellIndex::default(),
+                max: CellIndex::default(),
+            })
     }
 
     /// The values of `rect`, row-major with row 0 at `rect.min.y` (the lowest y, as in
@@ -240,7 +279,8 @@ impl Grid {
                 let run = ((tx + 1) * TILE_SIZE).min(rect.max.x) - x;
                 if let Some(Some(tile)) = self.dir_index(tx, ty).map(|i| &self.tiles[i]) {
                     let start = row * w + (x - rect.min.x) as usize;
-                    out[start..start + run as usize].copy_from_slice(&tile[local..local + run as usize]);
+                    out[start..start + run as usize]
+                        .copy_from_slice(&tile[local..local + run as usize]);
                 }
                 x += run;
             }
@@ -260,9 +300,12 @@ impl Grid {
         }
         if let Some(f) = self.fixed {
             let inside = rect.is_empty()
-                || (f.contains(rect.min) && f.contains(CellIndex::new(rect.max.x - 1, rect.max.y - 1)));
+                || (f.contains(rect.min)
+                    && f.contains(CellIndex::new(rect.max.x - 1, rect.max.y - 1)));
             if !inside {
-                return Err(Error::OutOfBounds("the rectangle is not inside the map's fixed bounds".into()));
+                return Err(Error::OutOfBounds(
+                    "the rectangle is not inside the map's fixed bounds".into(),
+                ));
             }
         }
         let w = rect.width();
@@ -281,7 +324,12 @@ impl Grid {
     /// Makes the directory cover tiles `a..=b` (tile coordinates, local parts ignored),
     /// growing it geometrically; returns the directory index of `a`. With `allocate`, the tile
     /// at `a` is allocated too. Fails (changing nothing) past [`MAX_DIRECTORY_TILES`].
-    pub(crate) fn reserve_tiles(&mut self, a: (i32, i32, usize), b: (i32, i32, usize), allocate: bool) -> Result<usize> {
+    pub(crate) fn reserve_tiles(
+        &mut self,
+        a: (i32, i32, usize),
+        b: (i32, i32, usize),
+        allocate: bool,
+    ) -> Result<usize> {
         let (x0, y0) = (a.0.min(b.0), a.1.min(b.1));
         let (x1, y1) = (a.0.max(b.0), a.1.max(b.1));
         let covered = self.dir_w > 0
@@ -302,14 +350,20 @@ impl Grid {
     fn grow_directory(&mut self, x0: i32, y0: i32, x1: i32, y1: i32) -> Result<()> {
         let (mut nx0, mut ny0, mut nx1, mut ny1) = (x0, y0, x1, y1);
         if self.dir_w > 0 {
-            let (cx1, cy1) = (self.dir_min.0 + self.dir_w as i32 - 1, self.dir_min.1 + self.dir_h as i32 - 1);
+            let (cx1, cy1) = (
+                self.dir_min.0 + self.dir_w as i32 - 1,
+                self.dir_min.1 + self.dir_h as i32 - 1,
+            );
             nx0 = nx0.min(self.dir_min.0);
             ny0 = ny0.min(self.dir_min.1);
             nx1 = nx1.max(cx1);
             ny1 = ny1.max(cy1);
             if self.fixed.is_none() {
                 // Grow with slack on the sides that grew, so that exploring costs amortised O(1).
-                let (sx, sy) = ((self.dir_w as i32 / 2).max(4), (self.dir_h as i32 / 2).max(4));
+                let (sx, sy) = (
+                    (self.dir_w as i32 / 2).max(4),
+                    (self.dir_h as i32 / 2).max(4),
+                );
                 if nx0 < self.dir_min.0 {
                     nx0 -= sx;
                 }
@@ -350,8 +404,12 @@ impl Grid {
     /// Directory index of a tile, `None` outside the directory.
     #[inline]
     pub(crate) fn dir_index(&self, tx: i32, ty: i32) -> Option<usize> {
-        let (dx, dy) = (tx.wrapping_sub(self.dir_min.0), ty.wrapping_sub(self.dir_min.1));
-        ((dx as u32 as usize) < self.dir_w && (dy as u32 as usize) < self.dir_h).then(|| dy as usize * self.dir_w + dx as usize)
+        let (dx, dy) = (
+            tx.wrapping_sub(self.dir_min.0),
+            ty.wrapping_sub(self.dir_min.1),
+        );
+        ((dx as u32 as usize) < self.dir_w && (dy as u32 as usize) < self.dir_h)
+            .then(|| dy as usize * self.dir_w + dx as usize)
     }
 
     /// The tile at a directory index, allocated (all zero) on first use.
@@ -366,11 +424,18 @@ impl Grid {
 }
 
 fn check_cell_range(r: CellRect) -> Result<()> {
-    let limit = crate::raycast::MAX_CELL_INDEX as i64;
-    let ok = [r.min.x, r.min.y, r.max.x, r.max.y].iter().all(|&v| i64::from(v).abs() < limit);
-    let tiles = (r.width() >> TILE_BITS).saturating_add(2).saturating_mul((r.height() >> TILE_BITS).saturating_add(2));
+    let limit = crate::raycast::MAX_CELL_INDEX;
+    let ok = [r.min.x, r.min.y, r.max.x, r.max.y]
+        .iter()
+        .all(|&v| i64::from(v).abs() < limit);
+    let tiles = (r.width() >> TILE_BITS)
+        .saturating_add(2)
+        .saturating_mul((r.height() >> TILE_BITS).saturating_add(2));
     if !ok || tiles > MAX_DIRECTORY_TILES {
-        return Err(Error::InvalidOption { name: "bounds_m", reason: "the bounds hold too many cells".into() });
+        return Err(Error::InvalidOption {
+            name: "bounds_m",
+            reason: "the bounds hold too many cells".into(),
+        });
     }
     Ok(())
 }
@@ -390,9 +455,20 @@ mod tests {
 
     #[test]
     fn cells_follow_the_origin_and_size() {
-        let g = Grid::new(GridOptions { cell_size_m: 0.5, origin_m: Point2::new(-1.0, 2.0), ..Default::default() }).unwrap();
-        assert_eq!(g.cell_of(Point2::new(-1.0, 2.0)), Some(CellIndex::new(0, 0)));
-        assert_eq!(g.cell_of(Point2::new(-1.01, 1.99)), Some(CellIndex::new(-1, -1)));
+        let g = Grid::new(GridOptions {
+            cell_size_m: 0.5,
+            origin_m: Point2::new(-1.0, 2.0),
+            ..Default::default()
+        })
+        .unwrap();
+        assert_eq!(
+            g.cell_of(Point2::new(-1.0, 2.0)),
+            Some(CellIndex::new(0, 0))
+        );
+        assert_eq!(
+            g.cell_of(Point2::new(-1.01, 1.99)),
+            Some(CellIndex::new(-1, -1))
+        );
         assert_eq!(g.cell_of(Point2::new(0.2, 3.4)), Some(CellIndex::new(2, 2)));
         assert_eq!(g.cell_center(CellIndex::new(2, 2)), Point2::new(0.25, 3.25));
         assert_eq!(g.cell_of(Point2::new(f64::NAN, 0.0)), None);
@@ -411,7 +487,13 @@ mod tests {
         assert_eq!(g.get(CellIndex::new(-700, 900)), LogOdds(-100));
         assert_eq!(g.get(CellIndex::new(3000, -20)), LogOdds(7));
         assert_eq!(g.get(CellIndex::new(6, 5)), LogOdds(0));
-        assert_eq!(g.known_rect(), Some(CellRect { min: CellIndex::new(-700, -20), max: CellIndex::new(3001, 901) }));
+        assert_eq!(
+            g.known_rect(),
+            Some(CellRect {
+                min: CellIndex::new(-700, -20),
+                max: CellIndex::new(3001, 901)
+            })
+        );
         assert!(g.memory_bytes() >= 3 * TILE_CELLS * 2);
     }
 
@@ -429,26 +511,48 @@ mod tests {
 
     #[test]
     fn fixed_bounds_cover_the_overlapping_cells_only() {
-        let b = Bounds { min: Point2::new(-0.1, 0.0), max: Point2::new(0.3, 0.2) };
-        let mut g = Grid::new(GridOptions { cell_size_m: 0.1, bounds_m: Some(b), ..Default::default() }).unwrap();
+        let b = Bounds {
+            min: Point2::new(-0.1, 0.0),
+            max: Point2::new(0.3, 0.2),
+        };
+        let mut g = Grid::new(GridOptions {
+            cell_size_m: 0.1,
+            bounds_m: Some(b),
+            ..Default::default()
+        })
+        .unwrap();
         let r = g.fixed_cells().unwrap();
-        assert_eq!((r.min, r.max), (CellIndex::new(-1, 0), CellIndex::new(3, 2)));
+        assert_eq!(
+            (r.min, r.max),
+            (CellIndex::new(-1, 0), CellIndex::new(3, 2))
+        );
         assert!(g.set(CellIndex::new(2, 1), LogOdds(5)).is_ok());
-        assert!(matches!(g.set(CellIndex::new(3, 1), LogOdds(5)), Err(Error::OutOfBounds(_))));
+        assert!(matches!(
+            g.set(CellIndex::new(3, 1), LogOdds(5)),
+            Err(Error::OutOfBounds(_))
+        ));
         assert_eq!(g.extent(), r);
     }
 
     #[test]
     fn rect_round_trip_across_tiles() {
         let mut g = Grid::new(GridOptions::default()).unwrap();
-        let rect = CellRect { min: CellIndex::new(-70, 60), max: CellIndex::new(75, 140) };
-        let values: Vec<i16> = (0..rect.width() * rect.height()).map(|i| ((i * 37) % 4001) as i16 - 2000).collect();
+        let rect = CellRect {
+            min: CellIndex::new(-70, 60),
+            max: CellIndex::new(75, 140),
+        };
+        let values: Vec<i16> = (0..rect.width() * rect.height())
+            .map(|i| ((i * 37) % 4001) as i16 - 2000)
+            .collect();
         g.write_rect(rect, &values).unwrap();
         let mut back = Vec::new();
         g.read_rect(rect, &mut back);
         assert_eq!(back, values);
         // A cell by hand: row 3, column 5 of the rectangle.
-        assert_eq!(g.get(CellIndex::new(-65, 63)).0, values[3 * rect.width() + 5]);
+        assert_eq!(
+            g.get(CellIndex::new(-65, 63)).0,
+            values[3 * rect.width() + 5]
+        );
         assert!(g.write_rect(rect, &values[1..]).is_err());
     }
 

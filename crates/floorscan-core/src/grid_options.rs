@@ -101,43 +101,71 @@ impl CellLimits {
 impl GridOptions {
     pub fn validate(&self) -> Result<()> {
         if !(self.cell_size_m.is_finite() && (0.001..=10.0).contains(&self.cell_size_m)) {
-            return Err(invalid_option("cell_size_m", format!("must be in [0.001, 10] m, got {}", self.cell_size_m)));
+            return Err(invalid_option(
+                "cell_size_m",
+                format!("must be in [0.001, 10] m, got {}", self.cell_size_m),
+            ));
         }
         if !(self.origin_m.x.is_finite() && self.origin_m.y.is_finite()) {
             return Err(invalid_option("origin_m", "must be finite"));
         }
         if let Some(b) = self.bounds_m {
-            let finite = [b.min.x, b.min.y, b.max.x, b.max.y].iter().all(|v| v.is_finite());
+            let finite = [b.min.x, b.min.y, b.max.x, b.max.y]
+                .iter()
+                .all(|v| v.is_finite());
             if !finite || b.max.x <= b.min.x || b.max.y <= b.min.y {
                 return Err(invalid_option(
                     "bounds_m",
-                    format!("must be finite with max > min, got min ({}, {}) max ({}, {})", b.min.x, b.min.y, b.max.x, b.max.y),
+                    format!(
+                        "must be finite with max > min, got min ({}, {}) max ({}, {})",
+                        b.min.x, b.min.y, b.max.x, b.max.y
+                    ),
                 ));
             }
         }
         if !(self.clamp_min_nats < 0.0 && self.clamp_min_nats >= -MAX_ABS_NATS) {
-            return Err(invalid_option("clamp_min_nats", format!("must be in [-16, 0), got {}", self.clamp_min_nats)));
+            return Err(invalid_option(
+                "clamp_min_nats",
+                format!("must be in [-16, 0), got {}", self.clamp_min_nats),
+            ));
         }
         if !(self.clamp_max_nats > 0.0 && self.clamp_max_nats <= MAX_ABS_NATS) {
-            return Err(invalid_option("clamp_max_nats", format!("must be in (0, 16], got {}", self.clamp_max_nats)));
+            return Err(invalid_option(
+                "clamp_max_nats",
+                format!("must be in (0, 16], got {}", self.clamp_max_nats),
+            ));
         }
         if !(self.occupied_threshold > 0.5 && self.occupied_threshold < 1.0) {
-            return Err(invalid_option("occupied_threshold", format!("must be in (0.5, 1), got {}", self.occupied_threshold)));
+            return Err(invalid_option(
+                "occupied_threshold",
+                format!("must be in (0.5, 1), got {}", self.occupied_threshold),
+            ));
         }
         if !(self.free_threshold > 0.0 && self.free_threshold < 0.5) {
-            return Err(invalid_option("free_threshold", format!("must be in (0, 0.5), got {}", self.free_threshold)));
+            return Err(invalid_option(
+                "free_threshold",
+                format!("must be in (0, 0.5), got {}", self.free_threshold),
+            ));
         }
         let limits = self.limits();
         if limits.occupied_at > limits.clamp_max {
             return Err(invalid_option(
                 "occupied_threshold",
-                format!("{} is above the upper clamp (p = {:.4}): no cell could ever be occupied", self.occupied_threshold, LogOdds(limits.clamp_max).probability()),
+                format!(
+                    "{} is above the upper clamp (p = {:.4}): no cell could ever be occupied",
+                    self.occupied_threshold,
+                    LogOdds(limits.clamp_max).probability()
+                ),
             ));
         }
         if limits.free_at < limits.clamp_min {
             return Err(invalid_option(
                 "free_threshold",
-                format!("{} is below the lower clamp (p = {:.4}): no cell could ever be free", self.free_threshold, LogOdds(limits.clamp_min).probability()),
+                format!(
+                    "{} is below the lower clamp (p = {:.4}): no cell could ever be free",
+                    self.free_threshold,
+                    LogOdds(limits.clamp_min).probability()
+                ),
             ));
         }
         Ok(())
@@ -185,19 +213,79 @@ mod tests {
     #[test]
     fn each_invalid_field_is_named() {
         let cases: Vec<(GridOptions, &str)> = vec![
-            (GridOptions { cell_size_m: 0.0, ..Default::default() }, "cell_size_m"),
-            (GridOptions { cell_size_m: f64::NAN, ..Default::default() }, "cell_size_m"),
-            (GridOptions { origin_m: Point2::new(f64::INFINITY, 0.0), ..Default::default() }, "origin_m"),
             (
-                GridOptions { bounds_m: Some(Bounds { min: Point2::new(1.0, 0.0), max: Point2::new(0.0, 1.0) }), ..Default::default() },
+                GridOptions {
+                    cell_size_m: 0.0,
+                    ..Default::default()
+                },
+                "cell_size_m",
+            ),
+            (
+                GridOptions {
+                    cell_size_m: f64::NAN,
+                    ..Default::default()
+                },
+                "cell_size_m",
+            ),
+            (
+                GridOptions {
+                    origin_m: Point2::new(f64::INFINITY, 0.0),
+                    ..Default::default()
+                },
+                "origin_m",
+            ),
+            (
+                GridOptions {
+                    bounds_m: Some(Bounds {
+                        min: Point2::new(1.0, 0.0),
+                        max: Point2::new(0.0, 1.0),
+                    }),
+                    ..Default::default()
+                },
                 "bounds_m",
             ),
-            (GridOptions { clamp_min_nats: 0.5, ..Default::default() }, "clamp_min_nats"),
-            (GridOptions { clamp_max_nats: 25.0, ..Default::default() }, "clamp_max_nats"),
-            (GridOptions { occupied_threshold: 0.4, ..Default::default() }, "occupied_threshold"),
-            (GridOptions { free_threshold: 0.6, ..Default::default() }, "free_threshold"),
-            (GridOptions { occupied_threshold: 0.99, ..Default::default() }, "occupied_threshold"),
-            (GridOptions { free_threshold: 0.01, ..Default::default() }, "free_threshold"),
+            (
+                GridOptions {
+                    clamp_min_nats: 0.5,
+                    ..Default::default()
+                },
+                "clamp_min_nats",
+            ),
+            (
+                GridOptions {
+                    clamp_max_nats: 25.0,
+                    ..Default::default()
+                },
+                "clamp_max_nats",
+            ),
+            (
+                GridOptions {
+                    occupied_threshold: 0.4,
+                    ..Default::default()
+                },
+                "occupied_threshold",
+            ),
+            (
+                GridOptions {
+                    free_threshold: 0.6,
+                    ..Default::default()
+                },
+                "free_threshold",
+            ),
+            (
+                GridOptions {
+                    occupied_threshold: 0.99,
+                    ..Default::default()
+                },
+                "occupied_threshold",
+            ),
+            (
+                GridOptions {
+                    free_threshold: 0.01,
+                    ..Default::default()
+                },
+                "free_threshold",
+            ),
         ];
         for (o, name) in cases {
             let e = o.validate().unwrap_err().to_string();

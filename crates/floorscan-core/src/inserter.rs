@@ -53,9 +53,18 @@ pub struct InserterOptions {
 impl Default for InserterOptions {
     fn default() -> Self {
         Self {
-            visual: Evidence { hit_nats: 0.85, miss_nats: -0.4 },
-            laser: Evidence { hit_nats: 0.85, miss_nats: -0.4 },
-            sonar: Evidence { hit_nats: 0.4, miss_nats: -0.2 },
+            visual: Evidence {
+                hit_nats: 0.85,
+                miss_nats: -0.4,
+            },
+            laser: Evidence {
+                hit_nats: 0.85,
+                miss_nats: -0.4,
+            },
+            sonar: Evidence {
+                hit_nats: 0.4,
+                miss_nats: -0.2,
+            },
             too_close: TooClosePolicy::MarkNearEdge,
         }
     }
@@ -80,7 +89,11 @@ pub struct Inserter {
 impl Inserter {
     pub fn new(options: InserterOptions) -> Result<Inserter> {
         options.validate()?;
-        Ok(Inserter { options, updater: RayUpdater::default(), rays: Vec::new() })
+        Ok(Inserter {
+            options,
+            updater: RayUpdater::default(),
+            rays: Vec::new(),
+        })
     }
 
     pub fn options(&self) -> &InserterOptions {
@@ -94,8 +107,19 @@ impl Inserter {
 
     /// One visual scan (readings in the camera ground frame) seen from `world_from_robot`,
     /// with the camera at `robot_from_camera` on the robot.
-    pub fn insert_scan(&mut self, grid: &mut Grid, scan: &Scan, world_from_robot: &Pose2, robot_from_camera: &Pose2) -> Result<UpdateStats> {
-        let world_from_camera = sensor_pose(grid, world_from_robot, robot_from_camera, "robot_from_camera")?;
+    pub fn insert_scan(
+        &mut self,
+        grid: &mut Grid,
+        scan: &Scan,
+        world_from_robot: &Pose2,
+        robot_from_camera: &Pose2,
+    ) -> Result<UpdateStats> {
+        let world_from_camera = sensor_pose(
+            grid,
+            world_from_robot,
+            robot_from_camera,
+            "robot_from_camera",
+        )?;
         let origin = world_from_camera.translation();
         self.rays.clear();
         for (k, r) in scan.readings.iter().enumerate() {
@@ -103,20 +127,36 @@ impl Inserter {
                 if p.x.is_finite() && p.y.is_finite() {
                     Ok(world_from_camera.transform_point(p))
                 } else {
-                    Err(Error::InvalidGeometry(format!("reading {k} (column {}) has a non-finite point", r.column)))
+                    Err(Error::InvalidGeometry(format!(
+                        "reading {k} (column {}) has a non-finite point",
+                        r.column
+                    )))
                 }
             };
             let near = r.near.map(to_world).transpose()?;
             match r.outcome {
                 ColumnOutcome::Boundary { point, .. } => {
-                    self.rays.push(Ray { from: near.unwrap_or(origin), to: to_world(point)?, hit: true });
+                    self.rays.push(Ray {
+                        from: near.unwrap_or(origin),
+                        to: to_world(point)?,
+                        hit: true,
+                    });
                 }
                 ColumnOutcome::NoBoundary { farthest, .. } => {
-                    self.rays.push(Ray { from: near.unwrap_or(origin), to: to_world(farthest)?, hit: false });
+                    self.rays.push(Ray {
+                        from: near.unwrap_or(origin),
+                        to: to_world(farthest)?,
+                        hit: false,
+                    });
                 }
                 ColumnOutcome::TooClose => {
-                    if let (TooClosePolicy::MarkNearEdge, Some(n)) = (self.options.too_close, near) {
-                        self.rays.push(Ray { from: n, to: n, hit: true });
+                    if let (TooClosePolicy::MarkNearEdge, Some(n)) = (self.options.too_close, near)
+                    {
+                        self.rays.push(Ray {
+                            from: n,
+                            to: n,
+                            hit: true,
+                        });
                     }
                 }
                 ColumnOutcome::Invalid { .. } => {}
@@ -127,8 +167,15 @@ impl Inserter {
 
     /// One laser scan from a laser at `robot_from_laser` on the robot (see
     /// [`crate::laser`] for the range rules).
-    pub fn insert_laser(&mut self, grid: &mut Grid, laser: &LaserScan<'_>, world_from_robot: &Pose2, robot_from_laser: &Pose2) -> Result<UpdateStats> {
-        let world_from_laser = sensor_pose(grid, world_from_robot, robot_from_laser, "robot_from_laser")?;
+    pub fn insert_laser(
+        &mut self,
+        grid: &mut Grid,
+        laser: &LaserScan<'_>,
+        world_from_robot: &Pose2,
+        robot_from_laser: &Pose2,
+    ) -> Result<UpdateStats> {
+        let world_from_laser =
+            sensor_pose(grid, world_from_robot, robot_from_laser, "robot_from_laser")?;
         self.rays.clear();
         laser.rays(&world_from_laser, &mut self.rays)?;
         self.updater.apply(grid, &self.rays, self.options.laser)
@@ -136,7 +183,14 @@ impl Inserter {
 
     /// Many laser scans with the same beam layout: `ranges_m` holds `poses.len()` scans of
     /// `beams` ranges each, row after row. All are checked before the first is inserted.
-    pub fn insert_lasers(&mut self, grid: &mut Grid, layout: &LaserScan<'_>, ranges_m: &[f64], world_from_robot: &[Pose2], robot_from_laser: &Pose2) -> Result<UpdateStats> {
+    pub fn insert_lasers(
+        &mut self,
+        grid: &mut Grid,
+        layout: &LaserScan<'_>,
+        ranges_m: &[f64],
+        world_from_robot: &[Pose2],
+        robot_from_laser: &Pose2,
+    ) -> Result<UpdateStats> {
         let beams = layout.ranges_m.len();
         if beams == 0 || ranges_m.len() != beams * world_from_robot.len() {
             return Err(Error::LengthMismatch(format!(
@@ -147,14 +201,22 @@ impl Inserter {
             )));
         }
         for (k, p) in world_from_robot.iter().enumerate() {
-            sensor_pose(grid, p, robot_from_laser, "robot_from_laser").map_err(|e| prefix(e, &format!("scan {k}: ")))?;
-            let scan = LaserScan { ranges_m: &ranges_m[k * beams..(k + 1) * beams], ..*layout };
-            scan.check().map_err(|e| prefix(e, &format!("scan {k}: ")))?;
+            sensor_pose(grid, p, robot_from_laser, "robot_from_laser")
+                .map_err(|e| prefix(e, &format!("scan {k}: ")))?;
+            let scan = LaserScan {
+                ranges_m: &ranges_m[k * beams..(k + 1) * beams],
+                ..*layout
+            };
+            scan.check()
+                .map_err(|e| prefix(e, &format!("scan {k}: ")))?;
         }
         let directions = layout.beam_directions();
         let mut stats = UpdateStats::default();
         for (k, p) in world_from_robot.iter().enumerate() {
-            let scan = LaserScan { ranges_m: &ranges_m[k * beams..(k + 1) * beams], ..*layout };
+            let scan = LaserScan {
+                ranges_m: &ranges_m[k * beams..(k + 1) * beams],
+                ..*layout
+            };
             self.rays.clear();
             scan.rays_along(&directions, &p.compose(robot_from_laser), &mut self.rays);
             stats += self.updater.apply(grid, &self.rays, self.options.laser)?;
@@ -163,9 +225,19 @@ impl Inserter {
     }
 
     /// Sonar readings fired together (a ring), each from its own mount on the robot.
-    pub fn insert_sonar(&mut self, grid: &mut Grid, readings: &[SonarReading], world_from_robot: &Pose2, robot_from_sonar: &[Pose2]) -> Result<UpdateStats> {
+    pub fn insert_sonar(
+        &mut self,
+        grid: &mut Grid,
+        readings: &[SonarReading],
+        world_from_robot: &Pose2,
+        robot_from_sonar: &[Pose2],
+    ) -> Result<UpdateStats> {
         if readings.len() != robot_from_sonar.len() {
-            return Err(Error::LengthMismatch(format!("{} sonar readings but {} mounts", readings.len(), robot_from_sonar.len())));
+            return Err(Error::LengthMismatch(format!(
+                "{} sonar readings but {} mounts",
+                readings.len(),
+                robot_from_sonar.len()
+            )));
         }
         self.rays.clear();
         for (r, m) in readings.iter().zip(robot_from_sonar) {
@@ -176,7 +248,12 @@ impl Inserter {
     }
 
     /// Any other range sensor: rays in world coordinates, with the given evidence.
-    pub fn insert_rays(&mut self, grid: &mut Grid, rays: &[Ray], evidence: Evidence) -> Result<UpdateStats> {
+    pub fn insert_rays(
+        &mut self,
+        grid: &mut Grid,
+        rays: &[Ray],
+        evidence: Evidence,
+    ) -> Result<UpdateStats> {
         evidence.validate("evidence")?;
         self.updater.apply(grid, rays, evidence)
     }
@@ -184,15 +261,26 @@ impl Inserter {
 
 /// `world_from_robot * robot_from_sensor`, after checking both poses and that the robot is
 /// inside a fixed-bounds grid.
-fn sensor_pose(grid: &Grid, world_from_robot: &Pose2, robot_from_sensor: &Pose2, mount_name: &str) -> Result<Pose2> {
+fn sensor_pose(
+    grid: &Grid,
+    world_from_robot: &Pose2,
+    robot_from_sensor: &Pose2,
+    mount_name: &str,
+) -> Result<Pose2> {
     if !world_from_robot.is_finite() {
-        return Err(Error::InvalidGeometry(format!("world_from_robot must be finite, got {world_from_robot:?}")));
+        return Err(Error::InvalidGeometry(format!(
+            "world_from_robot must be finite, got {world_from_robot:?}"
+        )));
     }
     if !robot_from_sensor.is_finite() {
-        return Err(Error::InvalidGeometry(format!("{mount_name} must be finite, got {robot_from_sensor:?}")));
+        return Err(Error::InvalidGeometry(format!(
+            "{mount_name} must be finite, got {robot_from_sensor:?}"
+        )));
     }
     if grid.fixed_cells().is_some() {
-        let inside = grid.cell_of(world_from_robot.translation()).is_some_and(|c| grid.covers(c));
+        let inside = grid
+            .cell_of(world_from_robot.translation())
+            .is_some_and(|c| grid.covers(c));
         if !inside {
             return Err(Error::OutOfBounds(format!(
                 "robot at ({:.3}, {:.3}) m is outside the map's fixed bounds",

@@ -34,28 +34,46 @@ impl LaserScan<'_> {
     /// Checks the layout and every range; the error names the first bad beam.
     pub fn check(&self) -> Result<()> {
         if !(self.range_min_m.is_finite() && self.range_min_m >= 0.0) {
-            return Err(invalid_option("range_min_m", format!("must be finite and >= 0, got {}", self.range_min_m)));
+            return Err(invalid_option(
+                "range_min_m",
+                format!("must be finite and >= 0, got {}", self.range_min_m),
+            ));
         }
         if !(self.range_max_m.is_finite() && self.range_max_m > self.range_min_m) {
-            return Err(invalid_option("range_max_m", format!("must be finite and > range_min_m, got {}", self.range_max_m)));
+            return Err(invalid_option(
+                "range_max_m",
+                format!("must be finite and > range_min_m, got {}", self.range_max_m),
+            ));
         }
         match self.angles {
-            BeamAngles::Uniform { min_rad, increment_rad } => {
+            BeamAngles::Uniform {
+                min_rad,
+                increment_rad,
+            } => {
                 if !(min_rad.is_finite() && increment_rad.is_finite()) {
                     return Err(Error::InvalidGeometry("beam angles must be finite".into()));
                 }
             }
             BeamAngles::Explicit(a) => {
                 if a.len() != self.ranges_m.len() {
-                    return Err(Error::LengthMismatch(format!("{} ranges but {} angles", self.ranges_m.len(), a.len())));
+                    return Err(Error::LengthMismatch(format!(
+                        "{} ranges but {} angles",
+                        self.ranges_m.len(),
+                        a.len()
+                    )));
                 }
                 if let Some(i) = a.iter().position(|v| !v.is_finite()) {
-                    return Err(Error::InvalidGeometry(format!("beam {i}: angle {} is not finite", a[i])));
+                    return Err(Error::InvalidGeometry(format!(
+                        "beam {i}: angle {} is not finite",
+                        a[i]
+                    )));
                 }
             }
         }
         if let Some(i) = self.ranges_m.iter().position(|r| r.is_nan()) {
-            return Err(Error::InvalidGeometry(format!("beam {i}: range is NaN (use +inf for no return)")));
+            return Err(Error::InvalidGeometry(format!(
+                "beam {i}: range is NaN (use +inf for no return)"
+            )));
         }
         Ok(())
     }
@@ -63,14 +81,20 @@ impl LaserScan<'_> {
     /// The angle of beam `i` [rad].
     pub fn angle(&self, i: usize) -> f64 {
         match self.angles {
-            BeamAngles::Uniform { min_rad, increment_rad } => min_rad + i as f64 * increment_rad,
+            BeamAngles::Uniform {
+                min_rad,
+                increment_rad,
+            } => min_rad + i as f64 * increment_rad,
             BeamAngles::Explicit(a) => a[i],
         }
     }
 
     /// Unit vectors of the beams in the laser frame, `(cos, sin)` of each angle.
     pub fn beam_directions(&self) -> Vec<(f64, f64)> {
-        (0..self.ranges_m.len()).map(|i| self.angle(i).sin_cos()).map(|(s, c)| (c, s)).collect()
+        (0..self.ranges_m.len())
+            .map(|i| self.angle(i).sin_cos())
+            .map(|(s, c)| (c, s))
+            .collect()
     }
 
     /// Appends this scan's rays, placed with `world_from_laser`.
@@ -82,7 +106,12 @@ impl LaserScan<'_> {
 
     /// [`Self::rays`] with the beam directions computed beforehand (scans sharing a layout);
     /// the scan must have passed [`Self::check`] and `directions` be its own.
-    pub fn rays_along(&self, directions: &[(f64, f64)], world_from_laser: &Pose2, out: &mut Vec<Ray>) {
+    pub fn rays_along(
+        &self,
+        directions: &[(f64, f64)],
+        world_from_laser: &Pose2,
+        out: &mut Vec<Ray>,
+    ) {
         let origin = world_from_laser.translation();
         let (sy, cy) = world_from_laser.yaw.sin_cos();
         for (&r, &(c, s)) in self.ranges_m.iter().zip(directions) {
@@ -92,7 +121,11 @@ impl LaserScan<'_> {
             let hit = r < self.range_max_m;
             let range = if hit { r } else { self.range_max_m };
             let (dx, dy) = (range * (cy * c - sy * s), range * (sy * c + cy * s));
-            out.push(Ray { from: origin, to: Point2::new(origin.x + dx, origin.y + dy), hit });
+            out.push(Ray {
+                from: origin,
+                to: Point2::new(origin.x + dx, origin.y + dy),
+                hit,
+            });
         }
     }
 }
@@ -104,7 +137,10 @@ mod tests {
     fn scan(ranges: &[f64]) -> LaserScan<'_> {
         LaserScan {
             ranges_m: ranges,
-            angles: BeamAngles::Uniform { min_rad: 0.0, increment_rad: std::f64::consts::FRAC_PI_2 },
+            angles: BeamAngles::Uniform {
+                min_rad: 0.0,
+                increment_rad: std::f64::consts::FRAC_PI_2,
+            },
             range_min_m: 0.1,
             range_max_m: 5.0,
         }
@@ -114,12 +150,20 @@ mod tests {
     fn ranges_follow_rep_117() {
         let ranges = [2.0, f64::INFINITY, 0.05, f64::NEG_INFINITY, 7.0];
         let mut rays = Vec::new();
-        scan(&ranges).rays(&Pose2::new(1.0, 1.0, 0.0), &mut rays).unwrap();
+        scan(&ranges)
+            .rays(&Pose2::new(1.0, 1.0, 0.0), &mut rays)
+            .unwrap();
         // Beam 0: hit at (3, 1); beam 1 (90 deg): no return, cleared to 5 m; beams 2-3 too
         // close: ignored; beam 4 (360 deg) beyond range_max: cleared to 5 m.
         assert_eq!(rays.len(), 3);
-        assert!(rays[0].hit && (rays[0].to.x - 3.0).abs() < 1e-12 && (rays[0].to.y - 1.0).abs() < 1e-12);
-        assert!(!rays[1].hit && (rays[1].to.y - 6.0).abs() < 1e-12 && (rays[1].to.x - 1.0).abs() < 1e-12);
+        assert!(
+            rays[0].hit && (rays[0].to.x - 3.0).abs() < 1e-12 && (rays[0].to.y - 1.0).abs() < 1e-12
+        );
+        assert!(
+            !rays[1].hit
+                && (rays[1].to.y - 6.0).abs() < 1e-12
+                && (rays[1].to.x - 1.0).abs() < 1e-12
+        );
         assert!(!rays[2].hit && (rays[2].to.x - 6.0).abs() < 1e-9);
         assert!(rays.iter().all(|r| r.from == Point2::new(1.0, 1.0)));
     }
@@ -127,12 +171,20 @@ mod tests {
     #[test]
     fn bad_input_is_named() {
         let mut rays = Vec::new();
-        let e = scan(&[1.0, f64::NAN]).rays(&Pose2::IDENTITY, &mut rays).unwrap_err();
+        let e = scan(&[1.0, f64::NAN])
+            .rays(&Pose2::IDENTITY, &mut rays)
+            .unwrap_err();
         assert!(e.to_string().contains("beam 1"));
         let ranges = [1.0, 2.0];
-        let bad = LaserScan { angles: BeamAngles::Explicit(&[0.0]), ..scan(&ranges) };
+        let bad = LaserScan {
+            angles: BeamAngles::Explicit(&[0.0]),
+            ..scan(&ranges)
+        };
         assert!(matches!(bad.check(), Err(Error::LengthMismatch(_))));
-        let bad = LaserScan { range_max_m: 0.05, ..scan(&ranges) };
+        let bad = LaserScan {
+            range_max_m: 0.05,
+            ..scan(&ranges)
+        };
         assert!(bad.check().unwrap_err().to_string().contains("range_max_m"));
         assert!(rays.is_empty());
     }

@@ -39,7 +39,10 @@ pub struct LocalMapOptions {
 
 impl Default for LocalMapOptions {
     fn default() -> Self {
-        Self { size_m: 3.84, grid: GridOptions::default() }
+        Self {
+            size_m: 3.84,
+            grid: GridOptions::default(),
+        }
     }
 }
 
@@ -47,11 +50,17 @@ impl LocalMapOptions {
     pub fn validate(&self) -> Result<()> {
         self.grid.validate()?;
         if self.grid.bounds_m.is_some() {
-            return Err(invalid_option("bounds_m", "a local map's bounds are its window: leave bounds_m unset"));
+            return Err(invalid_option(
+                "bounds_m",
+                "a local map's bounds are its window: leave bounds_m unset",
+            ));
         }
         let cells = self.size_m / self.grid.cell_size_m;
         if !(cells.is_finite() && (2.0..=4096.0).contains(&cells.round())) {
-            return Err(invalid_option("size_m", format!("must span 2 to 4096 cells, got {} m", self.size_m)));
+            return Err(invalid_option(
+                "size_m",
+                format!("must span 2 to 4096 cells, got {} m", self.size_m),
+            ));
         }
         Ok(())
     }
@@ -77,14 +86,27 @@ pub struct LocalMap {
 impl LocalMap {
     /// An empty window centred on the robot at `local_from_robot` (the identity to start a
     /// fresh odometry frame at the robot).
-    pub fn new(options: LocalMapOptions, inserter: InserterOptions, local_from_robot: Pose2) -> Result<LocalMap> {
+    pub fn new(
+        options: LocalMapOptions,
+        inserter: InserterOptions,
+        local_from_robot: Pose2,
+    ) -> Result<LocalMap> {
         options.validate()?;
         check_pose(&local_from_robot, "local_from_robot")?;
         let side = options.side_cells();
         let probe = Grid::new(options.grid.clone())?;
-        let centre = probe.cell_of(local_from_robot.translation()).ok_or_else(|| Error::InvalidGeometry("the pose is too far from the origin".into()))?;
+        let centre = probe
+            .cell_of(local_from_robot.translation())
+            .ok_or_else(|| Error::InvalidGeometry("the pose is too far from the origin".into()))?;
         let grid = Grid::with_cell_bounds(options.grid.clone(), window_at(centre, side))?;
-        Ok(LocalMap { options, inserter: Inserter::new(inserter)?, grid, side, pose: local_from_robot, scratch: Vec::new() })
+        Ok(LocalMap {
+            options,
+            inserter: Inserter::new(inserter)?,
+            grid,
+            side,
+            pose: local_from_robot,
+            scratch: Vec::new(),
+        })
     }
 
     pub fn options(&self) -> &LocalMapOptions {
@@ -96,7 +118,9 @@ impl LocalMap {
     }
     /// The cells the window covers now.
     pub fn window(&self) -> CellRect {
-        self.grid.fixed_cells().expect("a local map has fixed bounds")
+        self.grid
+            .fixed_cells()
+            .expect("a local map has fixed bounds")
     }
     /// The window's cells (a fixed-bounds grid in the local frame).
     pub fn grid(&self) -> &Grid {
@@ -112,7 +136,10 @@ impl LocalMap {
     /// Places the robot at `local_from_robot` (e.g. the odometry pose) and scrolls.
     pub fn move_to(&mut self, local_from_robot: &Pose2) -> Result<()> {
         check_pose(local_from_robot, "local_from_robot")?;
-        let centre = self.grid.cell_of(local_from_robot.translation()).ok_or_else(|| Error::InvalidGeometry("the pose is too far from the origin".into()))?;
+        let centre = self
+            .grid
+            .cell_of(local_from_robot.translation())
+            .ok_or_else(|| Error::InvalidGeometry("the pose is too far from the origin".into()))?;
         let target = window_at(centre, self.side);
         if target != self.window() {
             self.scroll_to(target)?;
@@ -138,17 +165,28 @@ impl LocalMap {
 
     /// A visual scan seen from the current pose.
     pub fn insert_scan(&mut self, scan: &Scan, robot_from_camera: &Pose2) -> Result<UpdateStats> {
-        self.inserter.insert_scan(&mut self.grid, scan, &self.pose, robot_from_camera)
+        self.inserter
+            .insert_scan(&mut self.grid, scan, &self.pose, robot_from_camera)
     }
 
     /// A laser scan seen from the current pose.
-    pub fn insert_laser(&mut self, laser: &LaserScan<'_>, robot_from_laser: &Pose2) -> Result<UpdateStats> {
-        self.inserter.insert_laser(&mut self.grid, laser, &self.pose, robot_from_laser)
+    pub fn insert_laser(
+        &mut self,
+        laser: &LaserScan<'_>,
+        robot_from_laser: &Pose2,
+    ) -> Result<UpdateStats> {
+        self.inserter
+            .insert_laser(&mut self.grid, laser, &self.pose, robot_from_laser)
     }
 
     /// Sonar readings taken at the current pose.
-    pub fn insert_sonar(&mut self, readings: &[SonarReading], robot_from_sonar: &[Pose2]) -> Result<UpdateStats> {
-        self.inserter.insert_sonar(&mut self.grid, readings, &self.pose, robot_from_sonar)
+    pub fn insert_sonar(
+        &mut self,
+        readings: &[SonarReading],
+        robot_from_sonar: &[Pose2],
+    ) -> Result<UpdateStats> {
+        self.inserter
+            .insert_sonar(&mut self.grid, readings, &self.pose, robot_from_sonar)
     }
 
     /// The window resampled in the robot's frame (x forward, y left): `width` x `height`
@@ -160,7 +198,10 @@ impl LocalMap {
         let s = self.grid.cell_size_m();
         for j in 0..height {
             for i in 0..width {
-                let p = Point2::new((i as f64 - width as f64 / 2.0 + 0.5) * s, (j as f64 - height as f64 / 2.0 + 0.5) * s);
+                let p = Point2::new(
+                    (i as f64 - width as f64 / 2.0 + 0.5) * s,
+                    (j as f64 - height as f64 / 2.0 + 0.5) * s,
+                );
                 let q = self.pose.transform_point(p);
                 out.push(self.grid.cell_of(q).map_or(0, |c| self.grid.get(c).0));
             }
@@ -171,13 +212,18 @@ impl LocalMap {
 /// The window of `side` cells with the robot's cell at its centre (index side / 2).
 fn window_at(centre: CellIndex, side: i32) -> CellRect {
     let min = CellIndex::new(centre.x - side / 2, centre.y - side / 2);
-    CellRect { min, max: CellIndex::new(min.x + side, min.y + side) }
+    CellRect {
+        min,
+        max: CellIndex::new(min.x + side, min.y + side),
+    }
 }
 
 fn check_pose(p: &Pose2, name: &str) -> Result<()> {
     if p.is_finite() {
         Ok(())
     } else {
-        Err(Error::InvalidGeometry(format!("{name} must be finite, got {p:?}")))
+        Err(Error::InvalidGeometry(format!(
+            "{name} must be finite, got {p:?}"
+        )))
     }
 }

@@ -2,7 +2,7 @@
 //!
 //! A cell stores the log-odds `L(o) = ln(p / (1 - p))` of being occupied, in fixed point:
 //! [`LogOdds`] is an `i16` counting thousandths of a nat ([`UNITS_PER_NAT`] = 1000), so the
-//! update `L(o|m) = L(m|o) + L(o)` (eq. 7) is one saturating integer addition. 0 is p = 0.5 (no
+//! update `L(o|m) = L(m|o) + L(o)` (eq. 7) is one integer addition and a clamp. 0 is p = 0.5 (no
 //! information, the prior). Every value the maps use lies within [`MAX_ABS_NATS`] (16 nats,
 //! p within 1.2e-7 of 0 or 1), where the conversions round-trip exactly and are strictly monotone
 //! (tested over every value).
@@ -23,7 +23,9 @@ pub const MAX_ABS_NATS: f64 = 16.0;
 pub const MAX_ABS_UNITS: i16 = 16_000;
 
 /// A log-odds value in fixed point (thousandths of a nat). `LogOdds(0)` is p = 0.5.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default, Serialize, Deserialize,
+)]
 pub struct LogOdds(pub i16);
 
 impl LogOdds {
@@ -34,10 +36,8 @@ impl LogOdds {
     /// rounds beyond +-[`MAX_ABS_UNITS`].
     pub fn from_nats(nats: f64) -> Option<LogOdds> {
         let units = (nats * UNITS_PER_NAT).round();
-        if !(units.abs() <= f64::from(MAX_ABS_UNITS)) {
-            return None;
-        }
-        Some(LogOdds(units as i16))
+        // NaN fails the comparison too.
+        (units.abs() <= f64::from(MAX_ABS_UNITS)).then_some(LogOdds(units as i16))
     }
 
     /// From a probability in (0, 1); `None` outside [`MAX_ABS_NATS`] or for NaN.
@@ -100,7 +100,10 @@ impl Evidence {
     pub fn from_error_rates(false_alarm: f64, miss_rate: f64) -> Result<Evidence> {
         for (name, v) in [("false_alarm", false_alarm), ("miss_rate", miss_rate)] {
             if !(v > 0.0 && v < 0.5) {
-                return Err(invalid_option(name, format!("must be in (0, 0.5), got {v}")));
+                return Err(invalid_option(
+                    name,
+                    format!("must be in (0, 0.5), got {v}"),
+                ));
             }
         }
         let e = Evidence {
@@ -114,14 +117,23 @@ impl Evidence {
     /// Checks the ranges; `name` prefixes the option name in the error (e.g. `laser`).
     pub fn validate(&self, name: &'static str) -> Result<()> {
         if !(self.hit_nats > 0.0 && self.hit_nats <= MAX_ABS_NATS) {
-            return Err(invalid_option(name, format!("hit_nats must be in (0, 16], got {}", self.hit_nats)));
+            return Err(invalid_option(
+                name,
+                format!("hit_nats must be in (0, 16], got {}", self.hit_nats),
+            ));
         }
         if !(self.miss_nats < 0.0 && self.miss_nats >= -MAX_ABS_NATS) {
-            return Err(invalid_option(name, format!("miss_nats must be in [-16, 0), got {}", self.miss_nats)));
+            return Err(invalid_option(
+                name,
+                format!("miss_nats must be in [-16, 0), got {}", self.miss_nats),
+            ));
         }
         let (hit, miss) = self.units();
         if hit == 0 || miss == 0 {
-            return Err(invalid_option(name, "hit and miss must be at least 0.001 nats in magnitude"));
+            return Err(invalid_option(
+                name,
+                "hit and miss must be at least 0.001 nats in magnitude",
+            ));
         }
         Ok(())
     }
@@ -165,9 +177,17 @@ mod tests {
             let p = LogOdds(u).probability();
             assert!(p > previous, "not increasing at {u}");
             previous = p;
-            assert_eq!(LogOdds::from_probability(p), Some(LogOdds(u)), "round trip of {u}");
+            assert_eq!(
+                LogOdds::from_probability(p),
+                Some(LogOdds(u)),
+                "round trip of {u}"
+            );
             // Symmetry: L(1 - p) = -L(p).
-            assert_eq!(LogOdds::from_probability(1.0 - p), Some(LogOdds(-u)), "symmetry of {u}");
+            assert_eq!(
+                LogOdds::from_probability(1.0 - p),
+                Some(LogOdds(-u)),
+                "symmetry of {u}"
+            );
         }
     }
 
@@ -205,11 +225,37 @@ mod tests {
 
     #[test]
     fn evidence_validation_names_the_problem() {
-        let bad = Evidence { hit_nats: -1.0, miss_nats: -0.4 };
-        assert!(bad.validate("laser").unwrap_err().to_string().contains("hit_nats"));
-        let bad = Evidence { hit_nats: 1.0, miss_nats: 0.4 };
-        assert!(bad.validate("laser").unwrap_err().to_string().contains("miss_nats"));
-        assert!(Evidence { hit_nats: 0.0001, miss_nats: -0.4 }.validate("x").is_err());
-        assert_eq!(Evidence { hit_nats: 0.85, miss_nats: -0.4 }.units(), (850, -400));
+        let bad = Evidence {
+            hit_nats: -1.0,
+            miss_nats: -0.4,
+        };
+        assert!(bad
+            .validate("laser")
+            .unwrap_err()
+            .to_string()
+            .contains("hit_nats"));
+        let bad = Evidence {
+            hit_nats: 1.0,
+            miss_nats: 0.4,
+        };
+        assert!(bad
+            .validate("laser")
+            .unwrap_err()
+            .to_string()
+            .contains("miss_nats"));
+        assert!(Evidence {
+            hit_nats: 0.0001,
+            miss_nats: -0.4
+        }
+        .validate("x")
+        .is_err());
+        assert_eq!(
+            Evidence {
+                hit_nats: 0.85,
+                miss_nats: -0.4
+            }
+            .units(),
+            (850, -400)
+        );
     }
 }

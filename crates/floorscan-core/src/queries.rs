@@ -11,8 +11,14 @@ impl Grid {
     /// What the thresholds say about the cell holding the world point `p` [m] (unknown
     /// outside the map); [`Error::InvalidGeometry`] if `p` is not finite.
     pub fn occupancy_at(&self, p: Point2) -> Result<Occupancy> {
-        let c = self.cell_of(p).ok_or_else(|| Error::InvalidGeometry(format!("point ({}, {}) must be finite", p.x, p.y)))?;
-        Ok(if self.covers(c) { self.occupancy(c) } else { Occupancy::Unknown })
+        let c = self.cell_of(p).ok_or_else(|| {
+            Error::InvalidGeometry(format!("point ({}, {}) must be finite", p.x, p.y))
+        })?;
+        Ok(if self.covers(c) {
+            self.occupancy(c)
+        } else {
+            Occupancy::Unknown
+        })
     }
 
     /// Distance [m] from the world point `p` to the nearest occupied cell (to the nearest
@@ -20,9 +26,14 @@ impl Grid {
     /// Cost grows with (max_m / cell size)^2 in the worst case.
     pub fn distance_to_occupied(&self, p: Point2, max_m: f64) -> Result<Option<f64>> {
         if !(max_m.is_finite() && max_m >= 0.0) {
-            return Err(Error::InvalidOption { name: "max_distance_m", reason: format!("must be finite and >= 0, got {max_m}") });
+            return Err(Error::InvalidOption {
+                name: "max_distance_m",
+                reason: format!("must be finite and >= 0, got {max_m}"),
+            });
         }
-        let c0 = self.cell_of(p).ok_or_else(|| Error::InvalidGeometry(format!("point ({}, {}) must be finite", p.x, p.y)))?;
+        let c0 = self.cell_of(p).ok_or_else(|| {
+            Error::InvalidGeometry(format!("point ({}, {}) must be finite", p.x, p.y))
+        })?;
         let s = self.cell_size_m();
         let o = self.origin_m();
         let max_ring = (max_m / s).ceil() as i32 + 1;
@@ -80,10 +91,16 @@ mod tests {
 
     #[test]
     fn distance_matches_brute_force() {
-        let mut g = Grid::new(GridOptions { cell_size_m: 0.1, ..Default::default() }).unwrap();
+        let mut g = Grid::new(GridOptions {
+            cell_size_m: 0.1,
+            ..Default::default()
+        })
+        .unwrap();
         let mut state = 12345u64;
         let mut next = move || {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (state >> 33) as f64 / (1u64 << 31) as f64
         };
         let mut occupied = Vec::new();
@@ -101,22 +118,44 @@ mod tests {
             let want = brute_force(&g, &occupied, p);
             let got = g.distance_to_occupied(p, 3.0).unwrap();
             if want <= 3.0 {
-                assert!((got.unwrap() - want).abs() < 1e-12, "{p:?}: {got:?} vs {want}");
+                assert!(
+                    (got.unwrap() - want).abs() < 1e-12,
+                    "{p:?}: {got:?} vs {want}"
+                );
             } else {
                 assert_eq!(got, None);
             }
         }
-        assert_eq!(g.distance_to_occupied(g.cell_center(occupied[0]), 1.0).unwrap(), Some(0.0));
+        assert_eq!(
+            g.distance_to_occupied(g.cell_center(occupied[0]), 1.0)
+                .unwrap(),
+            Some(0.0)
+        );
     }
 
     #[test]
     fn occupancy_and_bad_queries() {
-        let mut g = Grid::new(GridOptions { cell_size_m: 1.0, ..Default::default() }).unwrap();
+        let mut g = Grid::new(GridOptions {
+            cell_size_m: 1.0,
+            ..Default::default()
+        })
+        .unwrap();
         g.set(CellIndex::new(0, 0), LogOdds(-1500)).unwrap();
-        assert_eq!(g.occupancy_at(Point2::new(0.5, 0.5)).unwrap(), Occupancy::Free);
-        assert_eq!(g.occupancy_at(Point2::new(5.5, 0.5)).unwrap(), Occupancy::Unknown);
+        assert_eq!(
+            g.occupancy_at(Point2::new(0.5, 0.5)).unwrap(),
+            Occupancy::Free
+        );
+        assert_eq!(
+            g.occupancy_at(Point2::new(5.5, 0.5)).unwrap(),
+            Occupancy::Unknown
+        );
         assert!(g.occupancy_at(Point2::new(f64::NAN, 0.5)).is_err());
-        assert!(g.distance_to_occupied(Point2::new(0.0, 0.0), f64::NAN).is_err());
-        assert_eq!(g.distance_to_occupied(Point2::new(0.0, 0.0), 10.0).unwrap(), None);
+        assert!(g
+            .distance_to_occupied(Point2::new(0.0, 0.0), f64::NAN)
+            .is_err());
+        assert_eq!(
+            g.distance_to_occupied(Point2::new(0.0, 0.0), 10.0).unwrap(),
+            None
+        );
     }
 }

@@ -66,11 +66,18 @@ pub struct RayUpdater {
 impl RayUpdater {
     /// Bytes of scratch memory held (stamp pool and buffers).
     pub fn memory_bytes(&self) -> usize {
-        self.pool.capacity() * 2 + self.table.capacity() * 4 + self.quantised.capacity() * std::mem::size_of::<(FixedPoint, FixedPoint, bool)>()
+        self.pool.capacity() * 2
+            + self.table.capacity() * 4
+            + self.quantised.capacity() * std::mem::size_of::<(FixedPoint, FixedPoint, bool)>()
     }
 
     /// Applies one batch. Checks every ray first: on error the grid is unchanged.
-    pub fn apply(&mut self, grid: &mut Grid, rays: &[Ray], evidence: Evidence) -> Result<UpdateStats> {
+    pub fn apply(
+        &mut self,
+        grid: &mut Grid,
+        rays: &[Ray],
+        evidence: Evidence,
+    ) -> Result<UpdateStats> {
         self.quantise(grid, rays)?;
         let Some((lo, hi)) = self.cell_bounds() else {
             return Ok(UpdateStats::default());
@@ -81,7 +88,10 @@ impl RayUpdater {
         let limits = grid.limits();
         let (lo_v, hi_v) = (limits.clamp_min, limits.clamp_max);
         let generation = self.generation;
-        let mut stats = UpdateStats { rays: self.quantised.len() as u64, ..Default::default() };
+        let mut stats = UpdateStats {
+            rays: self.quantised.len() as u64,
+            ..Default::default()
+        };
 
         // Hits first: an occupied observation wins over a free one.
         for k in 0..self.quantised.len() {
@@ -105,7 +115,8 @@ impl RayUpdater {
                 let c = walk.cell();
                 let (tx, ty, local) = tile_of(c);
                 let min = CellIndex::new(tx << TILE_BITS, ty << TILE_BITS);
-                let stop = walk.last_cell_inside(min, CellIndex::new(min.x + TILE_SIZE, min.y + TILE_SIZE));
+                let stop = walk
+                    .last_cell_inside(min, CellIndex::new(min.x + TILE_SIZE, min.y + TILE_SIZE));
                 let (tile, stamps, _) = self.tile_and_stamps(grid, c);
                 stats.cells_traversed += walk.run_to(stop, local, TILE_SIZE as usize, |i| {
                     let i = i & (TILE_CELLS - 1);
@@ -130,29 +141,41 @@ impl RayUpdater {
         for (k, r) in rays.iter().enumerate() {
             let (a, b) = (grid.to_cells(r.from), grid.to_cells(r.to));
             if ![a.0, a.1, b.0, b.1].iter().all(|v| v.is_finite()) {
-                return Err(Error::InvalidGeometry(format!("ray {k} has a non-finite end point")));
+                return Err(Error::InvalidGeometry(format!(
+                    "ray {k} has a non-finite end point"
+                )));
             }
             let (a, b, hit) = match fixed {
                 None => (a, b, r.hit),
                 Some(rect) => {
                     let lo = (f64::from(rect.min.x), f64::from(rect.min.y));
                     // Stay one fixed-point unit inside the upper edges (cells are half-open).
-                    let hi = (f64::from(rect.max.x) - 1.0 / SUBCELL as f64, f64::from(rect.max.y) - 1.0 / SUBCELL as f64);
+                    let hi = (
+                        f64::from(rect.max.x) - 1.0 / SUBCELL as f64,
+                        f64::from(rect.max.y) - 1.0 / SUBCELL as f64,
+                    );
                     match clip_segment(a, b, lo, hi) {
                         None => continue,
                         Some((a2, b2)) => (a2, b2, r.hit && b2 == b),
                     }
                 }
             };
-            let too_far = || Error::InvalidGeometry(format!("ray {k} ends too far from the map origin"));
+            let too_far =
+                || Error::InvalidGeometry(format!("ray {k} ends too far from the map origin"));
             let mut fa = FixedPoint::from_cells(a.0, a.1).ok_or_else(too_far)?;
             let mut fb = FixedPoint::from_cells(b.0, b.1).ok_or_else(too_far)?;
             if let Some(rect) = fixed {
                 // Rounding must not carry a clipped point out of the bounds.
                 let clamp = |p: FixedPoint| {
                     FixedPoint::new(
-                        p.x.clamp(i64::from(rect.min.x) * SUBCELL, i64::from(rect.max.x) * SUBCELL - 1),
-                        p.y.clamp(i64::from(rect.min.y) * SUBCELL, i64::from(rect.max.y) * SUBCELL - 1),
+                        p.x.clamp(
+                            i64::from(rect.min.x) * SUBCELL,
+                            i64::from(rect.max.x) * SUBCELL - 1,
+                        ),
+                        p.y.clamp(
+                            i64::from(rect.min.y) * SUBCELL,
+                            i64::from(rect.max.y) * SUBCELL - 1,
+                        ),
                     )
                 };
                 fa = clamp(fa);
@@ -171,10 +194,16 @@ impl RayUpdater {
     }
 
     fn cell_bounds(&self) -> Option<(CellIndex, CellIndex)> {
-        let mut it = self.quantised.iter().flat_map(|&(a, b, _)| [a.cell(), b.cell()]);
+        let mut it = self
+            .quantised
+            .iter()
+            .flat_map(|&(a, b, _)| [a.cell(), b.cell()]);
         let first = it.next()?;
         Some(it.fold((first, first), |(lo, hi), c| {
-            (CellIndex::new(lo.x.min(c.x), lo.y.min(c.y)), CellIndex::new(hi.x.max(c.x), hi.y.max(c.y)))
+            (
+                CellIndex::new(lo.x.min(c.x), lo.y.min(c.y)),
+                CellIndex::new(hi.x.max(c.x), hi.y.max(c.y)),
+            )
         }))
     }
 
@@ -195,7 +224,11 @@ impl RayUpdater {
 
     /// The grid tile holding `c` (allocated if new), its stamp slot, and `c`'s local index.
     #[inline]
-    fn tile_and_stamps<'a>(&'a mut self, grid: &'a mut Grid, c: CellIndex) -> (&'a mut Tile, &'a mut [u16; TILE_CELLS], usize) {
+    fn tile_and_stamps<'a>(
+        &'a mut self,
+        grid: &'a mut Grid,
+        c: CellIndex,
+    ) -> (&'a mut Tile, &'a mut [u16; TILE_CELLS], usize) {
         let (tx, ty, local) = tile_of(c);
         let t = (ty - self.table_min.1) as usize * self.table_w + (tx - self.table_min.0) as usize;
         if self.table[t] == NO_SLOT {
@@ -206,18 +239,32 @@ impl RayUpdater {
             self.slots_used += 1;
         }
         let s = self.table[t] as usize * TILE_CELLS;
-        let stamps: &mut [u16; TILE_CELLS] = (&mut self.pool[s..s + TILE_CELLS]).try_into().expect("slot size");
-        let d = grid.dir_index(tx, ty).expect("tiles reserved for the batch");
+        let stamps: &mut [u16; TILE_CELLS] = (&mut self.pool[s..s + TILE_CELLS])
+            .try_into()
+            .expect("slot size");
+        let d = grid
+            .dir_index(tx, ty)
+            .expect("tiles reserved for the batch");
         (grid.tile_mut(d), stamps, local)
     }
 }
 
 /// Clips the segment `a`-`b` (cell units) to the closed box `lo`..`hi` (Liang-Barsky); `None`
 /// if it misses the box. End points inside the box are returned unchanged.
-fn clip_segment(a: (f64, f64), b: (f64, f64), lo: (f64, f64), hi: (f64, f64)) -> Option<((f64, f64), (f64, f64))> {
+fn clip_segment(
+    a: (f64, f64),
+    b: (f64, f64),
+    lo: (f64, f64),
+    hi: (f64, f64),
+) -> Option<((f64, f64), (f64, f64))> {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for (p, q) in [(-dx, a.0 - lo.0), (dx, hi.0 - a.0), (-dy, a.1 - lo.1), (dy, hi.1 - a.1)] {
+    for (p, q) in [
+        (-dx, a.0 - lo.0),
+        (dx, hi.0 - a.0),
+        (-dy, a.1 - lo.1),
+        (dy, hi.1 - a.1),
+    ] {
         if p == 0.0 {
             if q < 0.0 {
                 return None;
@@ -234,6 +281,14 @@ fn clip_segment(a: (f64, f64), b: (f64, f64), lo: (f64, f64), hi: (f64, f64)) ->
     if t0 > t1 {
         return None;
     }
-    let at = |t: f64| if t == 0.0 { a } else if t == 1.0 { b } else { (a.0 + t * dx, a.1 + t * dy) };
+    let at = |t: f64| {
+        if t == 0.0 {
+            a
+        } else if t == 1.0 {
+            b
+        } else {
+            (a.0 + t * dx, a.1 + t * dy)
+        }
+    };
     Some((at(t0), at(t1)))
 }

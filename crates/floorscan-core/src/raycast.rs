@@ -62,7 +62,10 @@ impl FixedPoint {
 
     /// The cell containing the point (floor of each coordinate).
     pub fn cell(self) -> CellIndex {
-        CellIndex::new((self.x >> SUBCELL_BITS) as i32, (self.y >> SUBCELL_BITS) as i32)
+        CellIndex::new(
+            (self.x >> SUBCELL_BITS) as i32,
+            (self.y >> SUBCELL_BITS) as i32,
+        )
     }
 }
 
@@ -78,7 +81,8 @@ fn round_half_up(v: f64) -> i64 {
 /// Whether a segment's extent fits the walk ([`MAX_RAY_CELLS`] per axis).
 #[inline]
 pub fn segment_fits(start: FixedPoint, end: FixedPoint) -> bool {
-    (end.x - start.x).abs() < MAX_RAY_CELLS * SUBCELL && (end.y - start.y).abs() < MAX_RAY_CELLS * SUBCELL
+    (end.x - start.x).abs() < MAX_RAY_CELLS * SUBCELL
+        && (end.y - start.y).abs() < MAX_RAY_CELLS * SUBCELL
 }
 
 /// Why a segment cannot be walked.
@@ -125,16 +129,25 @@ impl GridWalk {
         let (t_x, dt_x) = if dx == 0 {
             (i64::MAX, 0)
         } else {
-            (2 * first(start.x, c0.x, dx) * ady + i64::from(dx < 0), 2 * SUBCELL * ady)
+            (
+                2 * first(start.x, c0.x, dx) * ady + i64::from(dx < 0),
+                2 * SUBCELL * ady,
+            )
         };
         let (t_y, dt_y) = if dy == 0 {
             (i64::MAX, 0)
         } else {
-            (2 * first(start.y, c0.y, dy) * adx + i64::from(dy < 0), 2 * SUBCELL * adx)
+            (
+                2 * first(start.y, c0.y, dy) * adx + i64::from(dy < 0),
+                2 * SUBCELL * adx,
+            )
         };
         // A lattice point (1024 i, 1024 j) relative to the start cell lies on the line only if
         // 1024 (dy i - dx j) = dy x0 - dx y0 (x0, y0: the start inside its cell, in units).
-        let (x0, y0) = (start.x - i64::from(c0.x) * SUBCELL, start.y - i64::from(c0.y) * SUBCELL);
+        let (x0, y0) = (
+            start.x - i64::from(c0.x) * SUBCELL,
+            start.y - i64::from(c0.y) * SUBCELL,
+        );
         let corner_free = dx == 0 || dy == 0 || (dy * x0 - dx * y0) % SUBCELL != 0;
         Ok(GridWalk {
             corner_free,
@@ -191,8 +204,10 @@ impl GridWalk {
             };
             (n <= rem).then_some(n)
         };
-        let exit_x = exit(self.step_x, self.cell.x, min.x, max.x, rem_x).map(|n| self.t_x + (n - 1) * self.dt_x);
-        let exit_y = exit(self.step_y, self.cell.y, min.y, max.y, rem_y).map(|n| self.t_y + (n - 1) * self.dt_y);
+        let exit_x = exit(self.step_x, self.cell.x, min.x, max.x, rem_x)
+            .map(|n| self.t_x + (n - 1) * self.dt_x);
+        let exit_y = exit(self.step_y, self.cell.y, min.y, max.y, rem_y)
+            .map(|n| self.t_y + (n - 1) * self.dt_y);
         let t_exit = match (exit_x, exit_y) {
             (None, None) => return self.end,
             (Some(a), None) | (None, Some(a)) => a,
@@ -208,7 +223,10 @@ impl GridWalk {
         };
         let nx = before(self.t_x, self.dt_x, rem_x);
         let ny = before(self.t_y, self.dt_y, rem_y);
-        CellIndex::new(self.cell.x + self.step_x * nx as i32, self.cell.y + self.step_y * ny as i32)
+        CellIndex::new(
+            self.cell.x + self.step_x * nx as i32,
+            self.cell.y + self.step_y * ny as i32,
+        )
     }
 
     /// Walks from the current cell to `stop` (a later cell of the walk, or the current one),
@@ -220,13 +238,20 @@ impl GridWalk {
     /// axis order is data, not predictable, so it is chosen with masks). A walk that cannot
     /// meet a lattice corner (all but about one ray in a thousand) needs one decision per cell.
     #[inline(always)]
-    pub fn run_to(&mut self, stop: CellIndex, index: usize, row_stride: usize, mut visit: impl FnMut(usize)) -> u64 {
+    pub fn run_to(
+        &mut self,
+        stop: CellIndex,
+        index: usize,
+        row_stride: usize,
+        mut visit: impl FnMut(usize),
+    ) -> u64 {
         let stride = row_stride as isize;
         let step_ix = self.step_x as isize;
         let step_iy = self.step_y as isize * stride;
         let (nx, ny) = ((stop.x - self.cell.x).abs(), (stop.y - self.cell.y).abs());
         let mut idx = index as isize;
-        let stop_idx = idx + (stop.x - self.cell.x) as isize + (stop.y - self.cell.y) as isize * stride;
+        let stop_idx =
+            idx + (stop.x - self.cell.x) as isize + (stop.y - self.cell.y) as isize * stride;
         let (dt_x, dt_y) = (self.dt_x, self.dt_y);
         let visited;
         if self.corner_free {
@@ -295,7 +320,10 @@ pub struct GridWalkCells {
 
 /// Every cell the segment from `start` to `end` passes through, in order.
 pub fn cells_on_segment(start: FixedPoint, end: FixedPoint) -> Result<GridWalkCells, RayTooLong> {
-    Ok(GridWalkCells { walk: GridWalk::new(start, end)?, done: false })
+    Ok(GridWalkCells {
+        walk: GridWalk::new(start, end)?,
+        done: false,
+    })
 }
 
 #[cfg(test)]
@@ -319,11 +347,22 @@ mod tests {
     /// Brute force: does the closed segment meet the half-open cell [i, i+1) x [j, j+1)?
     /// Intersects the parameter intervals of both axes with [0, 1], exactly.
     fn segment_meets_cell(a: FixedPoint, b: FixedPoint, c: CellIndex) -> bool {
-        let mut lo = Bound { num: 0, den: 1, closed: true };
-        let mut hi = Bound { num: 1, den: 1, closed: true };
+        let mut lo = Bound {
+            num: 0,
+            den: 1,
+            closed: true,
+        };
+        let mut hi = Bound {
+            num: 1,
+            den: 1,
+            closed: true,
+        };
         for (p0, p1, i) in [(a.x, b.x, c.x), (a.y, b.y, c.y)] {
             let (p0, d) = (p0 as i128, (p1 - p0) as i128);
-            let (lo_line, hi_line) = (i as i128 * SUBCELL as i128, (i as i128 + 1) * SUBCELL as i128);
+            let (lo_line, hi_line) = (
+                i as i128 * SUBCELL as i128,
+                (i as i128 + 1) * SUBCELL as i128,
+            );
             if d == 0 {
                 if !(lo_line <= p0 && p0 < hi_line) {
                     return false;
@@ -335,9 +374,31 @@ mod tests {
             let norm = |(n, d): (i128, i128)| if d < 0 { (-n, -d) } else { (n, d) };
             let (l, h) = (norm(t_lo_line), norm(t_hi_line));
             let (enter, leave) = if d > 0 {
-                (Bound { num: l.0, den: l.1, closed: true }, Bound { num: h.0, den: h.1, closed: false })
+                (
+                    Bound {
+                        num: l.0,
+                        den: l.1,
+                        closed: true,
+                    },
+                    Bound {
+                        num: h.0,
+                        den: h.1,
+                        closed: false,
+                    },
+                )
             } else {
-                (Bound { num: h.0, den: h.1, closed: false }, Bound { num: l.0, den: l.1, closed: true })
+                (
+                    Bound {
+                        num: h.0,
+                        den: h.1,
+                        closed: false,
+                    },
+                    Bound {
+                        num: l.0,
+                        den: l.1,
+                        closed: true,
+                    },
+                )
             };
             match cmp(enter, lo) {
                 std::cmp::Ordering::Greater => lo = enter,
@@ -376,19 +437,39 @@ mod tests {
         assert_eq!(cells.last(), Some(&b.cell()));
         for w in cells.windows(2) {
             let (dx, dy) = ((w[1].x - w[0].x).abs(), (w[1].y - w[0].y).abs());
-            assert!(dx <= 1 && dy <= 1 && dx + dy >= 1, "jump {:?} -> {:?}", w[0], w[1]);
+            assert!(
+                dx <= 1 && dy <= 1 && dx + dy >= 1,
+                "jump {:?} -> {:?}",
+                w[0],
+                w[1]
+            );
         }
         let set: BTreeSet<CellIndex> = cells.iter().copied().collect();
-        assert_eq!(set.len(), cells.len(), "a cell visited twice on {a:?} -> {b:?}");
+        assert_eq!(
+            set.len(),
+            cells.len(),
+            "a cell visited twice on {a:?} -> {b:?}"
+        );
         assert_eq!(set, brute_force(a, b), "{a:?} -> {b:?}");
     }
 
     #[test]
     fn hand_worked_walks() {
         let p = |x: f64, y: f64| FixedPoint::from_cells(x, y).unwrap();
-        let walk = |a, b| cells_on_segment(a, b).unwrap().map(|c| (c.x, c.y)).collect::<Vec<_>>();
-        assert_eq!(walk(p(0.5, 0.5), p(3.5, 0.5)), vec![(0, 0), (1, 0), (2, 0), (3, 0)]);
-        assert_eq!(walk(p(3.5, 0.5), p(0.5, 0.5)), vec![(3, 0), (2, 0), (1, 0), (0, 0)]);
+        let walk = |a, b| {
+            cells_on_segment(a, b)
+                .unwrap()
+                .map(|c| (c.x, c.y))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(
+            walk(p(0.5, 0.5), p(3.5, 0.5)),
+            vec![(0, 0), (1, 0), (2, 0), (3, 0)]
+        );
+        assert_eq!(
+            walk(p(3.5, 0.5), p(0.5, 0.5)),
+            vec![(3, 0), (2, 0), (1, 0), (0, 0)]
+        );
         // Through the corner (1, 1) going up-right: the corner belongs to cell (1, 1).
         assert_eq!(walk(p(0.5, 0.5), p(1.5, 1.5)), vec![(0, 0), (1, 1)]);
         // Going down-left through the same corner: the corner point is in (1, 1), which the
@@ -397,7 +478,10 @@ mod tests {
         // Going down-right through corner (1, 1): x reaches 1 (cell x = 1) before y drops below.
         assert_eq!(walk(p(0.5, 1.5), p(1.5, 0.5)), vec![(0, 1), (1, 1), (1, 0)]);
         // A shallow line.
-        assert_eq!(walk(p(0.5, 0.5), p(4.5, 1.5)), vec![(0, 0), (1, 0), (2, 0), (2, 1), (3, 1), (4, 1)]);
+        assert_eq!(
+            walk(p(0.5, 0.5), p(4.5, 1.5)),
+            vec![(0, 0), (1, 0), (2, 0), (2, 1), (3, 1), (4, 1)]
+        );
         // Along a cell boundary: the line y = 1 belongs to row 1.
         assert_eq!(walk(p(0.5, 1.0), p(2.5, 1.0)), vec![(0, 1), (1, 1), (2, 1)]);
         assert_eq!(walk(p(-0.5, -0.5), p(-0.5, -0.5)), vec![(-1, -1)]);
@@ -408,8 +492,9 @@ mod tests {
         // Every segment between lattice-aligned points of a small neighbourhood, including
         // quarter-cell positions: all corner and boundary coincidences.
         let q = SUBCELL / 4;
-        let pts: Vec<FixedPoint> =
-            (-3..=3).flat_map(|x| (-3..=3).map(move |y| FixedPoint::new(x * q * 3, y * q * 2))).collect();
+        let pts: Vec<FixedPoint> = (-3..=3)
+            .flat_map(|x| (-3..=3).map(move |y| FixedPoint::new(x * q * 3, y * q * 2)))
+            .collect();
         for &a in &pts {
             for &b in &pts {
                 check_walk(a, b);
@@ -420,10 +505,21 @@ mod tests {
     #[test]
     fn fixed_point_rounds_to_the_nearest_unit() {
         let u = 1.0 / SUBCELL as f64;
-        for (v, want) in [(0.0, 0), (0.49 * u, 0), (0.5 * u, 1), (-0.5 * u, 0), (-0.51 * u, -1), (-3.7, -3789), (2.25, 2304)] {
+        for (v, want) in [
+            (0.0, 0),
+            (0.49 * u, 0),
+            (0.5 * u, 1),
+            (-0.5 * u, 0),
+            (-0.51 * u, -1),
+            (-3.7, -3789),
+            (2.25, 2304),
+        ] {
             assert_eq!(FixedPoint::from_cells(v, 0.0).unwrap().x, want, "{v}");
         }
-        assert_eq!(FixedPoint::from_cells(-0.001, 0.0).unwrap().cell(), CellIndex::new(-1, 0));
+        assert_eq!(
+            FixedPoint::from_cells(-0.001, 0.0).unwrap().cell(),
+            CellIndex::new(-1, 0)
+        );
         assert!(FixedPoint::from_cells(f64::NAN, 0.0).is_none());
         assert!(FixedPoint::from_cells(0.0, 2e9).is_none());
     }
@@ -448,7 +544,10 @@ mod tests {
             let local = ((c.y - min.y) as usize) * w + (c.x - min.x) as usize;
             walk.run_to(stop, local, w, |i| {
                 assert!(i < w * h, "index left the box");
-                out.push(CellIndex::new(min.x + (i % w) as i32, min.y + (i / w) as i32));
+                out.push(CellIndex::new(
+                    min.x + (i % w) as i32,
+                    min.y + (i / w) as i32,
+                ));
             });
             if walk.is_at_end() {
                 return out;

@@ -25,10 +25,16 @@ pub struct SonarReading {
 impl SonarReading {
     pub fn check(&self) -> Result<()> {
         if !(self.beam_width_rad > 0.0 && self.beam_width_rad <= std::f64::consts::PI) {
-            return Err(invalid_option("beam_width_rad", format!("must be in (0, pi], got {}", self.beam_width_rad)));
+            return Err(invalid_option(
+                "beam_width_rad",
+                format!("must be in (0, pi], got {}", self.beam_width_rad),
+            ));
         }
         if !(self.range_max_m.is_finite() && self.range_max_m > 0.0) {
-            return Err(invalid_option("range_max_m", format!("must be finite and > 0, got {}", self.range_max_m)));
+            return Err(invalid_option(
+                "range_max_m",
+                format!("must be finite and > 0, got {}", self.range_max_m),
+            ));
         }
         if self.range_m.is_nan() || (self.range_m.is_finite() && self.range_m < 0.0) {
             return Err(Error::InvalidGeometry(format!(
@@ -42,7 +48,12 @@ impl SonarReading {
     /// Appends the rays of the beam placed with `world_from_sonar`: fanned across the beam so
     /// that neighbouring arc points are at most half a cell apart (`cell_size_m`), so the arc
     /// is continuous on the grid.
-    pub fn rays(&self, world_from_sonar: &Pose2, cell_size_m: f64, out: &mut Vec<Ray>) -> Result<()> {
+    pub fn rays(
+        &self,
+        world_from_sonar: &Pose2,
+        cell_size_m: f64,
+        out: &mut Vec<Ray>,
+    ) -> Result<()> {
         self.check()?;
         if self.range_m == f64::NEG_INFINITY {
             return Ok(());
@@ -56,7 +67,11 @@ impl SonarReading {
             let a = -0.5 * self.beam_width_rad + self.beam_width_rad * i as f64 / (n - 1) as f64;
             let (s, c) = a.sin_cos();
             let to = world_from_sonar.transform_point(Point2::new(range * c, range * s));
-            out.push(Ray { from: origin, to, hit });
+            out.push(Ray {
+                from: origin,
+                to,
+                hit,
+            });
         }
         Ok(())
     }
@@ -68,9 +83,18 @@ mod tests {
 
     #[test]
     fn rays_fan_over_the_beam_at_the_range() {
-        let s = SonarReading { range_m: 2.0, beam_width_rad: 0.4, range_max_m: 5.0 };
+        let s = SonarReading {
+            range_m: 2.0,
+            beam_width_rad: 0.4,
+            range_max_m: 5.0,
+        };
         let mut rays = Vec::new();
-        s.rays(&Pose2::new(1.0, 0.0, std::f64::consts::FRAC_PI_2), 0.04, &mut rays).unwrap();
+        s.rays(
+            &Pose2::new(1.0, 0.0, std::f64::consts::FRAC_PI_2),
+            0.04,
+            &mut rays,
+        )
+        .unwrap();
         // Arc of 0.8 m at 2 cm spacing: 40 intervals.
         assert_eq!(rays.len(), 41);
         for r in &rays {
@@ -83,21 +107,56 @@ mod tests {
 
     #[test]
     fn no_echo_clears_to_max_range() {
-        let s = SonarReading { range_m: f64::INFINITY, beam_width_rad: 0.4, range_max_m: 3.0 };
+        let s = SonarReading {
+            range_m: f64::INFINITY,
+            beam_width_rad: 0.4,
+            range_max_m: 3.0,
+        };
         let mut rays = Vec::new();
         s.rays(&Pose2::IDENTITY, 0.04, &mut rays).unwrap();
-        assert!(rays.iter().all(|r| !r.hit && (r.to.x.hypot(r.to.y) - 3.0).abs() < 1e-12));
+        assert!(rays
+            .iter()
+            .all(|r| !r.hit && (r.to.x.hypot(r.to.y) - 3.0).abs() < 1e-12));
     }
 
     #[test]
     fn bad_readings_are_refused() {
-        let ok = SonarReading { range_m: 1.0, beam_width_rad: 0.4, range_max_m: 3.0 };
-        assert!(SonarReading { range_m: f64::NAN, ..ok }.check().is_err());
-        assert!(SonarReading { range_m: -1.0, ..ok }.check().is_err());
-        assert!(SonarReading { beam_width_rad: 0.0, ..ok }.check().is_err());
-        assert!(SonarReading { range_max_m: f64::INFINITY, ..ok }.check().is_err());
+        let ok = SonarReading {
+            range_m: 1.0,
+            beam_width_rad: 0.4,
+            range_max_m: 3.0,
+        };
+        assert!(SonarReading {
+            range_m: f64::NAN,
+            ..ok
+        }
+        .check()
+        .is_err());
+        assert!(SonarReading {
+            range_m: -1.0,
+            ..ok
+        }
+        .check()
+        .is_err());
+        assert!(SonarReading {
+            beam_width_rad: 0.0,
+            ..ok
+        }
+        .check()
+        .is_err());
+        assert!(SonarReading {
+            range_max_m: f64::INFINITY,
+            ..ok
+        }
+        .check()
+        .is_err());
         let mut rays = Vec::new();
-        SonarReading { range_m: f64::NEG_INFINITY, ..ok }.rays(&Pose2::IDENTITY, 0.04, &mut rays).unwrap();
+        SonarReading {
+            range_m: f64::NEG_INFINITY,
+            ..ok
+        }
+        .rays(&Pose2::IDENTITY, 0.04, &mut rays)
+        .unwrap();
         assert!(rays.is_empty());
     }
 }

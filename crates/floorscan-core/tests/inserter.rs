@@ -18,7 +18,11 @@ const HIT: i16 = 850;
 const MISS: i16 = -400;
 
 fn unit_grid() -> Grid {
-    Grid::new(GridOptions { cell_size_m: 1.0, ..Default::default() }).unwrap()
+    Grid::new(GridOptions {
+        cell_size_m: 1.0,
+        ..Default::default()
+    })
+    .unwrap()
 }
 
 fn inserter() -> Inserter {
@@ -31,15 +35,29 @@ fn row(g: &Grid, y: i32, n: i32) -> Vec<i16> {
 }
 
 fn reading(near: Option<(f64, f64)>, outcome: ColumnOutcome) -> ColumnReading {
-    ColumnReading { column: 0, start_row: 100.0, near: near.map(|(x, y)| Point2::new(x, y)), outcome }
+    ColumnReading {
+        column: 0,
+        start_row: 100.0,
+        near: near.map(|(x, y)| Point2::new(x, y)),
+        outcome,
+    }
 }
 
 fn boundary(near: (f64, f64), x: f64, y: f64) -> ColumnReading {
-    reading(Some(near), ColumnOutcome::Boundary { row: 50.0, point: Point2::new(x, y) })
+    reading(
+        Some(near),
+        ColumnOutcome::Boundary {
+            row: 50.0,
+            point: Point2::new(x, y),
+        },
+    )
 }
 
 fn scan(readings: Vec<ColumnReading>) -> Scan {
-    Scan { timestamp_s: 0.0, readings }
+    Scan {
+        timestamp_s: 0.0,
+        readings,
+    }
 }
 
 const ROBOT: Pose2 = Pose2::new(0.5, 0.5, 0.0);
@@ -48,7 +66,9 @@ const ROBOT: Pose2 = Pose2::new(0.5, 0.5, 0.0);
 fn boundary_cell_incremented_cells_between_decremented_beyond_untouched() {
     let mut g = unit_grid();
     let s = scan(vec![boundary((2.0, 0.0), 4.0, 0.0)]);
-    inserter().insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+    inserter()
+        .insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     // Robot in cell 0; the camera sees from 2.5 m (cell 2) to the boundary at 4.5 m (cell 4).
     //                     0  1  2     3     4    5  6
     assert_eq!(row(&g, 0, 7), vec![0, 0, MISS, MISS, HIT, 0, 0]);
@@ -58,8 +78,16 @@ fn boundary_cell_incremented_cells_between_decremented_beyond_untouched() {
 #[test]
 fn without_a_near_point_free_space_starts_at_the_camera() {
     let mut g = unit_grid();
-    let s = scan(vec![reading(None, ColumnOutcome::Boundary { row: 50.0, point: Point2::new(3.0, 0.0) })]);
-    inserter().insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+    let s = scan(vec![reading(
+        None,
+        ColumnOutcome::Boundary {
+            row: 50.0,
+            point: Point2::new(3.0, 0.0),
+        },
+    )]);
+    inserter()
+        .insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     assert_eq!(row(&g, 0, 5), vec![MISS, MISS, MISS, HIT, 0]);
 }
 
@@ -71,16 +99,30 @@ fn camera_mount_and_robot_pose_place_the_points() {
     let world_from_robot = Pose2::new(5.5, 5.5, std::f64::consts::FRAC_PI_2);
     let robot_from_camera = Pose2::new(1.0, 0.0, std::f64::consts::FRAC_PI_2);
     let s = scan(vec![boundary((1.0, 0.0), 2.0, 0.0)]);
-    inserter().insert_scan(&mut g, &s, &world_from_robot, &robot_from_camera).unwrap();
+    inserter()
+        .insert_scan(&mut g, &s, &world_from_robot, &robot_from_camera)
+        .unwrap();
     assert_eq!(row(&g, 6, 7), vec![0, 0, 0, HIT, MISS, 0, 0]);
-    assert_eq!(g.get(CellIndex::new(5, 6)).0, 0, "the camera's own cell is not in view");
+    assert_eq!(
+        g.get(CellIndex::new(5, 6)).0,
+        0,
+        "the camera's own cell is not in view"
+    );
 }
 
 #[test]
 fn no_boundary_clears_up_to_and_including_the_farthest_point() {
     let mut g = unit_grid();
-    let s = scan(vec![reading(Some((1.0, 0.0)), ColumnOutcome::NoBoundary { top_row: 10.0, farthest: Point2::new(3.0, 0.0) })]);
-    inserter().insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+    let s = scan(vec![reading(
+        Some((1.0, 0.0)),
+        ColumnOutcome::NoBoundary {
+            top_row: 10.0,
+            farthest: Point2::new(3.0, 0.0),
+        },
+    )]);
+    inserter()
+        .insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     assert_eq!(row(&g, 0, 6), vec![0, MISS, MISS, MISS, 0, 0]);
 }
 
@@ -91,13 +133,20 @@ fn too_close_marks_the_near_edge_unless_ignored_and_invalid_does_nothing() {
         reading(Some((2.0, 1.0)), ColumnOutcome::Invalid { row: None }),
     ]);
     let mut g = unit_grid();
-    inserter().insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+    inserter()
+        .insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     assert_eq!(row(&g, 0, 4), vec![0, 0, HIT, 0]);
     assert_eq!(row(&g, 1, 4), vec![0; 4]);
 
     let mut g = unit_grid();
-    let mut ins = Inserter::new(InserterOptions { too_close: TooClosePolicy::Ignore, ..Default::default() }).unwrap();
-    ins.insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+    let mut ins = Inserter::new(InserterOptions {
+        too_close: TooClosePolicy::Ignore,
+        ..Default::default()
+    })
+    .unwrap();
+    ins.insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     assert_eq!(g.allocated_tiles(), 0);
 }
 
@@ -106,11 +155,19 @@ fn each_cell_is_updated_once_per_scan() {
     let mut g = unit_grid();
     // Three columns along nearly the same line: cells 2 and 3 are crossed three times and the
     // boundary cell 4 is hit three times, but each changes once.
-    let s = scan(vec![boundary((2.0, 0.0), 4.0, 0.0), boundary((2.1, 0.1), 4.2, 0.1), boundary((2.0, 0.2), 4.4, 0.3)]);
-    inserter().insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+    let s = scan(vec![
+        boundary((2.0, 0.0), 4.0, 0.0),
+        boundary((2.1, 0.1), 4.2, 0.1),
+        boundary((2.0, 0.2), 4.4, 0.3),
+    ]);
+    inserter()
+        .insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     assert_eq!(row(&g, 0, 6), vec![0, 0, MISS, MISS, HIT, 0]);
     // A second scan is a new scan: everything changes once more.
-    inserter().insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+    inserter()
+        .insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     assert_eq!(row(&g, 0, 6), vec![0, 0, 2 * MISS, 2 * MISS, 2 * HIT, 0]);
 }
 
@@ -119,13 +176,23 @@ fn occupied_wins_over_free_in_the_same_scan() {
     let mut g = unit_grid();
     // Column A sees a boundary in cell 2; column B looks through cell 2 to a boundary in
     // cell 5. Cell 2 is occupied once, not occupied and free.
-    let s = scan(vec![boundary((1.0, 0.0), 2.0, 0.0), boundary((1.0, 0.0), 5.0, 0.0)]);
-    inserter().insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+    let s = scan(vec![
+        boundary((1.0, 0.0), 2.0, 0.0),
+        boundary((1.0, 0.0), 5.0, 0.0),
+    ]);
+    inserter()
+        .insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     assert_eq!(row(&g, 0, 7), vec![0, MISS, HIT, MISS, MISS, HIT, 0]);
     // The order of the columns does not matter.
     let mut g2 = unit_grid();
-    let s2 = scan(vec![boundary((1.0, 0.0), 5.0, 0.0), boundary((1.0, 0.0), 2.0, 0.0)]);
-    inserter().insert_scan(&mut g2, &s2, &ROBOT, &Pose2::IDENTITY).unwrap();
+    let s2 = scan(vec![
+        boundary((1.0, 0.0), 5.0, 0.0),
+        boundary((1.0, 0.0), 2.0, 0.0),
+    ]);
+    inserter()
+        .insert_scan(&mut g2, &s2, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     assert_eq!(row(&g2, 0, 7), row(&g, 0, 7));
 }
 
@@ -135,17 +202,22 @@ fn values_stay_within_the_clamp_bounds() {
     let s = scan(vec![boundary((1.0, 0.0), 3.0, 0.0)]);
     let mut ins = inserter();
     for _ in 0..20 {
-        ins.insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+        ins.insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+            .unwrap();
     }
     // 20 hits of 0.85 would be 17 nats; the clamp stops at 3.5. 20 misses stop at -2.0.
     assert_eq!(row(&g, 0, 5), vec![0, -2000, -2000, 3500, 0]);
     // With the clamp, a changed world shows after a few scans: the boundary moves away.
     let moved = scan(vec![boundary((1.0, 0.0), 4.0, 0.0)]);
     for _ in 0..13 {
-        ins.insert_scan(&mut g, &moved, &ROBOT, &Pose2::IDENTITY).unwrap();
+        ins.insert_scan(&mut g, &moved, &ROBOT, &Pose2::IDENTITY)
+            .unwrap();
     }
     assert_eq!(g.get(CellIndex::new(3, 0)).0, 3500 - 13 * 400);
-    assert!(g.get(CellIndex::new(3, 0)).probability() < 0.196, "the old obstacle is free again");
+    assert!(
+        g.get(CellIndex::new(3, 0)).probability() < 0.196,
+        "the old obstacle is free again"
+    );
 }
 
 #[test]
@@ -159,8 +231,13 @@ fn laser_hits_mark_and_max_range_readings_only_clear() {
         range_max_m: 3.0 + 1e-9,
     };
     let robot = Pose2::new(4.5, 4.5, 0.0);
-    inserter().insert_laser(&mut g, &laser, &robot, &Pose2::IDENTITY).unwrap();
-    assert_eq!(row(&g, 4, 9), vec![0, MISS, MISS, MISS, MISS, MISS, MISS, HIT, 0]);
+    inserter()
+        .insert_laser(&mut g, &laser, &robot, &Pose2::IDENTITY)
+        .unwrap();
+    assert_eq!(
+        row(&g, 4, 9),
+        vec![0, MISS, MISS, MISS, MISS, MISS, MISS, HIT, 0]
+    );
     // Upward beam: beyond range_max, cleared up to it (cells 5, 6 and 7), not marked.
     let up: Vec<i16> = (4..10).map(|y| g.get(CellIndex::new(4, y)).0).collect();
     assert_eq!(up, vec![MISS, MISS, MISS, MISS, 0, 0]);
@@ -168,10 +245,20 @@ fn laser_hits_mark_and_max_range_readings_only_clear() {
 
 #[test]
 fn sonar_marks_the_arc_and_frees_the_cone() {
-    let mut g = Grid::new(GridOptions { cell_size_m: 0.1, ..Default::default() }).unwrap();
-    let reading = SonarReading { range_m: 2.0, beam_width_rad: 0.5, range_max_m: 5.0 };
+    let mut g = Grid::new(GridOptions {
+        cell_size_m: 0.1,
+        ..Default::default()
+    })
+    .unwrap();
+    let reading = SonarReading {
+        range_m: 2.0,
+        beam_width_rad: 0.5,
+        range_max_m: 5.0,
+    };
     let sonar_pose = Pose2::new(0.05, 0.05, 0.0);
-    inserter().insert_sonar(&mut g, &[reading], &Pose2::IDENTITY, &[sonar_pose]).unwrap();
+    inserter()
+        .insert_sonar(&mut g, &[reading], &Pose2::IDENTITY, &[sonar_pose])
+        .unwrap();
     for y in -12..=12 {
         for x in -3..=25 {
             let c = CellIndex::new(x, y);
@@ -192,14 +279,26 @@ fn sonar_marks_the_arc_and_frees_the_cone() {
 
 #[test]
 fn fixed_bounds_clip_rays_and_refuse_poses_outside() {
-    let bounds = Bounds { min: Point2::new(0.0, 0.0), max: Point2::new(4.0, 2.0) };
-    let mut g = Grid::new(GridOptions { cell_size_m: 1.0, bounds_m: Some(bounds), ..Default::default() }).unwrap();
+    let bounds = Bounds {
+        min: Point2::new(0.0, 0.0),
+        max: Point2::new(4.0, 2.0),
+    };
+    let mut g = Grid::new(GridOptions {
+        cell_size_m: 1.0,
+        bounds_m: Some(bounds),
+        ..Default::default()
+    })
+    .unwrap();
     let s = scan(vec![boundary((1.0, 0.0), 6.0, 0.0)]);
-    inserter().insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY).unwrap();
+    inserter()
+        .insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
+        .unwrap();
     // The boundary lies outside: the ray is cleared up to the edge, nothing is marked.
     assert_eq!(row(&g, 0, 4), vec![0, MISS, MISS, MISS]);
     let before: Vec<i16> = row(&g, 0, 4);
-    let e = inserter().insert_scan(&mut g, &s, &Pose2::new(4.5, 0.5, 0.0), &Pose2::IDENTITY).unwrap_err();
+    let e = inserter()
+        .insert_scan(&mut g, &s, &Pose2::new(4.5, 0.5, 0.0), &Pose2::IDENTITY)
+        .unwrap_err();
     assert!(matches!(e, Error::OutOfBounds(_)), "{e}");
     assert_eq!(row(&g, 0, 4), before);
 }
@@ -210,18 +309,56 @@ fn bad_input_leaves_the_map_unchanged() {
     let mut ins = inserter();
     let good = boundary((1.0, 0.0), 3.0, 0.0);
     let bad = boundary((1.0, 0.0), f64::NAN, 0.0);
-    assert!(matches!(ins.insert_scan(&mut g, &scan(vec![good, bad]), &ROBOT, &Pose2::IDENTITY), Err(Error::InvalidGeometry(_))));
-    assert!(matches!(ins.insert_scan(&mut g, &scan(vec![good]), &Pose2::new(f64::NAN, 0.0, 0.0), &Pose2::IDENTITY), Err(Error::InvalidGeometry(_))));
-    assert!(matches!(ins.insert_scan(&mut g, &scan(vec![good]), &ROBOT, &Pose2::new(0.0, 0.0, f64::INFINITY)), Err(Error::InvalidGeometry(_))));
+    assert!(matches!(
+        ins.insert_scan(&mut g, &scan(vec![good, bad]), &ROBOT, &Pose2::IDENTITY),
+        Err(Error::InvalidGeometry(_))
+    ));
+    assert!(matches!(
+        ins.insert_scan(
+            &mut g,
+            &scan(vec![good]),
+            &Pose2::new(f64::NAN, 0.0, 0.0),
+            &Pose2::IDENTITY
+        ),
+        Err(Error::InvalidGeometry(_))
+    ));
+    assert!(matches!(
+        ins.insert_scan(
+            &mut g,
+            &scan(vec![good]),
+            &ROBOT,
+            &Pose2::new(0.0, 0.0, f64::INFINITY)
+        ),
+        Err(Error::InvalidGeometry(_))
+    ));
     let ranges = [1.0, 2.0, 3.0];
-    let layout = LaserScan { ranges_m: &[0.0; 2], angles: BeamAngles::Uniform { min_rad: 0.0, increment_rad: 0.1 }, range_min_m: 0.0, range_max_m: 10.0 };
-    let e = ins.insert_lasers(&mut g, &layout, &ranges, &[ROBOT, ROBOT], &Pose2::IDENTITY).unwrap_err();
+    let layout = LaserScan {
+        ranges_m: &[0.0; 2],
+        angles: BeamAngles::Uniform {
+            min_rad: 0.0,
+            increment_rad: 0.1,
+        },
+        range_min_m: 0.0,
+        range_max_m: 10.0,
+    };
+    let e = ins
+        .insert_lasers(&mut g, &layout, &ranges, &[ROBOT, ROBOT], &Pose2::IDENTITY)
+        .unwrap_err();
     assert!(matches!(e, Error::LengthMismatch(_)));
     let ranges = [1.0, 2.0, 3.0, f64::NAN];
-    let e = ins.insert_lasers(&mut g, &layout, &ranges, &[ROBOT, ROBOT], &Pose2::IDENTITY).unwrap_err();
+    let e = ins
+        .insert_lasers(&mut g, &layout, &ranges, &[ROBOT, ROBOT], &Pose2::IDENTITY)
+        .unwrap_err();
     assert!(e.to_string().contains("scan 1"), "{e}");
-    let reading = SonarReading { range_m: 1.0, beam_width_rad: 0.3, range_max_m: 4.0 };
-    assert!(matches!(ins.insert_sonar(&mut g, &[reading, reading], &ROBOT, &[Pose2::IDENTITY]), Err(Error::LengthMismatch(_))));
+    let reading = SonarReading {
+        range_m: 1.0,
+        beam_width_rad: 0.3,
+        range_max_m: 4.0,
+    };
+    assert!(matches!(
+        ins.insert_sonar(&mut g, &[reading, reading], &ROBOT, &[Pose2::IDENTITY]),
+        Err(Error::LengthMismatch(_))
+    ));
     assert_eq!(g.allocated_tiles(), 0);
     assert_eq!(g.known_rect(), None);
 }
@@ -233,10 +370,18 @@ fn reference_update(values: &mut HashMap<CellIndex, i32>, g: &Grid, rays: &[Ray]
         let (u, v) = g.to_cells(p);
         FixedPoint::from_cells(u, v).unwrap()
     };
-    let hits: HashSet<CellIndex> = rays.iter().filter(|r| r.hit).map(|r| fp(r.to).cell()).collect();
+    let hits: HashSet<CellIndex> = rays
+        .iter()
+        .filter(|r| r.hit)
+        .map(|r| fp(r.to).cell())
+        .collect();
     let mut free = HashSet::new();
     for r in rays {
-        free.extend(cells_on_segment(fp(r.from), fp(r.to)).unwrap().filter(|c| !hits.contains(c)));
+        free.extend(
+            cells_on_segment(fp(r.from), fp(r.to))
+                .unwrap()
+                .filter(|c| !hits.contains(c)),
+        );
     }
     for c in hits {
         let v = values.entry(c).or_default();
@@ -274,7 +419,15 @@ fn random_scans_match_the_reference_rule_across_tiles() {
                 }
             })
             .collect();
-        ins.insert_rays(&mut g, &rays, Evidence { hit_nats: 0.85, miss_nats: -0.4 }).unwrap();
+        ins.insert_rays(
+            &mut g,
+            &rays,
+            Evidence {
+                hit_nats: 0.85,
+                miss_nats: -0.4,
+            },
+        )
+        .unwrap();
         reference_update(&mut expected, &g, &rays);
     }
     let rect = g.known_rect().unwrap();
@@ -282,11 +435,27 @@ fn random_scans_match_the_reference_rule_across_tiles() {
     g.read_rect(rect, &mut values);
     let mut compared = 0;
     for (i, &v) in values.iter().enumerate() {
-        let c = CellIndex::new(rect.min.x + (i % rect.width()) as i32, rect.min.y + (i / rect.width()) as i32);
-        assert_eq!(i32::from(v), expected.get(&c).copied().unwrap_or(0), "cell {c:?}");
+        let c = CellIndex::new(
+            rect.min.x + (i % rect.width()) as i32,
+            rect.min.y + (i / rect.width()) as i32,
+        );
+        assert_eq!(
+            i32::from(v),
+            expected.get(&c).copied().unwrap_or(0),
+            "cell {c:?}"
+        );
         compared += usize::from(v != 0);
     }
-    assert!(compared > 10_000, "the scans should cover many cells, got {compared}");
-    assert!(g.allocated_tiles() > 4, "the scans should span several tiles");
-    let _ = CellRect { min: rect.min, max: rect.max };
+    assert!(
+        compared > 10_000,
+        "the scans should cover many cells, got {compared}"
+    );
+    assert!(
+        g.allocated_tiles() > 4,
+        "the scans should span several tiles"
+    );
+    let _ = CellRect {
+        min: rect.min,
+        max: rect.max,
+    };
 }

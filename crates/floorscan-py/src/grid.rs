@@ -4,10 +4,12 @@
 //! the GIL.
 
 use floorscan_core::{
-    BeamAngles, CellIndex, CellRect, Evidence, Grid, GridOptions, Inserter, InserterOptions, LaserScan, Point2, Pose2, Ray, SonarReading,
-    UpdateStats,
+    BeamAngles, CellIndex, CellRect, Evidence, Grid, GridOptions, Inserter, InserterOptions,
+    LaserScan, Point2, Pose2, Ray, SonarReading, UpdateStats,
 };
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use crate::errors::{error, IntoPyResult};
@@ -29,16 +31,36 @@ pub fn parse_json<T: serde::de::DeserializeOwned>(what: &str, text: &str) -> PyR
 
 /// A contiguous 1-D view, or a clear error naming the argument.
 pub fn slice1<'a>(a: &'a PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<&'a [f64]> {
-    a.as_slice().map_err(|_| error("LengthMismatchError", format!("`{name}` must be a contiguous 1-D float64 array")))
+    a.as_slice().map_err(|_| {
+        error(
+            "LengthMismatchError",
+            format!("`{name}` must be a contiguous 1-D float64 array"),
+        )
+    })
 }
 
 /// An (N, k) contiguous float64 array as a flat slice and N.
-pub fn rows<'a>(a: &'a PyReadonlyArray2<'_, f64>, k: usize, name: &str) -> PyResult<(&'a [f64], usize)> {
+pub fn rows<'a>(
+    a: &'a PyReadonlyArray2<'_, f64>,
+    k: usize,
+    name: &str,
+) -> PyResult<(&'a [f64], usize)> {
     let shape = a.shape();
     if shape[1] != k {
-        return Err(error("LengthMismatchError", format!("`{name}` must have shape (N, {k}), got ({}, {})", shape[0], shape[1])));
+        return Err(error(
+            "LengthMismatchError",
+            format!(
+                "`{name}` must have shape (N, {k}), got ({}, {})",
+                shape[0], shape[1]
+            ),
+        ));
     }
-    let s = a.as_slice().map_err(|_| error("LengthMismatchError", format!("`{name}` must be a contiguous float64 array")))?;
+    let s = a.as_slice().map_err(|_| {
+        error(
+            "LengthMismatchError",
+            format!("`{name}` must be a contiguous float64 array"),
+        )
+    })?;
     Ok((s, shape[0]))
 }
 
@@ -53,24 +75,64 @@ pub fn laser_layout<'a>(
 ) -> LaserScan<'a> {
     let angles = match angles {
         Some(a) => BeamAngles::Explicit(a),
-        None => BeamAngles::Uniform { min_rad: angle_min, increment_rad: angle_increment },
+        None => BeamAngles::Uniform {
+            min_rad: angle_min,
+            increment_rad: angle_increment,
+        },
     };
-    LaserScan { ranges_m: ranges, angles, range_min_m: range_min, range_max_m: range_max }
+    LaserScan {
+        ranges_m: ranges,
+        angles,
+        range_min_m: range_min,
+        range_max_m: range_max,
+    }
 }
 
 /// Sonar readings and their mounts from arrays.
-pub fn sonar_readings(ranges: &[f64], mounts: &[f64], beam_width: f64, range_max: f64) -> PyResult<(Vec<SonarReading>, Vec<Pose2>)> {
+pub fn sonar_readings(
+    ranges: &[f64],
+    mounts: &[f64],
+    beam_width: f64,
+    range_max: f64,
+) -> PyResult<(Vec<SonarReading>, Vec<Pose2>)> {
     if mounts.len() != 3 * ranges.len() {
-        return Err(error("LengthMismatchError", format!("{} sonar ranges but {} mounts", ranges.len(), mounts.len() / 3)));
+        return Err(error(
+            "LengthMismatchError",
+            format!(
+                "{} sonar ranges but {} mounts",
+                ranges.len(),
+                mounts.len() / 3
+            ),
+        ));
     }
-    let readings = ranges.iter().map(|&r| SonarReading { range_m: r, beam_width_rad: beam_width, range_max_m: range_max }).collect();
-    let poses = mounts.chunks(3).map(|m| Pose2::new(m[0], m[1], m[2])).collect();
+    let readings = ranges
+        .iter()
+        .map(|&r| SonarReading {
+            range_m: r,
+            beam_width_rad: beam_width,
+            range_max_m: range_max,
+        })
+        .collect();
+    let poses = mounts
+        .chunks(3)
+        .map(|m| Pose2::new(m[0], m[1], m[2]))
+        .collect();
     Ok((readings, poses))
 }
 
 /// Read-only views shared by the global grid and the local map.
-pub fn values<'py>(py: Python<'py>, grid: &Grid, min_x: i32, min_y: i32, width: usize, height: usize) -> PyResult<Bound<'py, PyArray2<i16>>> {
-    let rect = CellRect { min: CellIndex::new(min_x, min_y), max: CellIndex::new(min_x + width as i32, min_y + height as i32) };
+pub fn values<'py>(
+    py: Python<'py>,
+    grid: &Grid,
+    min_x: i32,
+    min_y: i32,
+    width: usize,
+    height: usize,
+) -> PyResult<Bound<'py, PyArray2<i16>>> {
+    let rect = CellRect {
+        min: CellIndex::new(min_x, min_y),
+        max: CellIndex::new(min_x + width as i32, min_y + height as i32),
+    };
     let mut out = Vec::new();
     py.detach(|| grid.read_rect(rect, &mut out));
     PyArray1::from_vec(py, out).reshape([height, width])
@@ -81,24 +143,48 @@ pub fn extent(grid: &Grid) -> (i32, i32, usize, usize) {
     (r.min.x, r.min.y, r.width(), r.height())
 }
 
-pub fn occupancy_codes<'py>(py: Python<'py>, grid: &Grid, xs: &[f64], ys: &[f64]) -> PyResult<Bound<'py, PyArray1<u8>>> {
+pub fn occupancy_codes<'py>(
+    py: Python<'py>,
+    grid: &Grid,
+    xs: &[f64],
+    ys: &[f64],
+) -> PyResult<Bound<'py, PyArray1<u8>>> {
     if xs.len() != ys.len() {
-        return Err(error("LengthMismatchError", format!("{} x but {} y coordinates", xs.len(), ys.len())));
+        return Err(error(
+            "LengthMismatchError",
+            format!("{} x but {} y coordinates", xs.len(), ys.len()),
+        ));
     }
-    let codes: Vec<u8> =
-        xs.iter().zip(ys).map(|(&x, &y)| grid.occupancy_at(Point2::new(x, y)).map(|o| o.code())).collect::<floorscan_core::Result<_>>().py()?;
+    let codes: Vec<u8> = xs
+        .iter()
+        .zip(ys)
+        .map(|(&x, &y)| grid.occupancy_at(Point2::new(x, y)).map(|o| o.code()))
+        .collect::<floorscan_core::Result<_>>()
+        .py()?;
     Ok(PyArray1::from_vec(py, codes))
 }
 
-pub fn distances<'py>(py: Python<'py>, grid: &Grid, xs: &[f64], ys: &[f64], max_m: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+pub fn distances<'py>(
+    py: Python<'py>,
+    grid: &Grid,
+    xs: &[f64],
+    ys: &[f64],
+    max_m: f64,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
     if xs.len() != ys.len() {
-        return Err(error("LengthMismatchError", format!("{} x but {} y coordinates", xs.len(), ys.len())));
+        return Err(error(
+            "LengthMismatchError",
+            format!("{} x but {} y coordinates", xs.len(), ys.len()),
+        ));
     }
     let d: Vec<f64> = py
         .detach(|| {
             xs.iter()
                 .zip(ys)
-                .map(|(&x, &y)| grid.distance_to_occupied(Point2::new(x, y), max_m).map(|d| d.unwrap_or(f64::INFINITY)))
+                .map(|(&x, &y)| {
+                    grid.distance_to_occupied(Point2::new(x, y), max_m)
+                        .map(|d| d.unwrap_or(f64::INFINITY))
+                })
                 .collect::<floorscan_core::Result<_>>()
         })
         .py()?;
@@ -122,16 +208,30 @@ impl PyOccupancyGrid {
     fn new(grid_options_json: &str, inserter_options_json: &str) -> PyResult<Self> {
         let go: GridOptions = parse_json("grid options", grid_options_json)?;
         let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
-        Ok(Self { grid: Grid::new(go).py()?, inserter: Inserter::new(io).py()? })
+        Ok(Self {
+            grid: Grid::new(go).py()?,
+            inserter: Inserter::new(io).py()?,
+        })
     }
 
     fn copy(&self) -> Self {
-        Self { grid: self.grid.clone(), inserter: self.inserter.clone() }
+        Self {
+            grid: self.grid.clone(),
+            inserter: self.inserter.clone(),
+        }
     }
 
-    fn insert_scan(&mut self, py: Python<'_>, scan: &PyScan, pose: [f64; 3], mount: [f64; 3]) -> PyResult<Stats> {
+    fn insert_scan(
+        &mut self,
+        py: Python<'_>,
+        scan: &PyScan,
+        pose: [f64; 3],
+        mount: [f64; 3],
+    ) -> PyResult<Stats> {
         let (grid, ins, scan) = (&mut self.grid, &mut self.inserter, &scan.inner);
-        py.detach(|| ins.insert_scan(grid, scan, &self::pose(pose), &self::pose(mount))).py().map(stats)
+        py.detach(|| ins.insert_scan(grid, scan, &self::pose(pose), &self::pose(mount)))
+            .py()
+            .map(stats)
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -153,7 +253,15 @@ impl PyOccupancyGrid {
             None => None,
         };
         let laser = laser_layout(r, a, angle_min, angle_increment, range_min, range_max);
-        self.inserter.insert_laser(&mut self.grid, &laser, &self::pose(pose), &self::pose(mount)).py().map(stats)
+        self.inserter
+            .insert_laser(
+                &mut self.grid,
+                &laser,
+                &self::pose(pose),
+                &self::pose(mount),
+            )
+            .py()
+            .map(stats)
     }
 
     /// N scans of B beams: ranges (N, B), poses (N, 3). The GIL is released.
@@ -175,7 +283,10 @@ impl PyOccupancyGrid {
         let (r, n) = rows(&ranges, beams, "ranges")?;
         let (p, np) = rows(&poses, 3, "poses")?;
         if n != np {
-            return Err(error("LengthMismatchError", format!("{n} scans but {np} poses")));
+            return Err(error(
+                "LengthMismatchError",
+                format!("{n} scans but {np} poses"),
+            ));
         }
         let a = match &angles {
             Some(a) => Some(slice1(a, "angles")?),
@@ -185,7 +296,9 @@ impl PyOccupancyGrid {
         let layout = laser_layout(first, a, angle_min, angle_increment, range_min, range_max);
         let poses: Vec<Pose2> = p.chunks(3).map(|c| Pose2::new(c[0], c[1], c[2])).collect();
         let (grid, ins) = (&mut self.grid, &mut self.inserter);
-        py.detach(|| ins.insert_lasers(grid, &layout, r, &poses, &self::pose(mount))).py().map(stats)
+        py.detach(|| ins.insert_lasers(grid, &layout, r, &poses, &self::pose(mount)))
+            .py()
+            .map(stats)
     }
 
     fn insert_sonar(
@@ -197,8 +310,12 @@ impl PyOccupancyGrid {
         pose: [f64; 3],
     ) -> PyResult<Stats> {
         let (m, _) = rows(&mounts, 3, "mounts")?;
-        let (readings, mounts) = sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
-        self.inserter.insert_sonar(&mut self.grid, &readings, &self::pose(pose), &mounts).py().map(stats)
+        let (readings, mounts) =
+            sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
+        self.inserter
+            .insert_sonar(&mut self.grid, &readings, &self::pose(pose), &mounts)
+            .py()
+            .map(stats)
     }
 
     /// One batch of world rays: starts (N, 2), ends (N, 2), hits (N,). GIL released.
@@ -213,14 +330,38 @@ impl PyOccupancyGrid {
     ) -> PyResult<Stats> {
         let (s, n) = rows(&starts, 2, "starts")?;
         let (e, ne) = rows(&ends, 2, "ends")?;
-        let h = hits.as_slice().map_err(|_| error("LengthMismatchError", "`hits` must be a contiguous bool array".into()))?;
+        let h = hits.as_slice().map_err(|_| {
+            error(
+                "LengthMismatchError",
+                "`hits` must be a contiguous bool array".into(),
+            )
+        })?;
         if ne != n || h.len() != n {
-            return Err(error("LengthMismatchError", format!("{n} starts, {ne} ends and {} hit flags", h.len())));
+            return Err(error(
+                "LengthMismatchError",
+                format!("{n} starts, {ne} ends and {} hit flags", h.len()),
+            ));
         }
-        let rays: Vec<Ray> =
-            (0..n).map(|i| Ray { from: Point2::new(s[2 * i], s[2 * i + 1]), to: Point2::new(e[2 * i], e[2 * i + 1]), hit: h[i] }).collect();
+        let rays: Vec<Ray> = (0..n)
+            .map(|i| Ray {
+                from: Point2::new(s[2 * i], s[2 * i + 1]),
+                to: Point2::new(e[2 * i], e[2 * i + 1]),
+                hit: h[i],
+            })
+            .collect();
         let (grid, ins) = (&mut self.grid, &mut self.inserter);
-        py.detach(|| ins.insert_rays(grid, &rays, Evidence { hit_nats, miss_nats })).py().map(stats)
+        py.detach(|| {
+            ins.insert_rays(
+                grid,
+                &rays,
+                Evidence {
+                    hit_nats,
+                    miss_nats,
+                },
+            )
+        })
+        .py()
+        .map(stats)
     }
 
     /// The exported rectangle (min x, min y, width, height) [cells].
@@ -228,23 +369,54 @@ impl PyOccupancyGrid {
         extent(&self.grid)
     }
 
-    fn values<'py>(&self, py: Python<'py>, min_x: i32, min_y: i32, width: usize, height: usize) -> PyResult<Bound<'py, PyArray2<i16>>> {
+    fn values<'py>(
+        &self,
+        py: Python<'py>,
+        min_x: i32,
+        min_y: i32,
+        width: usize,
+        height: usize,
+    ) -> PyResult<Bound<'py, PyArray2<i16>>> {
         values(py, &self.grid, min_x, min_y, width, height)
     }
 
     /// Writes an (H, W) int16 array of raw values with its first cell at (min_x, min_y).
-    fn write_values(&mut self, min_x: i32, min_y: i32, array: PyReadonlyArray2<'_, i16>) -> PyResult<()> {
+    fn write_values(
+        &mut self,
+        min_x: i32,
+        min_y: i32,
+        array: PyReadonlyArray2<'_, i16>,
+    ) -> PyResult<()> {
         let shape = array.shape();
-        let data = array.as_slice().map_err(|_| error("LengthMismatchError", "values must be a contiguous int16 array".into()))?;
-        let rect = CellRect { min: CellIndex::new(min_x, min_y), max: CellIndex::new(min_x + shape[1] as i32, min_y + shape[0] as i32) };
+        let data = array.as_slice().map_err(|_| {
+            error(
+                "LengthMismatchError",
+                "values must be a contiguous int16 array".into(),
+            )
+        })?;
+        let rect = CellRect {
+            min: CellIndex::new(min_x, min_y),
+            max: CellIndex::new(min_x + shape[1] as i32, min_y + shape[0] as i32),
+        };
         self.grid.write_rect(rect, data).py()
     }
 
-    fn occupancy_codes<'py>(&self, py: Python<'py>, xs: PyReadonlyArray1<'_, f64>, ys: PyReadonlyArray1<'_, f64>) -> PyResult<Bound<'py, PyArray1<u8>>> {
+    fn occupancy_codes<'py>(
+        &self,
+        py: Python<'py>,
+        xs: PyReadonlyArray1<'_, f64>,
+        ys: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<u8>>> {
         occupancy_codes(py, &self.grid, slice1(&xs, "x")?, slice1(&ys, "y")?)
     }
 
-    fn distances<'py>(&self, py: Python<'py>, xs: PyReadonlyArray1<'_, f64>, ys: PyReadonlyArray1<'_, f64>, max_m: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn distances<'py>(
+        &self,
+        py: Python<'py>,
+        xs: PyReadonlyArray1<'_, f64>,
+        ys: PyReadonlyArray1<'_, f64>,
+        max_m: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         distances(py, &self.grid, slice1(&xs, "x")?, slice1(&ys, "y")?, max_m)
     }
 
@@ -267,7 +439,9 @@ impl PyOccupancyGrid {
     /// Fixed bounds (min x, min y, max x, max y) [cells, max excluded], None if growing.
     #[getter]
     fn fixed_cells(&self) -> Option<(i32, i32, i32, i32)> {
-        self.grid.fixed_cells().map(|r| (r.min.x, r.min.y, r.max.x, r.max.y))
+        self.grid
+            .fixed_cells()
+            .map(|r| (r.min.x, r.min.y, r.max.x, r.max.y))
     }
 
     #[getter]

@@ -5,7 +5,9 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArra
 use pyo3::prelude::*;
 
 use crate::errors::IntoPyResult;
-use crate::grid::{self, laser_layout, parse_json, pose, rows, slice1, sonar_readings, stats, Stats};
+use crate::grid::{
+    self, laser_layout, parse_json, pose, rows, slice1, sonar_readings, stats, Stats,
+};
 use crate::scan::PyScan;
 
 #[pyclass(name = "LocalMap", module = "floorscan._native")]
@@ -16,10 +18,16 @@ pub struct PyLocalMap {
 #[pymethods]
 impl PyLocalMap {
     #[new]
-    fn new(options_json: &str, inserter_options_json: &str, local_from_robot: [f64; 3]) -> PyResult<Self> {
+    fn new(
+        options_json: &str,
+        inserter_options_json: &str,
+        local_from_robot: [f64; 3],
+    ) -> PyResult<Self> {
         let o: LocalMapOptions = parse_json("local map options", options_json)?;
         let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
-        Ok(Self { inner: LocalMap::new(o, io, pose(local_from_robot)).py()? })
+        Ok(Self {
+            inner: LocalMap::new(o, io, pose(local_from_robot)).py()?,
+        })
     }
 
     fn move_by(&mut self, delta: [f64; 3]) -> PyResult<()> {
@@ -37,7 +45,10 @@ impl PyLocalMap {
     }
 
     fn insert_scan(&mut self, scan: &PyScan, mount: [f64; 3]) -> PyResult<Stats> {
-        self.inner.insert_scan(&scan.inner, &pose(mount)).py().map(stats)
+        self.inner
+            .insert_scan(&scan.inner, &pose(mount))
+            .py()
+            .map(stats)
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -58,12 +69,22 @@ impl PyLocalMap {
             None => None,
         };
         let laser = laser_layout(r, a, angle_min, angle_increment, range_min, range_max);
-        self.inner.insert_laser(&laser, &pose(mount)).py().map(stats)
+        self.inner
+            .insert_laser(&laser, &pose(mount))
+            .py()
+            .map(stats)
     }
 
-    fn insert_sonar(&mut self, ranges: PyReadonlyArray1<'_, f64>, mounts: PyReadonlyArray2<'_, f64>, beam_width: f64, range_max: f64) -> PyResult<Stats> {
+    fn insert_sonar(
+        &mut self,
+        ranges: PyReadonlyArray1<'_, f64>,
+        mounts: PyReadonlyArray2<'_, f64>,
+        beam_width: f64,
+        range_max: f64,
+    ) -> PyResult<Stats> {
         let (m, _) = rows(&mounts, 3, "mounts")?;
-        let (readings, mounts) = sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
+        let (readings, mounts) =
+            sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
         self.inner.insert_sonar(&readings, &mounts).py().map(stats)
     }
 
@@ -73,24 +94,53 @@ impl PyLocalMap {
         (r.min.x, r.min.y, r.width(), r.height())
     }
 
-    fn values<'py>(&self, py: Python<'py>, min_x: i32, min_y: i32, width: usize, height: usize) -> PyResult<Bound<'py, PyArray2<i16>>> {
+    fn values<'py>(
+        &self,
+        py: Python<'py>,
+        min_x: i32,
+        min_y: i32,
+        width: usize,
+        height: usize,
+    ) -> PyResult<Bound<'py, PyArray2<i16>>> {
         grid::values(py, self.inner.grid(), min_x, min_y, width, height)
     }
 
     /// The window resampled in the robot frame: (height, width) int16, row 0 at the robot's
     /// right (most negative y), column 0 behind it (most negative x).
-    fn robot_view<'py>(&self, py: Python<'py>, width: usize, height: usize) -> PyResult<Bound<'py, PyArray2<i16>>> {
+    fn robot_view<'py>(
+        &self,
+        py: Python<'py>,
+        width: usize,
+        height: usize,
+    ) -> PyResult<Bound<'py, PyArray2<i16>>> {
         let mut out = Vec::new();
         self.inner.robot_view(width, height, &mut out);
         PyArray1::from_vec(py, out).reshape([height, width])
     }
 
-    fn occupancy_codes<'py>(&self, py: Python<'py>, xs: PyReadonlyArray1<'_, f64>, ys: PyReadonlyArray1<'_, f64>) -> PyResult<Bound<'py, PyArray1<u8>>> {
+    fn occupancy_codes<'py>(
+        &self,
+        py: Python<'py>,
+        xs: PyReadonlyArray1<'_, f64>,
+        ys: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<u8>>> {
         grid::occupancy_codes(py, self.inner.grid(), slice1(&xs, "x")?, slice1(&ys, "y")?)
     }
 
-    fn distances<'py>(&self, py: Python<'py>, xs: PyReadonlyArray1<'_, f64>, ys: PyReadonlyArray1<'_, f64>, max_m: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        grid::distances(py, self.inner.grid(), slice1(&xs, "x")?, slice1(&ys, "y")?, max_m)
+    fn distances<'py>(
+        &self,
+        py: Python<'py>,
+        xs: PyReadonlyArray1<'_, f64>,
+        ys: PyReadonlyArray1<'_, f64>,
+        max_m: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        grid::distances(
+            py,
+            self.inner.grid(),
+            slice1(&xs, "x")?,
+            slice1(&ys, "y")?,
+            max_m,
+        )
     }
 
     fn limits(&self) -> (i16, i16, i16, i16) {

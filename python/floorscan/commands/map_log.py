@@ -16,31 +16,64 @@ from ..grid import OccupancyGrid
 def register(sub) -> None:
     p = sub.add_parser(
         "map-log",
-        help="build an occupancy map from a CARMEN laser log (FLASER / ROBOTLASER1), write map_server YAML + PGM",
+        help="build an occupancy map from a CARMEN laser log (FLASER / ROBOTLASER1), "
+        "write map_server YAML + PGM",
     )
     p.add_argument("log", help="CARMEN log file (plain or .gz)")
-    p.add_argument("-o", "--output", required=True, help="map YAML to write (the PGM goes beside it)")
-    p.add_argument("--png", default=None, help="also write a picture of the map (paper look) to this PNG")
-    p.add_argument("--png-scale", type=int, default=1, help="pixels per cell in the PNG (default 1)")
+    p.add_argument(
+        "-o", "--output", required=True, help="map YAML to write (the PGM goes beside it)"
+    )
+    p.add_argument(
+        "--png", default=None, help="also write a picture of the map (paper look) to this PNG"
+    )
+    p.add_argument(
+        "--png-scale", type=int, default=1, help="pixels per cell in the PNG (default 1)"
+    )
     p.add_argument("--cell-size", type=float, default=0.04, help="cell size [m] (default 0.04)")
     p.add_argument(
         "--max-range",
         type=float,
         default=40.0,
-        help="ranges at or beyond this [m] are 'no return': they clear up to it and mark nothing (default 40)",
+        help="ranges at or beyond this [m] are 'no return': they clear up to it and mark "
+        "nothing (default 40)",
     )
     p.add_argument(
         "--no-return",
         choices=["ignore", "clear"],
         default="ignore",
-        help="what a no-return reading does: 'ignore' (default; in real buildings most come from glass and "
-        "open doors, and clearing them paints the outdoors free) or 'clear' (free space up to --max-range)",
+        help="what a no-return reading does: 'ignore' (default; in real buildings most come "
+        "from glass and open doors, and clearing them paints the outdoors free) or 'clear' "
+        "(free space up to --max-range)",
     )
-    p.add_argument("--min-range", type=float, default=0.05, help="shorter ranges are ignored [m] (default 0.05)")
-    p.add_argument("--hit", type=float, default=0.85, help="log-odds added to a cell seen occupied [nats] (default 0.85)")
-    p.add_argument("--miss", type=float, default=-0.4, help="log-odds added to a cell seen free [nats] (default -0.4)")
-    p.add_argument("--mode", choices=["trinary", "scale"], default="trinary", help="map_server image mode (default trinary)")
-    p.add_argument("--lenient", action="store_true", help="skip malformed lines (reported with their line numbers) instead of failing")
+    p.add_argument(
+        "--min-range",
+        type=float,
+        default=0.05,
+        help="shorter ranges are ignored [m] (default 0.05)",
+    )
+    p.add_argument(
+        "--hit",
+        type=float,
+        default=0.85,
+        help="log-odds added to a cell seen occupied [nats] (default 0.85)",
+    )
+    p.add_argument(
+        "--miss",
+        type=float,
+        default=-0.4,
+        help="log-odds added to a cell seen free [nats] (default -0.4)",
+    )
+    p.add_argument(
+        "--mode",
+        choices=["trinary", "scale"],
+        default="trinary",
+        help="map_server image mode (default trinary)",
+    )
+    p.add_argument(
+        "--lenient",
+        action="store_true",
+        help="skip malformed lines (reported with their line numbers) instead of failing",
+    )
     p.set_defaults(run=run)
 
 
@@ -49,14 +82,25 @@ def layout_groups(lasers: List[LaserReading]) -> List[List[LaserReading]]:
     groups: List[List[LaserReading]] = []
     for r in lasers:
         key = (r.ranges.size, r.angle_min, r.angle_increment)
-        if groups and (groups[-1][0].ranges.size, groups[-1][0].angle_min, groups[-1][0].angle_increment) == key:
+        if (
+            groups
+            and (groups[-1][0].ranges.size, groups[-1][0].angle_min, groups[-1][0].angle_increment)
+            == key
+        ):
             groups[-1].append(r)
         else:
             groups.append([r])
     return groups
 
 
-def map_lasers(grid: OccupancyGrid, lasers: List[LaserReading], *, max_range_m: float, min_range_m: float, clear_no_return: bool = False):
+def map_lasers(
+    grid: OccupancyGrid,
+    lasers: List[LaserReading],
+    *,
+    max_range_m: float,
+    min_range_m: float,
+    clear_no_return: bool = False,
+):
     """Inserts every scan at its laser pose; returns (rays, cells traversed, seconds). Ranges
     at or beyond the smaller of ``max_range_m`` and the log's stated maximum are no return:
     they clear up to it if ``clear_no_return``, else they are ignored."""
@@ -101,7 +145,11 @@ def run(args: argparse.Namespace) -> int:
         raise DatasetError(f"{args.log}: no FLASER or ROBOTLASER1 lines")
     grid = OccupancyGrid(cell_size_m=args.cell_size, laser=(args.hit, args.miss))
     rays, cells, seconds = map_lasers(
-        grid, log.lasers, max_range_m=args.max_range, min_range_m=args.min_range, clear_no_return=args.no_return == "clear"
+        grid,
+        log.lasers,
+        max_range_m=args.max_range,
+        min_range_m=args.min_range,
+        clear_no_return=args.no_return == "clear",
     )
     grid.save(args.output, mode=args.mode)
     if args.png:
@@ -110,9 +158,12 @@ def run(args: argparse.Namespace) -> int:
     (x0, y0), (x1, y1) = e.bounds_m
     print(
         f"mapped {len(log.lasers)} scans, {rays} rays, {cells} cells traversed in {seconds:.3f} s "
-        f"({rays / max(seconds, 1e-9):,.0f} rays/s, {1e9 * seconds / max(cells, 1):.2f} ns per cell)\n"
-        f"map {e.width} x {e.height} cells of {e.cell_size_m} m: x {x0:.2f}..{x1:.2f}, y {y0:.2f}..{y1:.2f} m; "
-        f"{grid.allocated_tiles} tiles, {grid.memory_bytes / 1e6:.1f} MB; peak memory {peak_rss_mb():.1f} MB\n"
+        f"({rays / max(seconds, 1e-9):,.0f} rays/s, "
+        f"{1e9 * seconds / max(cells, 1):.2f} ns per cell)\n"
+        f"map {e.width} x {e.height} cells of {e.cell_size_m} m: "
+        f"x {x0:.2f}..{x1:.2f}, y {y0:.2f}..{y1:.2f} m; "
+        f"{grid.allocated_tiles} tiles, {grid.memory_bytes / 1e6:.1f} MB; "
+        f"peak memory {peak_rss_mb():.1f} MB\n"
         f"-> {args.output}" + (f", {args.png}" if args.png else ""),
         file=sys.stderr,
     )
