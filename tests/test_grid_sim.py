@@ -5,10 +5,9 @@ occupied when an obstacle's footprint touches it, free when the robot can reach 
 Needs ``floorscan.sim`` (the simulator); skipped with a reason where this build lacks it.
 """
 
+import floorscan
 import numpy as np
 import pytest
-
-import floorscan
 
 sim = pytest.importorskip(
     "floorscan.sim", reason="floorscan.sim (the simulator) is not in this build"
