@@ -156,6 +156,16 @@ fn bench_visual(c: &mut Criterion) {
     let mut grid = Grid::new(GridOptions::default()).unwrap();
     let mut inserter = Inserter::new(InserterOptions::default()).unwrap();
     let mount = Pose2::new(0.1, 0.0, 0.0);
+    let mut stats = floorscan_core::UpdateStats::default();
+    for (s, p) in scans.iter().zip(&w.poses) {
+        stats += inserter.insert_scan(&mut grid, s, p, &mount).unwrap();
+    }
+    eprintln!(
+        "visual workload: {} rays, {} traversed cells ({:.1} per ray)",
+        stats.rays,
+        stats.cells_traversed,
+        stats.cells_traversed as f64 / stats.rays as f64
+    );
     let mut group = c.benchmark_group("mapping");
     group.sample_size(10);
     group.throughput(Throughput::Elements((SCANS * BEAMS) as u64));

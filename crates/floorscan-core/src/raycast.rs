@@ -205,24 +205,28 @@ impl GridWalk {
             (n <= rem).then_some(n)
         };
         let exit_x = exit(self.step_x, self.cell.x, min.x, max.x, rem_x)
-            .map(|n| self.t_x + (n - 1) * self.dt_x);
+            .map(|n| (n, self.t_x + (n - 1) * self.dt_x));
         let exit_y = exit(self.step_y, self.cell.y, min.y, max.y, rem_y)
-            .map(|n| self.t_y + (n - 1) * self.dt_y);
-        let t_exit = match (exit_x, exit_y) {
-            (None, None) => return self.end,
-            (Some(a), None) | (None, Some(a)) => a,
-            (Some(a), Some(b)) => a.min(b),
-        };
-        // Crossings strictly before the exit happen inside the box.
-        let before = |t: i64, dt: i64, rem: i64| -> i64 {
+            .map(|n| (n, self.t_y + (n - 1) * self.dt_y));
+        // Crossings of one axis strictly before time `t_exit` happen inside the box.
+        let before = |t: i64, dt: i64, rem: i64, t_exit: i64| -> i64 {
             if dt == 0 || t >= t_exit {
                 0
             } else {
                 ((t_exit - t - 1) / dt + 1).min(rem)
             }
         };
-        let nx = before(self.t_x, self.dt_x, rem_x);
-        let ny = before(self.t_y, self.dt_y, rem_y);
+        // The axis that leaves first took all its crossings but the last: one division at most.
+        let (nx, ny) = match (exit_x, exit_y) {
+            (None, None) => return self.end,
+            (Some((n, a)), None) => (n - 1, before(self.t_y, self.dt_y, rem_y, a)),
+            (None, Some((n, b))) => (before(self.t_x, self.dt_x, rem_x, b), n - 1),
+            (Some((n, a)), Some((m, b))) => match a.cmp(&b) {
+                std::cmp::Ordering::Less => (n - 1, before(self.t_y, self.dt_y, rem_y, a)),
+                std::cmp::Ordering::Greater => (before(self.t_x, self.dt_x, rem_x, b), m - 1),
+                std::cmp::Ordering::Equal => (n - 1, m - 1),
+            },
+        };
         CellIndex::new(
             self.cell.x + self.step_x * nx as i32,
             self.cell.y + self.step_y * ny as i32,
