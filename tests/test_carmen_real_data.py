@@ -4,8 +4,6 @@ checked against the maps their publishers rendered. Skipped where the data is ab
 import dataclasses
 import gzip
 import math
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,18 +11,10 @@ from floorscan import OccupancyGrid
 from floorscan.carmen import read_carmen
 from floorscan.commands.map_log import map_lasers
 
-
-def data_dir() -> Path:
-    if os.environ.get("FLOORSCAN_DATA"):
-        return Path(os.environ["FLOORSCAN_DATA"])
-    repo = Path(__file__).resolve().parent.parent
-    for candidate in (repo.parent / "shared" / "data", Path("/work/shared/data")):
-        if candidate.is_dir():
-            return candidate
-    return repo.parent / "shared" / "data"
+from conftest import shared_data_dir
 
 
-CARMEN = data_dir() / "carmen"
+CARMEN = shared_data_dir() / "carmen"
 pytestmark = pytest.mark.skipif(
     not CARMEN.is_dir(), reason=f"real CARMEN logs not found at {CARMEN} (set FLOORSCAN_DATA)"
 )

@@ -145,6 +145,8 @@ def test_arrays_follow_nav_msgs_layout_and_values():
     msg = g.to_occupancy_msg(floorscan.GridExtent(0, 0, 2, 3, 0.5, (0.0, 0.0)))
     assert msg.dtype == np.int8 and msg.tolist() == [[40, -1], [40, -1], [70, -1]]
     assert g.occupancy_classes()[:, 0].tolist() == [1, 1, 2]
+    data, resolution, origin = g.to_occupancy_grid()
+    assert data.tolist() == [[40], [40], [70]] and resolution == 0.5 and origin == (0.0, 0.0, 0.0)
 
 
 def test_images_have_the_paper_look(tmp_path):
@@ -166,8 +168,9 @@ def test_images_have_the_paper_look(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["m.png"]
     with pytest.raises(OptionError, match="style"):
         g.to_image(style="fancy")
-    with pytest.raises(OptionError, match="empty"):
-        OccupancyGrid().to_png(tmp_path / "empty.png")
+    # An empty growing map still exports: one unknown cell at the lattice origin.
+    with Image.open(OccupancyGrid().to_png(tmp_path / "empty.png")) as im:
+        assert im.size == (1, 1) and np.asarray(im)[0, 0] == 128
 
 
 def test_queries_match_brute_force():
@@ -282,4 +285,4 @@ def test_evidence_from_error_rates_and_copy():
     c = g.copy()
     c.insert_laser([1.0], angles=[0.0], range_max_m=5.0, pose=(0, 0, 0))
     assert c.raw().max() > g.raw().max()
-    assert g.memory_bytes >= g.allocated_tiles * 64 * 64 * 2 > 0
+    assert g.memory_bytes >= g.allocated_tiles * 128 * 128 * 2 > 0

@@ -78,6 +78,20 @@ def test_robot_view_rotates_with_the_robot():
     )
 
 
+def test_inserts_can_bring_the_pose():
+    # As the run pipeline does: the odometry pose with every scan.
+    a, b = LocalMap(), LocalMap()
+    kw = dict(angles=[0.0, 1.0], range_max_m=3.0)
+    a.insert_laser([1.0, 2.0], pose=(0.3, 0.1, 0.5), **kw)
+    b.move_to((0.3, 0.1, 0.5))
+    b.insert_laser([1.0, 2.0], **kw)
+    assert a.pose == b.pose == (0.3, 0.1, 0.5)
+    np.testing.assert_array_equal(a.raw(), b.raw())
+    a.insert_sonar(1.0, beam_width_rad=0.3, range_max_m=2.0, pose=(0.0, 0.0, 0.0))
+    assert a.pose == (0.0, 0.0, 0.0)
+    assert LocalMap(too_close="mark_near_edge").options is not None
+
+
 def test_local_map_errors():
     local = LocalMap()
     with pytest.raises(GeometryError):

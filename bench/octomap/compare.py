@@ -85,7 +85,7 @@ def run_ours(ranges, poses, angle_min, angle_increment, range_max, repeat: int):
         )
         seconds = time.perf_counter() - t0
         if best is None or seconds < best["seconds"]:
-            cells = grid.allocated_tiles * 64 * 64
+            cells = grid.allocated_tiles * 128 * 128
             best = {
                 "rays": stats.rays,
                 "cells_traversed": stats.cells_traversed,

@@ -64,7 +64,7 @@ def sonar_args(ranges, mounts):
 
 class OccupancyGrid(GridViews):
     """A global occupancy grid: fixed to the world, growing as the robot explores (tiles of
-    64 x 64 cells allocated on demand, 2 bytes per cell), or with fixed bounds.
+    128 x 128 cells allocated on demand, 2 bytes per cell), or with fixed bounds.
 
     Parameters (all keyword-only):
         cell_size_m: side of a cell [m], in [0.001, 10]. Default 0.04 (the paper's 4 cm).
@@ -141,7 +141,7 @@ class OccupancyGrid(GridViews):
 
     @property
     def allocated_tiles(self) -> int:
-        """Tiles of 64 x 64 cells allocated so far."""
+        """Tiles of 128 x 128 cells allocated so far."""
         return self._native.allocated_tiles
 
     def insert_scan(self, scan: Scan, pose, mount=(0.0, 0.0, 0.0)) -> InsertStats:

@@ -75,8 +75,11 @@ class GridViews:
     @property
     def extent(self) -> GridExtent:
         """The cells exported by default: a fixed-bounds map's bounds, a growing map's known
-        cells (those with any evidence), a local map's window."""
+        cells (those with any evidence; the single cell at the lattice origin while there are
+        none, so that an empty map still exports), a local map's window."""
         x, y, w, h = self._native.extent()
+        if w == 0 or h == 0:
+            x, y, w, h = 0, 0, 1, 1
         return self._extent(x, y, w, h)
 
     def _extent(self, x: int, y: int, w: int, h: int) -> GridExtent:
@@ -115,6 +118,15 @@ class GridViews:
         out = np.clip(np.rint(p * 100.0), 0, 100).astype(np.int8)
         out[raw == 0] = -1
         return out
+
+    def to_occupancy_grid(
+        self, extent: Optional[GridExtent] = None
+    ) -> Tuple[np.ndarray, float, Tuple[float, float, float]]:
+        """``(data, resolution_m, origin)``: the fields of a ``nav_msgs/OccupancyGrid`` --
+        :meth:`to_occupancy_msg` (H, W) int8, the cell size [m] and the origin pose
+        ``(x, y, yaw)`` [m, m, rad] of cell [0, 0]'s lower-left corner."""
+        e = extent or self.extent
+        return self.to_occupancy_msg(e), e.cell_size_m, (e.origin_m[0], e.origin_m[1], 0.0)
 
     def to_image(
         self, *, style: str = "probability", extent: Optional[GridExtent] = None

@@ -97,10 +97,18 @@ class LocalMap(GridViews):
         scrolls the window."""
         self._native.move_to(as_pose(pose, "pose"))
 
-    def insert_scan(self, scan: Scan, mount=(0.0, 0.0, 0.0)) -> InsertStats:
-        """A visual scan seen from the current pose, camera at ``mount`` (``robot_from_camera``)."""
+    def _place(self, pose) -> None:
+        if pose is not None:
+            self.move_to(pose)
+
+    def insert_scan(self, scan: Scan, pose=None, mount=(0.0, 0.0, 0.0)) -> InsertStats:
+        """A visual scan seen from ``pose`` (the robot in the local frame, e.g. the odometry
+        pose; the map moves there first) or, with ``pose=None``, from the current pose; the
+        camera at ``mount`` (``robot_from_camera``). Same argument order as
+        :meth:`floorscan.OccupancyGrid.insert_scan`."""
         if not isinstance(scan, Scan):
             raise TypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
+        self._place(pose)
         return InsertStats(*self._native.insert_scan(scan._native, as_pose(mount, "mount")))
 
     def insert_laser(
@@ -113,10 +121,12 @@ class LocalMap(GridViews):
         angle_min: Optional[float] = None,
         angle_increment: Optional[float] = None,
         mount=(0.0, 0.0, 0.0),
+        pose=None,
     ) -> InsertStats:
-        """A laser scan seen from the current pose (rules as
-        :meth:`floorscan.OccupancyGrid.insert_laser`)."""
+        """A laser scan seen from ``pose`` (local frame; default the current pose), rules as
+        :meth:`floorscan.OccupancyGrid.insert_laser`."""
         r, a, amin, ainc = laser_args(ranges, angles, angle_min, angle_increment)
+        self._place(pose)
         return InsertStats(
             *self._native.insert_laser(
                 r, a, amin, ainc, float(range_min_m), float(range_max_m), as_pose(mount, "mount")
@@ -124,11 +134,18 @@ class LocalMap(GridViews):
         )
 
     def insert_sonar(
-        self, ranges, *, beam_width_rad: float, range_max_m: float, mounts=(0.0, 0.0, 0.0)
+        self,
+        ranges,
+        *,
+        beam_width_rad: float,
+        range_max_m: float,
+        mounts=(0.0, 0.0, 0.0),
+        pose=None,
     ) -> InsertStats:
-        """Sonar readings taken at the current pose (rules as
-        :meth:`floorscan.OccupancyGrid.insert_sonar`)."""
+        """Sonar readings taken at ``pose`` (local frame; default the current pose), rules as
+        :meth:`floorscan.OccupancyGrid.insert_sonar`."""
         r, m = sonar_args(ranges, mounts)
+        self._place(pose)
         return InsertStats(
             *self._native.insert_sonar(r, m, float(beam_width_rad), float(range_max_m))
         )

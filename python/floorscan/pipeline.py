@@ -76,7 +76,8 @@ class Mapper:
     def __init__(
         self, table: GroundTable, cfg: Config, *, robot_from_camera: PoseTuple = (0.0, 0.0, 0.0)
     ) -> None:
-        from .grid import LocalMap, OccupancyGrid
+        from .grid import OccupancyGrid
+        from .local_map import LocalMap
 
         self.cfg = cfg
         self.ranger = ranger_from_config(table, cfg)

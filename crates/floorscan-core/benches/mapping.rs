@@ -81,7 +81,7 @@ fn bench_laser(c: &mut Criterion) {
         stats.cells_hit,
         grid.allocated_tiles(),
         grid.memory_bytes(),
-        grid.memory_bytes() as f64 / (grid.allocated_tiles() * 4096) as f64,
+        grid.memory_bytes() as f64 / (grid.allocated_tiles() * floorscan_core::grid::TILE_CELLS) as f64,
     );
     let mut group = c.benchmark_group("mapping");
     group.sample_size(10);

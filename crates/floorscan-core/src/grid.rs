@@ -1,5 +1,5 @@
 //! Storage of an occupancy grid: i16 log-odds cells ([`crate::log_odds`]) in square tiles of
-//! 64 x 64 cells allocated on demand, so a global map grows as the robot explores and costs
+//! 128 x 128 cells allocated on demand, so a global map grows as the robot explores and costs
 //! 2 bytes per cell of the tiles it touched; or fixed bounds on request.
 //!
 //! Geometry: cell `(i, j)` covers the world square `origin + cell_size * ([i, i+1) x [j, j+1))`
@@ -12,13 +12,13 @@ use crate::pose::Point2;
 use crate::raycast::{CellIndex, FixedPoint};
 
 /// log2 of the tile side.
-pub const TILE_BITS: u32 = 6;
+pub const TILE_BITS: u32 = 7;
 /// Tile side [cells].
 pub const TILE_SIZE: i32 = 1 << TILE_BITS;
 /// Cells per tile.
 pub const TILE_CELLS: usize = 1 << (2 * TILE_BITS);
-/// Most tile slots the directory may hold (2^24: 16 M tiles of 2.56 m at 4 cm, a square of
-/// about 10 km; the directory then takes 128 MB).
+/// Most tile slots the directory may hold (2^24: 16 M tiles of 5.12 m at 4 cm, a square of
+/// about 20 km; the directory then takes 128 MB).
 pub const MAX_DIRECTORY_TILES: usize = 1 << 24;
 
 /// One tile: row-major, `index = y_local * TILE_SIZE + x_local`.

@@ -223,7 +223,7 @@ impl RayUpdater {
     }
 
     /// The grid tile holding `c` (allocated if new), its stamp slot, and `c`'s local index.
-    #[inline]
+    #[inline(always)]
     fn tile_and_stamps<'a>(
         &'a mut self,
         grid: &'a mut Grid,
@@ -232,11 +232,7 @@ impl RayUpdater {
         let (tx, ty, local) = tile_of(c);
         let t = (ty - self.table_min.1) as usize * self.table_w + (tx - self.table_min.0) as usize;
         if self.table[t] == NO_SLOT {
-            if (self.slots_used + 1) * TILE_CELLS > self.pool.len() {
-                self.pool.resize((self.slots_used + 1) * TILE_CELLS, 0);
-            }
-            self.table[t] = self.slots_used as u32;
-            self.slots_used += 1;
+            self.assign_slot(t);
         }
         let s = self.table[t] as usize * TILE_CELLS;
         let stamps: &mut [u16; TILE_CELLS] = (&mut self.pool[s..s + TILE_CELLS])
@@ -246,6 +242,16 @@ impl RayUpdater {
             .dir_index(tx, ty)
             .expect("tiles reserved for the batch");
         (grid.tile_mut(d), stamps, local)
+    }
+
+    /// Gives tile-table entry `t` the next stamp slot (first touch of a tile in this batch).
+    #[cold]
+    fn assign_slot(&mut self, t: usize) {
+        if (self.slots_used + 1) * TILE_CELLS > self.pool.len() {
+            self.pool.resize((self.slots_used + 1) * TILE_CELLS, 0);
+        }
+        self.table[t] = self.slots_used as u32;
+        self.slots_used += 1;
     }
 }
 
