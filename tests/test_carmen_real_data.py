@@ -7,12 +7,10 @@ import math
 
 import numpy as np
 import pytest
+from conftest import shared_data_dir
 from floorscan import OccupancyGrid
 from floorscan.carmen import read_carmen
 from floorscan.commands.map_log import map_lasers
-
-from conftest import shared_data_dir
-
 
 CARMEN = shared_data_dir() / "carmen"
 pytestmark = pytest.mark.skipif(

@@ -11,7 +11,11 @@ import numpy as np
 
 from .errors import OptionError
 
-TOO_CLOSE_POLICIES = {"mark": "mark_near_edge", "mark_near_edge": "mark_near_edge", "ignore": "ignore"}
+TOO_CLOSE_POLICIES = {
+    "mark": "mark_near_edge",
+    "mark_near_edge": "mark_near_edge",
+    "ignore": "ignore",
+}
 """Accepted ``too_close`` values: ``"mark"`` (or ``"mark_near_edge"``, the config file's name: a
 hit at the near edge of view) or ``"ignore"``."""
 
