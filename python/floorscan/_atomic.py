@@ -17,6 +17,18 @@ def write_atomic(path: PathLike, data: Union[bytes, str]) -> Path:
     return write_atomic_with(path, lambda f: f.write(payload))
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def _make_readable(path: Union[str, Path]) -> None:
+    """mkstemp creates files readable by their owner only; give them the permissions an
+    ordinary ``open(path, "w")`` would (a map_server running as another user must read maps)."""
+    os.chmod(path, 0o666 & ~_umask())
+
+
 def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix: str = "") -> Path:
     """Calls ``write(binary_file)`` on a temporary file, then renames it to ``path``."""
     target = Path(path)
@@ -24,6 +36,7 @@ def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix:
     fd, tmp = tempfile.mkstemp(
         prefix=f".{target.name}.", suffix=suffix or ".tmp", dir=target.parent
     )
+    _make_readable(tmp)
     try:
         with os.fdopen(fd, "wb") as f:
             write(f)
@@ -46,4 +59,5 @@ def temp_path_for(path: PathLike, suffix: str) -> Path:
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
     os.close(fd)
+    _make_readable(tmp)
     return Path(tmp)

@@ -21,7 +21,7 @@ from typing import List, Optional
 
 import numpy as np
 
-from ._atomic import write_atomic
+from ._atomic import _make_readable, write_atomic
 from .config import Config
 from .overlay import draw_scan_overlay
 from .scan import SCAN_CSV_HEADER, Scan
@@ -34,6 +34,7 @@ class RunOutputs:
         self.cfg = cfg
         o = cfg.outputs
         fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
+        _make_readable(self._csv_tmp)
         self._csv = os.fdopen(fd, "w", encoding="utf-8")
         self._csv.write(SCAN_CSV_HEADER + "\n")
         self._overlay: List[np.ndarray] = []
