@@ -6,7 +6,6 @@ import os
 import stat
 
 import pytest
-
 from floorscan._atomic import write_atomic
 
 

@@ -350,6 +350,8 @@ def write_image_odometry_bag(
             )
             msgs.append((float(t), co, ODOMETRY_TYPE, m))
         for t, conn, typ, m in sorted(msgs, key=lambda r: r[0]):
+            if t < 0:
+                raise DatasetError(f"bag message times must be >= 0 s (ROS time), got {t}")
             writer.write(conn, int(round(t * 1e9)), serialize(m, typ))
     return path
 
