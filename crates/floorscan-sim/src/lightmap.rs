@@ -1,0 +1,99 @@
+//! Illumination of the floor, precomputed on a raster (ambient light plus ceiling lights, each
+//! falling off as a point source: (h^2 / (h^2 + d^2))^1.5), looked up bilinearly.
+//! No shadows: rooms are lit by many lights and by indirect light, and the world's baseboards
+//! already darken the foot of the walls.
+
+use floorscan_core::Point2;
+
+use crate::geometry::Aabb;
+use crate::world::Lighting;
+
+/// Raster resolution of the light map [m].
+pub const LIGHT_CELL_M: f64 = 0.1;
+
+#[derive(Debug, Clone)]
+pub struct LightMap {
+    origin: Point2,
+    nx: usize,
+    ny: usize,
+    cell: f64,
+    values: Vec<f32>,
+    ambient: f32,
+}
+
+impl LightMap {
+    pub fn new(lighting: &Lighting, bounds: Aabb) -> LightMap {
+        let mut cell = LIGHT_CELL_M;
+        let (w, h) = (bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y);
+        while (w / cell) * (h / cell) > 4.0e6 {
+            cell *= 2.0;
+        }
+        let nx = (w / cell).ceil() as usize + 2;
+        let ny = (h / cell).ceil() as usize + 2;
+        let mut values = vec![lighting.ambient as f32; nx * ny];
+        for j in 0..ny {
+            for i in 0..nx {
+                let p = Point2::new(bounds.min.x + i as f64 * cell, bounds.min.y + j as f64 * cell);
+                values[j * nx + i] += illuminance(lighting, p) as f32;
+            }
+        }
+        LightMap { origin: bounds.min, nx, ny, cell, values, ambient: lighting.ambient as f32 }
+    }
+
+    /// Floor illuminance at `p` (ambient outside the raster).
+    #[inline]
+    pub fn at(&self, p: Point2) -> f32 {
+        let gx = (p.x - self.origin.x) / self.cell;
+        let gy = (p.y - self.origin.y) / self.cell;
+        if !(gx >= 0.0 && gy >= 0.0 && gx < (self.nx - 1) as f64 && gy < (self.ny - 1) as f64) {
+            return self.ambient;
+        }
+        let (i, j) = (gx as usize, gy as usize);
+        let (fx, fy) = ((gx - i as f64) as f32, (gy - j as f64) as f32);
+        let v = &self.values;
+        let k = j * self.nx + i;
+        let top = v[k] + (v[k + 1] - v[k]) * fx;
+        let bottom = v[k + self.nx] + (v[k + self.nx + 1] - v[k + self.nx]) * fx;
+        top + (bottom - top) * fy
+    }
+}
+
+/// Direct illuminance on the floor at `p` from the lights (no ambient).
+pub fn illuminance(lighting: &Lighting, p: Point2) -> f64 {
+    lighting
+        .lights
+        .iter()
+        .map(|l| {
+            let d2 = (p.x - l.position.x).powi(2) + (p.y - l.position.y).powi(2);
+            let h2 = l.height_m * l.height_m;
+            l.power * (h2 / (h2 + d2)).powf(1.5)
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::Light;
+
+    #[test]
+    fn light_map_matches_the_point_source_formula() {
+        let lighting = Lighting {
+            ambient: 0.3,
+            lights: vec![Light { position: Point2::new(2.0, 1.0), height_m: 2.5, power: 0.8 }],
+            exposure: 1.0,
+            exposure_jitter: 0.0,
+            wall_factor: 0.7,
+            ceiling_brightness: 0.5,
+        };
+        let b = Aabb { min: Point2::new(0.0, 0.0), max: Point2::new(5.0, 4.0) };
+        let m = LightMap::new(&lighting, b);
+        // Right below the light: ambient + power.
+        assert!((m.at(Point2::new(2.0, 1.0)) - 1.1).abs() < 1e-4);
+        for p in [Point2::new(0.33, 0.71), Point2::new(4.2, 3.3)] {
+            let exact = 0.3 + illuminance(&lighting, p);
+            assert!((m.at(p) as f64 - exact).abs() < 2e-3, "{p:?}");
+        }
+        assert_eq!(m.at(Point2::new(-10.0, 0.0)), 0.3);
+    }
+}

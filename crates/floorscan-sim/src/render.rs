@@ -1,0 +1,240 @@
+//! Image formation: one ray per pixel (four per pixel on edges between surfaces when
+//! anti-aliasing), texture times illumination, vignetting, optical blur, Gaussian read noise and
+//! shot noise, exposure jitter, 8-bit quantisation. Also returns the label of each pixel centre.
+//!
+//! Deterministic: the noise of frame `frame_index` comes from `derive_seed(seed, frame_index)`,
+//! and textures are fixed to the world.
+
+use floorscan_core::{Point2, Pose2};
+
+use crate::camera::CameraRays;
+use crate::error::{invalid_option, Result};
+use crate::rng::{derive_seed, Rng};
+use crate::scene::{Hit, Scene, Surface};
+use crate::texture::CoveringClass;
+use crate::truth::PixelLabel;
+
+/// Reusable buffers of a render (so rendering a run allocates once).
+#[derive(Debug, Clone, Default)]
+pub struct RenderBuffers {
+    radiance: Vec<f32>,
+    ids: Vec<u32>,
+    scratch: Vec<f32>,
+    /// The rendered 8-bit image, row-major.
+    pub image: Vec<u8>,
+    /// The [`PixelLabel`] code of each pixel centre, row-major.
+    pub labels: Vec<u8>,
+    /// The exposure used for this frame (mean exposure times the jitter).
+    pub exposure: f64,
+}
+
+/// Where the camera is: its optical centre and the rotation of its ground frame.
+#[derive(Debug, Clone, Copy)]
+pub struct CameraPlacement {
+    pub origin: [f64; 3],
+    pub cos_yaw: f64,
+    pub sin_yaw: f64,
+    /// world_from_camera (the camera ground frame in the world).
+    pub world_from_camera: Pose2,
+}
+
+impl CameraPlacement {
+    pub fn new(rays: &CameraRays, world_from_robot: Pose2) -> CameraPlacement {
+        let wc = world_from_robot.compose(&rays.camera.robot_from_camera);
+        let (s, c) = wc.yaw.sin_cos();
+        CameraPlacement {
+            origin: [wc.x, wc.y, rays.camera.mount.height_m],
+            cos_yaw: c,
+            sin_yaw: s,
+            world_from_camera: wc,
+        }
+    }
+
+    /// A camera-ground-frame direction rotated into the world.
+    #[inline]
+    pub fn to_world(&self, d: [f64; 3]) -> [f64; 3] {
+        [self.cos_yaw * d[0] - self.sin_yaw * d[1], self.sin_yaw * d[0] + self.cos_yaw * d[1], d[2]]
+    }
+}
+
+const ID_NOTHING: u32 = 0;
+const ID_CEILING: u32 = 1;
+const ID_SIDE: u32 = 1 << 30;
+const ID_CAP: u32 = 1 << 31;
+
+/// Surface identity of a hit (for finding edges), and its label.
+#[inline]
+fn identify(scene: &Scene, hit: &Hit) -> (u32, PixelLabel) {
+    match hit.surface {
+        Surface::Nothing => (ID_NOTHING, PixelLabel::Nothing),
+        Surface::Ceiling => (ID_CEILING, PixelLabel::Ceiling),
+        Surface::Floor => {
+            let c = scene.covering_at(Point2::new(hit.point[0], hit.point[1]));
+            let label = match scene.world.coverings[c].class {
+                CoveringClass::Carpet => PixelLabel::Carpet,
+                CoveringClass::Other => PixelLabel::OtherCovering,
+                CoveringClass::Paper => PixelLabel::Paper,
+            };
+            (2 + c as u32, label)
+        }
+        Surface::Side { face, .. } => (ID_SIDE | face, PixelLabel::Obstacle),
+        Surface::Cap { solid, up } => (ID_CAP | solid << 1 | up as u32, PixelLabel::Obstacle),
+    }
+}
+
+/// Radiance (albedo times illumination) of a hit seen by a pixel of angle `pixel_angle`.
+#[inline]
+fn shade(scene: &Scene, hit: &Hit, d: [f64; 3], pixel_angle: f32) -> f32 {
+    let world = &scene.world;
+    let footprint = hit.t * pixel_angle as f64;
+    let p = Point2::new(hit.point[0], hit.point[1]);
+    match hit.surface {
+        Surface::Nothing => 0.0,
+        Surface::Ceiling => world.lighting.ceiling_brightness as f32,
+        Surface::Floor => {
+            let c = scene.covering_at(p);
+            // A pixel's footprint on the floor stretches along the ray as 1 / sin(elevation).
+            let stretch = 1.0 / d[2].abs().max(0.05).sqrt();
+            let albedo = world.coverings[c].albedo_at(p, footprint * stretch);
+            albedo * scene.light.at(p)
+        }
+        Surface::Side { face, s } => {
+            let f = &scene.sides[face as usize];
+            let solid = &world.solids[f.solid as usize];
+            let app = &world.appearances[solid.appearance];
+            let albedo = app.albedo_at(s, hit.point[2], footprint, f.seed);
+            // Faces turned differently are lit differently (a fixed main light direction).
+            let (nx, ny) = ((f.b.y - f.a.y) / f.length, -(f.b.x - f.a.x) / f.length);
+            let turn = 0.88 + 0.12 * (0.6 * nx + 0.8 * ny) as f32;
+            albedo * scene.light.at(p) * world.lighting.wall_factor as f32 * turn
+        }
+        Surface::Cap { solid, up } => {
+            let app = &world.appearances[world.solids[solid as usize].appearance];
+            let albedo = app.albedo_at_point(p, footprint);
+            let light = if up { scene.light.at(p) } else { 0.4 * world.lighting.ambient as f32 };
+            albedo * light
+        }
+    }
+}
+
+/// Renders the view of a robot at `world_from_robot` into `out` (image and labels).
+pub fn render_into(
+    scene: &Scene,
+    rays: &CameraRays,
+    world_from_robot: Pose2,
+    seed: u64,
+    frame_index: u64,
+    out: &mut RenderBuffers,
+) -> Result<()> {
+    if !world_from_robot.is_finite() {
+        return Err(invalid_option("pose", "robot pose must be finite"));
+    }
+    let cam = &rays.camera;
+    let (w, h) = (cam.width, cam.height);
+    let n = w * h;
+    out.radiance.resize(n, 0.0);
+    out.ids.resize(n, 0);
+    out.labels.resize(n, 0);
+    out.image.resize(n, 0);
+    let place = CameraPlacement::new(rays, world_from_robot);
+
+    for k in 0..n {
+        let d0 = rays.dirs[k];
+        if d0[0].is_nan() {
+            out.radiance[k] = 0.0;
+            out.ids[k] = ID_NOTHING;
+            out.labels[k] = PixelLabel::Nothing as u8;
+            continue;
+        }
+        let d = place.to_world(d0);
+        let hit = scene.trace(place.origin, d);
+        let (id, label) = identify(scene, &hit);
+        out.ids[k] = id;
+        out.labels[k] = label as u8;
+        out.radiance[k] = shade(scene, &hit, d, rays.pixel_angle[k]);
+    }
+
+    if cam.imaging.antialias {
+        antialias(scene, rays, &place, out);
+    }
+    if cam.imaging.blur_sigma_px > 0.0 {
+        gaussian_blur(&mut out.radiance, &mut out.scratch, w, h, cam.imaging.blur_sigma_px);
+    }
+
+    let mut rng = Rng::new(derive_seed(seed, frame_index));
+    let lighting = &scene.world.lighting;
+    let jitter = if lighting.exposure_jitter > 0.0 { (lighting.exposure_jitter * rng.normal()).exp() } else { 1.0 };
+    out.exposure = lighting.exposure * jitter;
+    let scale = (255.0 * out.exposure) as f32;
+    let read = cam.imaging.read_noise_dn as f32;
+    let shot = cam.imaging.shot_noise_gain as f32;
+    let noisy = read > 0.0 || shot > 0.0;
+    for k in 0..n {
+        let mut v = out.radiance[k] * rays.gain[k] * scale;
+        if noisy {
+            let sigma = (read * read + shot * v.max(0.0)).sqrt();
+            v += sigma * rng.normal_fast();
+        }
+        out.image[k] = v.round().clamp(0.0, 255.0) as u8;
+    }
+    Ok(())
+}
+
+/// Rotated-grid offsets of the four anti-aliasing samples [px].
+const AA_OFFSETS: [(f64, f64); 4] = [(-0.375, -0.125), (0.125, -0.375), (0.375, 0.125), (-0.125, 0.375)];
+
+/// Re-renders pixels that differ in surface from a 4-neighbour with four samples each.
+fn antialias(scene: &Scene, rays: &CameraRays, place: &CameraPlacement, out: &mut RenderBuffers) {
+    let (w, h) = (rays.camera.width, rays.camera.height);
+    let ids = &out.ids;
+    for v in 0..h {
+        for u in 0..w {
+            let k = v * w + u;
+            let id = ids[k];
+            let edge = (u + 1 < w && ids[k + 1] != id)
+                || (u > 0 && ids[k - 1] != id)
+                || (v + 1 < h && ids[k + w] != id)
+                || (v > 0 && ids[k - w] != id);
+            if !edge || rays.dirs[k][0].is_nan() {
+                continue;
+            }
+            let mut sum = 0.0;
+            for (du, dv) in AA_OFFSETS {
+                let d = place.to_world(rays.interpolated(u as f64 + du, v as f64 + dv));
+                let hit = scene.trace(place.origin, d);
+                sum += shade(scene, &hit, d, rays.pixel_angle[k]);
+            }
+            out.radiance[k] = sum / AA_OFFSETS.len() as f32;
+        }
+    }
+}
+
+/// Separable Gaussian blur with clamped borders.
+fn gaussian_blur(img: &mut [f32], tmp: &mut Vec<f32>, w: usize, h: usize, sigma: f64) {
+    let r = (3.0 * sigma).ceil() as isize;
+    let mut kernel: Vec<f32> = (-r..=r).map(|i| (-(i * i) as f64 / (2.0 * sigma * sigma)).exp() as f32).collect();
+    let s: f32 = kernel.iter().sum();
+    kernel.iter_mut().for_each(|k| *k /= s);
+    tmp.resize(w * h, 0.0);
+    for v in 0..h {
+        let row = &img[v * w..(v + 1) * w];
+        for u in 0..w {
+            let mut acc = 0.0;
+            for (i, kv) in kernel.iter().enumerate() {
+                let uu = (u as isize + i as isize - r).clamp(0, w as isize - 1) as usize;
+                acc += kv * row[uu];
+            }
+            tmp[v * w + u] = acc;
+        }
+    }
+    for v in 0..h {
+        for u in 0..w {
+            let mut acc = 0.0;
+            for (i, kv) in kernel.iter().enumerate() {
+                let vv = (v as isize + i as isize - r).clamp(0, h as isize - 1) as usize;
+                acc += kv * tmp[vv * w + u];
+            }
+            img[v * w + u] = acc;
+        }
+    }
+}

@@ -1,0 +1,161 @@
+//! Deterministic randomness, defined here (not by an external crate whose algorithms may change
+//! between versions) so that the same seed gives the same bytes on every machine and build.
+//!
+//! - [`Rng`]: xoshiro256** seeded through SplitMix64, for sequences (noise, odometry errors).
+//! - [`hash2`] / [`value_noise`]: stateless hashing of lattice points, for textures fixed to
+//!   the world (the carpet looks the same every time the robot passes).
+
+/// SplitMix64 step: a well-mixed 64-bit value from a counter.
+#[inline]
+pub fn splitmix64(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// A seed for stream `stream` derived from `seed` (independent sequences per frame, per run).
+pub fn derive_seed(seed: u64, stream: u64) -> u64 {
+    splitmix64(splitmix64(seed) ^ stream.wrapping_mul(0xD1B5_4A32_D192_ED03))
+}
+
+/// xoshiro256** pseudo-random generator.
+#[derive(Debug, Clone)]
+pub struct Rng {
+    s: [u64; 4],
+}
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        let mut z = seed;
+        let mut s = [0u64; 4];
+        for v in &mut s {
+            z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            *v = splitmix64(z);
+        }
+        Self { s }
+    }
+
+    #[inline]
+    pub fn next_u64(&mut self) -> u64 {
+        let result = self.s[1].wrapping_mul(5).rotate_left(7).wrapping_mul(9);
+        let t = self.s[1] << 17;
+        self.s[2] ^= self.s[0];
+        self.s[3] ^= self.s[1];
+        self.s[1] ^= self.s[2];
+        self.s[0] ^= self.s[3];
+        self.s[2] ^= t;
+        self.s[3] = self.s[3].rotate_left(45);
+        result
+    }
+
+    /// Uniform in [0, 1).
+    #[inline]
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Standard normal (Box-Muller; exact distribution, for the odometry and exposure).
+    pub fn normal(&mut self) -> f64 {
+        let u1 = 1.0 - self.uniform(); // (0, 1]
+        let u2 = self.uniform();
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+
+    /// Approximately standard normal, fast: the Irwin-Hall sum of four 16-bit uniforms, scaled
+    /// to unit variance (tails end at +-3.46). Used for per-pixel sensor noise.
+    #[inline]
+    pub fn normal_fast(&mut self) -> f32 {
+        let r = self.next_u64();
+        let sum = (r & 0xFFFF) + ((r >> 16) & 0xFFFF) + ((r >> 32) & 0xFFFF) + (r >> 48);
+        // Mean 4 * 32767.5, variance 4 * (65536^2 - 1) / 12.
+        const MEAN: f32 = 131_070.0;
+        const INV_STD: f32 = 1.0 / 37_837.227;
+        (sum as f32 - MEAN) * INV_STD
+    }
+}
+
+/// A hash of a lattice point and a seed, mapped to [-1, 1].
+#[inline]
+pub fn hash2(ix: i64, iy: i64, seed: u64) -> f32 {
+    let h = splitmix64((ix as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (iy as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F) ^ seed);
+    ((h >> 40) as f32) * (2.0 / (1u64 << 24) as f32) - 1.0
+}
+
+/// Smooth value noise in [-1, 1] at (x, y) in lattice units: hashed lattice values, blended with
+/// a smoothstep. Its standard deviation is about 0.42 (measured in the tests).
+#[inline]
+pub fn value_noise(x: f64, y: f64, seed: u64) -> f32 {
+    let (fx, fy) = (x.floor(), y.floor());
+    let (ix, iy) = (fx as i64, fy as i64);
+    let (tx, ty) = ((x - fx) as f32, (y - fy) as f32);
+    let sx = tx * tx * (3.0 - 2.0 * tx);
+    let sy = ty * ty * (3.0 - 2.0 * ty);
+    let a = hash2(ix, iy, seed);
+    let b = hash2(ix + 1, iy, seed);
+    let c = hash2(ix, iy + 1, seed);
+    let d = hash2(ix + 1, iy + 1, seed);
+    let top = a + (b - a) * sx;
+    let bottom = c + (d - c) * sx;
+    top + (bottom - top) * sy
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn same_seed_same_sequence_and_streams_differ() {
+        let (mut a, mut b) = (Rng::new(7), Rng::new(7));
+        for _ in 0..100 {
+            assert_eq!(a.next_u64(), b.next_u64());
+        }
+        assert_ne!(derive_seed(7, 0), derive_seed(7, 1));
+        assert_ne!(Rng::new(derive_seed(7, 0)).next_u64(), Rng::new(derive_seed(7, 1)).next_u64());
+    }
+
+    fn mean_var(v: &[f64]) -> (f64, f64) {
+        let n = v.len() as f64;
+        let m = v.iter().sum::<f64>() / n;
+        (m, v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1.0))
+    }
+
+    #[test]
+    fn normals_have_zero_mean_and_unit_variance() {
+        let mut r = Rng::new(1);
+        let exact: Vec<f64> = (0..200_000).map(|_| r.normal()).collect();
+        let fast: Vec<f64> = (0..200_000).map(|_| r.normal_fast() as f64).collect();
+        for v in [exact, fast] {
+            let (m, var) = mean_var(&v);
+            // Standard errors: 0.0022 for the mean, 0.0032 for the variance.
+            assert!(m.abs() < 0.01, "mean {m}");
+            assert!((var - 1.0).abs() < 0.015, "variance {var}");
+        }
+    }
+
+    #[test]
+    fn uniform_is_in_the_unit_interval() {
+        let mut r = Rng::new(3);
+        let v: Vec<f64> = (0..100_000).map(|_| r.uniform()).collect();
+        assert!(v.iter().all(|&x| (0.0..1.0).contains(&x)));
+        let (m, var) = mean_var(&v);
+        assert!((m - 0.5).abs() < 0.005 && (var - 1.0 / 12.0).abs() < 0.002);
+    }
+
+    #[test]
+    fn value_noise_is_continuous_bounded_and_matches_lattice_values() {
+        for i in 0..1000 {
+            let x = i as f64 * 0.137 - 50.0;
+            let y = i as f64 * 0.071 + 3.0;
+            let n = value_noise(x, y, 5);
+            assert!((-1.0..=1.0).contains(&n));
+            assert!((value_noise(x + 1e-6, y, 5) - n).abs() < 1e-3);
+        }
+        assert_eq!(value_noise(3.0, -2.0, 9), hash2(3, -2, 9));
+        let samples: Vec<f64> = (0..40_000)
+            .map(|i| value_noise((i % 200) as f64 * 0.31, (i / 200) as f64 * 0.29, 1) as f64)
+            .collect();
+        let (m, var) = mean_var(&samples);
+        assert!(m.abs() < 0.03 && (var.sqrt() - 0.42).abs() < 0.05, "mean {m} std {}", var.sqrt());
+    }
+}

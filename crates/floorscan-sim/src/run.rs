@@ -1,0 +1,94 @@
+//! A whole simulated run: the robot's trajectory rendered frame by frame, with the truth of
+//! every frame. Frames can be rendered on several threads; the result does not depend on it.
+
+use floorscan_core::Pose2;
+
+use crate::camera::CameraRays;
+use crate::error::{invalid_option, Result};
+use crate::render::{render_into, RenderBuffers};
+use crate::scene::Scene;
+use crate::truth::{frame_truth, FrameTruth, TruthOptions};
+
+/// Rendered frames of a run, stacked.
+#[derive(Debug, Clone, Default)]
+pub struct RenderedRun {
+    pub width: usize,
+    pub height: usize,
+    /// Images, frame after frame, row-major (N x H x W).
+    pub images: Vec<u8>,
+    /// Pixel labels like `images` (empty when not asked for).
+    pub labels: Vec<u8>,
+    /// Per-frame truth (empty when not asked for).
+    pub truth: Vec<FrameTruth>,
+    /// Per-frame exposure.
+    pub exposures: Vec<f64>,
+}
+
+/// What [`render_run`] computes besides the images.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunOutputs {
+    pub labels: bool,
+    pub truth: Option<TruthOptions>,
+    /// Worker threads, >= 1.
+    pub threads: usize,
+}
+
+/// Renders frame k at `poses[k]` with noise stream `k` of `seed`.
+pub fn render_run(scene: &Scene, rays: &CameraRays, poses: &[Pose2], seed: u64, outputs: RunOutputs) -> Result<RenderedRun> {
+    if outputs.threads == 0 || outputs.threads > 256 {
+        return Err(invalid_option("threads", format!("must be in 1..=256, got {}", outputs.threads)));
+    }
+    if let Some(t) = &outputs.truth {
+        t.validate()?;
+    }
+    if let Some(i) = poses.iter().position(|p| !p.is_finite()) {
+        return Err(invalid_option("poses", format!("pose {i} is not finite")));
+    }
+    let (w, h) = (rays.camera.width, rays.camera.height);
+    let n = poses.len();
+    let px = w * h;
+    let mut run = RenderedRun {
+        width: w,
+        height: h,
+        images: vec![0; n * px],
+        labels: if outputs.labels { vec![0; n * px] } else { vec![] },
+        truth: vec![],
+        exposures: vec![0.0; n],
+    };
+    let mut truths: Vec<Option<FrameTruth>> = vec![None; n];
+    let per = n.div_ceil(outputs.threads).max(1);
+    let results: Vec<Result<()>> = std::thread::scope(|s| {
+        let mut handles = Vec::new();
+        let mut images = run.images.chunks_mut(per * px);
+        let mut labels = run.labels.chunks_mut(per * px);
+        let exposures = run.exposures.chunks_mut(per);
+        let truth_chunks = truths.chunks_mut(per);
+        for (chunk, (exp, tr)) in exposures.zip(truth_chunks).enumerate() {
+            let img = images.next().unwrap_or_default();
+            let lab = labels.next().unwrap_or_default();
+            let first = chunk * per;
+            handles.push(s.spawn(move || -> Result<()> {
+                let mut buf = RenderBuffers::default();
+                for (k, e) in exp.iter_mut().enumerate() {
+                    let f = first + k;
+                    render_into(scene, rays, poses[f], seed, f as u64, &mut buf)?;
+                    img[k * px..(k + 1) * px].copy_from_slice(&buf.image);
+                    if !lab.is_empty() {
+                        lab[k * px..(k + 1) * px].copy_from_slice(&buf.labels);
+                    }
+                    *e = buf.exposure;
+                    if let Some(opts) = &outputs.truth {
+                        tr[k] = Some(frame_truth(scene, rays, poses[f], opts));
+                    }
+                }
+                Ok(())
+            }));
+        }
+        handles.into_iter().map(|h| h.join().unwrap_or_else(|_| Err(invalid_option("threads", "a render thread failed")))).collect()
+    });
+    for r in results {
+        r?;
+    }
+    run.truth = truths.into_iter().flatten().collect();
+    Ok(run)
+}

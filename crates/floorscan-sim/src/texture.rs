@@ -1,0 +1,286 @@
+//! What surfaces look like: floor coverings (carpet, linoleum, tiles, paper, calibration
+//! patterns) and the appearance of obstacle faces (walls, furniture). Textures are functions of
+//! the position on the surface, seeded per world, so a place looks the same on every visit.
+//!
+//! Albedo is in [0, 1]; the renderer multiplies it by the illumination and the exposure.
+//! Texture detail finer than a pixel's footprint is attenuated (an area average of many fibres
+//! varies less than one fibre), so far carpet looks smoother than near carpet, as in real images.
+
+use floorscan_core::Point2;
+use serde::{Deserialize, Serialize};
+
+use crate::rng::{hash2, value_noise};
+
+/// How a floor covering is labelled in the ground truth.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CoveringClass {
+    /// Carpet: even, fine, low-contrast texture (the paper's texture assumption holds).
+    Carpet,
+    /// Any other floor covering (linoleum, tiles, a calibration pattern).
+    Other,
+    /// A scrap of paper lying on the floor: not an obstacle, but it looks like one.
+    Paper,
+}
+
+/// The procedural pattern of a floor covering.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum FloorPattern {
+    /// Fibres of size `grain_m` with relative amplitude `contrast`, plus low-frequency mottling
+    /// (`mottle` relative amplitude at the scale `mottle_m`).
+    Carpet { contrast: f64, grain_m: f64, mottle: f64, mottle_m: f64 },
+    /// Smooth, slightly mottled sheet with fine speckles.
+    Linoleum { mottle: f64, mottle_m: f64, speckle: f64 },
+    /// Square tiles of side `tile_m` (axis-aligned in the world), separated by grout lines
+    /// `grout_m` wide of albedo `grout_albedo`; each tile's albedo varies by `variation`.
+    Tiles { tile_m: f64, grout_m: f64, grout_albedo: f64, variation: f64 },
+    /// Plain paper with a faint texture.
+    Paper,
+    /// A checkerboard: squares of side `square_m` whose inner corners are at
+    /// `origin + i square across + j square away` (i < `corners[0]`, j < `corners[1]`), with
+    /// dark squares of albedo `dark_albedo` and a white margin of `margin_m` around it.
+    Checkerboard {
+        origin: Point2,
+        across: Point2,
+        away: Point2,
+        square_m: f64,
+        corners: [u32; 2],
+        dark_albedo: f64,
+        margin_m: f64,
+    },
+    /// Dark lines `width_m` wide, `spacing_m` apart: `lines[0]` running away (at across offsets
+    /// i spacing from `origin`) and `lines[1]` running across (at away offsets j spacing), each
+    /// extending `overhang_m` past the outermost crossings.
+    Lines {
+        origin: Point2,
+        across: Point2,
+        away: Point2,
+        spacing_m: f64,
+        lines: [u32; 2],
+        width_m: f64,
+        line_albedo: f64,
+        overhang_m: f64,
+    },
+}
+
+/// A floor covering: base albedo and pattern.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Covering {
+    pub name: String,
+    pub class: CoveringClass,
+    /// Mean albedo in [0, 1].
+    pub albedo: f64,
+    pub pattern: FloorPattern,
+    /// Texture seed (derived from the world seed and the covering's name).
+    pub seed: u64,
+}
+
+/// Fraction of a feature's contrast that survives averaging over a footprint: 1 for footprints
+/// smaller than the feature, falling as feature / footprint beyond.
+#[inline]
+fn detail(feature_m: f64, footprint_m: f64) -> f32 {
+    if footprint_m <= feature_m {
+        1.0
+    } else {
+        (feature_m / footprint_m) as f32
+    }
+}
+
+/// Coverage (0..1) of a line of `width` centred on offset 0, at offset `d`, box-filtered over
+/// `footprint` (so thin lines fade instead of flickering when they are far).
+#[inline]
+fn line_coverage(d: f64, width: f64, footprint: f64) -> f64 {
+    let f = footprint.max(1e-9);
+    let lo = (d - f / 2.0).max(-width / 2.0);
+    let hi = (d + f / 2.0).min(width / 2.0);
+    ((hi - lo) / f).clamp(0.0, 1.0)
+}
+
+impl Covering {
+    /// Albedo at world point `p`, for a pixel whose footprint on the floor is `footprint_m`.
+    pub fn albedo_at(&self, p: Point2, footprint_m: f64) -> f32 {
+        let a = self.albedo as f32;
+        let seed = self.seed;
+        match &self.pattern {
+            FloorPattern::Carpet { contrast, grain_m, mottle, mottle_m } => {
+                let fine = value_noise(p.x / grain_m, p.y / grain_m, seed)
+                    + 0.5 * value_noise(p.x / (2.3 * grain_m), p.y / (2.3 * grain_m), seed ^ 0x55);
+                let coarse = value_noise(p.x / mottle_m, p.y / mottle_m, seed ^ 0xAA);
+                let k = detail(*grain_m, footprint_m);
+                a * (1.0 + *contrast as f32 * 1.6 * k * fine + *mottle as f32 * 2.4 * coarse)
+            }
+            FloorPattern::Linoleum { mottle, mottle_m, speckle } => {
+                let coarse = value_noise(p.x / mottle_m, p.y / mottle_m, seed);
+                let fine = hash2((p.x / 0.003).floor() as i64, (p.y / 0.003).floor() as i64, seed ^ 0x33);
+                a * (1.0 + *mottle as f32 * 2.4 * coarse + *speckle as f32 * detail(0.003, footprint_m) * fine)
+            }
+            FloorPattern::Tiles { tile_m, grout_m, grout_albedo, variation } => {
+                let (tx, ty) = (p.x / tile_m, p.y / tile_m);
+                let (ix, iy) = (tx.floor(), ty.floor());
+                let tile = a * (1.0 + *variation as f32 * hash2(ix as i64, iy as i64, seed));
+                let speck = 0.03 * detail(0.004, footprint_m) * value_noise(p.x / 0.004, p.y / 0.004, seed ^ 7);
+                // Distance to the nearest grout line in each direction [m].
+                let dx = (tx - ix - 0.5).abs() * tile_m;
+                let dy = (ty - iy - 0.5).abs() * tile_m;
+                let half = tile_m / 2.0;
+                let g = line_coverage(half - dx, *grout_m, footprint_m)
+                    .max(line_coverage(half - dy, *grout_m, footprint_m)) as f32;
+                (tile * (1.0 + speck)) * (1.0 - g) + *grout_albedo as f32 * g
+            }
+            FloorPattern::Paper => {
+                a * (1.0 + 0.02 * detail(0.002, footprint_m) * value_noise(p.x / 0.002, p.y / 0.002, seed))
+            }
+            FloorPattern::Checkerboard { origin, across, away, square_m, corners, dark_albedo, margin_m } => {
+                let q = Point2::new(p.x - origin.x, p.y - origin.y);
+                let i = (q.x * across.x + q.y * across.y) / square_m;
+                let j = (q.x * away.x + q.y * away.y) / square_m;
+                let (n_i, n_j) = (corners[0] as f64, corners[1] as f64);
+                let m = margin_m / square_m;
+                if i < -1.0 - m || j < -1.0 - m || i > n_i + m || j > n_j + m {
+                    return a; // outside the sheet: shouldn't happen within its region
+                }
+                if i < -1.0 || j < -1.0 || i > n_i || j > n_j {
+                    return a; // white margin
+                }
+                // Anti-aliased squares: blend by the distance to the nearest square edge.
+                let parity = ((i.floor() as i64 + j.floor() as i64).rem_euclid(2)) == 0;
+                let di = (i - i.round()).abs() * square_m;
+                let dj = (j - j.round()).abs() * square_m;
+                let near_edge = di.min(dj);
+                let w = ((near_edge / footprint_m.max(1e-9)) + 0.5).clamp(0.5, 1.0) as f32;
+                let (own, other) = if parity { (*dark_albedo as f32, a) } else { (a, *dark_albedo as f32) };
+                own * w + other * (1.0 - w)
+            }
+            FloorPattern::Lines { origin, across, away, spacing_m, lines, width_m, line_albedo, overhang_m } => {
+                let q = Point2::new(p.x - origin.x, p.y - origin.y);
+                let s_across = q.x * across.x + q.y * across.y;
+                let s_away = q.x * away.x + q.y * away.y;
+                let extent_across = (lines[0].max(1) - 1) as f64 * spacing_m;
+                let extent_away = (lines[1].max(1) - 1) as f64 * spacing_m;
+                let mut cover: f64 = 0.0;
+                // Lines running away: constant across-offset, within the away extent.
+                if s_away >= -overhang_m && s_away <= extent_away + overhang_m {
+                    let k = (s_across / spacing_m).round().clamp(0.0, (lines[0].max(1) - 1) as f64);
+                    cover = cover.max(line_coverage(s_across - k * spacing_m, *width_m, footprint_m));
+                }
+                if s_across >= -overhang_m && s_across <= extent_across + overhang_m {
+                    let k = (s_away / spacing_m).round().clamp(0.0, (lines[1].max(1) - 1) as f64);
+                    cover = cover.max(line_coverage(s_away - k * spacing_m, *width_m, footprint_m));
+                }
+                // Tape on carpet: the background keeps a carpet's fine texture.
+                let k = detail(0.004, footprint_m);
+                let bg = a * (1.0 + 0.1 * k * value_noise(p.x / 0.004, p.y / 0.004, seed));
+                let c = cover as f32;
+                bg * (1.0 - c) + *line_albedo as f32 * c
+            }
+        }
+    }
+}
+
+/// How an obstacle face looks: painted walls with a dark baseboard, wood, metal.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Appearance {
+    pub name: String,
+    /// Mean albedo in [0, 1].
+    pub albedo: f64,
+    /// Relative amplitude of the surface texture (paint, grain).
+    pub texture: f64,
+    /// Scale of the texture [m].
+    pub texture_m: f64,
+    /// Height of a baseboard strip at the bottom of the face [m] (0 for none).
+    pub baseboard_m: f64,
+    pub baseboard_albedo: f64,
+    pub seed: u64,
+}
+
+impl Appearance {
+    /// Albedo at position `s` along the face and height `z` [m], footprint `footprint_m`.
+    pub fn albedo_at(&self, s: f64, z: f64, footprint_m: f64, face_seed: u64) -> f32 {
+        if z < self.baseboard_m {
+            return self.baseboard_albedo as f32;
+        }
+        let k = detail(self.texture_m, footprint_m);
+        let seed = self.seed ^ face_seed;
+        let n = value_noise(s / self.texture_m, z / self.texture_m, seed)
+            + 0.4 * value_noise(s / (4.0 * self.texture_m), z / (0.5 * self.texture_m), seed ^ 1);
+        self.albedo as f32 * (1.0 + self.texture as f32 * 1.7 * k * n)
+    }
+
+    /// Albedo of a horizontal face (table tops, undersides) at `p`.
+    pub fn albedo_at_point(&self, p: Point2, footprint_m: f64) -> f32 {
+        let k = detail(self.texture_m, footprint_m);
+        let n = value_noise(p.x / self.texture_m, p.y / (3.0 * self.texture_m), self.seed);
+        self.albedo as f32 * (1.0 + self.texture as f32 * 1.7 * k * n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn carpet() -> Covering {
+        Covering {
+            name: "carpet".into(),
+            class: CoveringClass::Carpet,
+            albedo: 0.4,
+            pattern: FloorPattern::Carpet { contrast: 0.06, grain_m: 0.004, mottle: 0.03, mottle_m: 0.5 },
+            seed: 11,
+        }
+    }
+
+    fn std_along(c: &Covering, footprint: f64) -> f64 {
+        let v: Vec<f64> = (0..4000)
+            .map(|i| c.albedo_at(Point2::new(i as f64 * 0.0137, 0.3 + i as f64 * 0.0071), footprint) as f64)
+            .collect();
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / v.len() as f64).sqrt()
+    }
+
+    #[test]
+    fn carpet_is_low_contrast_and_smoother_far_away() {
+        let c = carpet();
+        let near = std_along(&c, 0.002);
+        let far = std_along(&c, 0.04);
+        assert!(near / 0.4 < 0.15, "relative std {}", near / 0.4);
+        assert!(far < near * 0.6, "near {near} far {far}");
+    }
+
+    #[test]
+    fn grout_lines_are_dark_and_tile_centres_are_not() {
+        let t = Covering {
+            name: "tiles".into(),
+            class: CoveringClass::Other,
+            albedo: 0.7,
+            pattern: FloorPattern::Tiles { tile_m: 0.3, grout_m: 0.01, grout_albedo: 0.2, variation: 0.0 },
+            seed: 1,
+        };
+        assert!((t.albedo_at(Point2::new(0.3, 0.15), 0.001) - 0.2).abs() < 1e-6);
+        assert!(t.albedo_at(Point2::new(0.15, 0.15), 0.001) > 0.6);
+    }
+
+    #[test]
+    fn checkerboard_squares_alternate_around_an_inner_corner() {
+        let b = Covering {
+            name: "board".into(),
+            class: CoveringClass::Other,
+            albedo: 0.9,
+            pattern: FloorPattern::Checkerboard {
+                origin: Point2::new(1.0, 0.0),
+                across: Point2::new(0.0, -1.0),
+                away: Point2::new(1.0, 0.0),
+                square_m: 0.1,
+                corners: [3, 2],
+                dark_albedo: 0.05,
+                margin_m: 0.05,
+            },
+            seed: 0,
+        };
+        let at = |x: f64, y: f64| b.albedo_at(Point2::new(x, y), 1e-4);
+        // Diagonal squares around the corner at (1, 0) share a colour, neighbours differ.
+        assert_eq!(at(1.05, -0.05), at(0.95, 0.05));
+        assert_ne!(at(1.05, -0.05), at(1.05, 0.05));
+        // The margin is white.
+        assert!((at(0.88, 0.0) - 0.9).abs() < 1e-6);
+    }
+}
