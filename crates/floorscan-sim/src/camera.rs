@@ -11,6 +11,7 @@ use floorscan_core::{CameraMount, GroundTable, Lens, Point2, Pose2};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{check_range, invalid_option, Result};
+use crate::texture::Footprint;
 
 /// How the sensor turns light into 8-bit grey values.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -141,6 +142,13 @@ pub struct CameraRays {
     pub pixel_angle: Vec<f32>,
     /// Vignetting gain in (0, 1].
     pub gain: Vec<f32>,
+    /// Azimuth of each ray in the camera ground frame [rad], and the length of its horizontal
+    /// part (for the clearance shortcut of the renderer).
+    pub azimuth: Vec<f64>,
+    pub horizontal: Vec<f64>,
+    /// Footprint of each pixel on the floor [m] (it stretches along the ray as
+    /// 1 / sqrt(sin(depression)) on average); meaningless for rays that miss the floor.
+    pub floor_footprint: Vec<Footprint>,
 }
 
 impl CameraRays {
@@ -174,7 +182,18 @@ impl CameraRays {
                 gain.push((1.0 - vig * r * r) as f32);
             }
         }
-        Ok(CameraRays { camera, dirs, pixel_angle, gain })
+        let azimuth = dirs.iter().map(|d| d[1].atan2(d[0])).collect();
+        let horizontal = dirs.iter().map(|d| d[0].hypot(d[1])).collect();
+        let height = camera.mount.height_m;
+        let floor_footprint = dirs
+            .iter()
+            .zip(&pixel_angle)
+            .map(|(d, a)| {
+                let down = (-d[2]).max(0.02);
+                Footprint::new(height / down * *a as f64 / down.sqrt())
+            })
+            .collect();
+        Ok(CameraRays { camera, dirs, pixel_angle, gain, azimuth, horizontal, floor_footprint })
     }
 
     /// A ray between pixel centres (bilinear interpolation of the four neighbouring rays,

@@ -76,13 +76,16 @@ pub fn signed_area(polygon: &[Point2]) -> f64 {
 pub fn ray_segment(o: Point2, d: Point2, a: Point2, b: Point2) -> Option<(f64, f64)> {
     let e = Point2::new(b.x - a.x, b.y - a.y);
     let denom = d.x * e.y - d.y * e.x;
-    if denom.abs() < 1e-300 {
+    let w = Point2::new(a.x - o.x, a.y - o.y);
+    let tn = w.x * e.y - w.y * e.x;
+    let sn = w.x * d.y - w.y * d.x;
+    // Range checks on the numerators (sign-adjusted), so misses cost no division.
+    let (tn, sn, den) = if denom < 0.0 { (-tn, -sn, -denom) } else { (tn, sn, denom) };
+    if !(den > 1e-300 && tn >= 0.0 && sn >= 0.0 && sn <= den) {
         return None;
     }
-    let w = Point2::new(a.x - o.x, a.y - o.y);
-    let t = (w.x * e.y - w.y * e.x) / denom;
-    let s = (w.x * d.y - w.y * d.x) / denom;
-    (t >= 0.0 && (0.0..=1.0).contains(&s)).then_some((t, s))
+    let inv = 1.0 / den;
+    Some((tn * inv, sn * inv))
 }
 
 /// A rectangle of `size` (along its x, along its y) centred at `center`, rotated by `yaw`,

@@ -5,6 +5,7 @@
 use floorscan_core::Point2;
 
 use crate::geometry::Aabb;
+use crate::rng::fast_floor;
 
 /// Cell geometry of a uniform grid.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -120,22 +121,31 @@ pub struct CellWalk {
 }
 
 impl CellWalk {
-    /// Starts at the cell containing `o + t_start d` (t_start: where the track enters the grid).
+    /// Starts at the cell containing `o` (or where the track enters the grid).
     pub fn new(shape: &GridShape, o: Point2, d: Point2) -> CellWalk {
+        CellWalk::starting_at(shape, o, d, 0.0)
+    }
+
+    /// Starts at the cell containing `o + t0 d` (t0 >= 0), for a track known to meet nothing
+    /// before t0; exit parameters still count from `o`.
+    pub fn starting_at(shape: &GridShape, o: Point2, d: Point2, t0: f64) -> CellWalk {
         let c = shape.cell_m;
-        let b = shape.bounds();
-        // Entry into the grid box (slab test).
-        let mut t_start: f64 = 0.0;
+        let inside = shape.cell_of(Point2::new(o.x + t0 * d.x, o.y + t0 * d.y)).is_some();
+        // Entry into the grid box (slab test), unless the track starts inside.
+        let mut t_start: f64 = t0;
         let mut t_end = f64::INFINITY;
-        for (oo, dd, lo, hi) in [(o.x, d.x, b.min.x, b.max.x), (o.y, d.y, b.min.y, b.max.y)] {
-            if dd.abs() < 1e-300 {
-                if oo < lo || oo >= hi {
-                    t_end = -1.0;
+        if !inside {
+            let b = shape.bounds();
+            for (oo, dd, lo, hi) in [(o.x, d.x, b.min.x, b.max.x), (o.y, d.y, b.min.y, b.max.y)] {
+                if dd.abs() < 1e-300 {
+                    if oo < lo || oo >= hi {
+                        t_end = -1.0;
+                    }
+                } else {
+                    let (t0, t1) = ((lo - oo) / dd, (hi - oo) / dd);
+                    t_start = t_start.max(t0.min(t1));
+                    t_end = t_end.min(t0.max(t1));
                 }
-            } else {
-                let (t0, t1) = ((lo - oo) / dd, (hi - oo) / dd);
-                t_start = t_start.max(t0.min(t1));
-                t_end = t_end.min(t0.max(t1));
             }
         }
         let mut walk = CellWalk {
@@ -156,8 +166,8 @@ impl CellWalk {
         }
         let px = o.x + t_start * d.x;
         let py = o.y + t_start * d.y;
-        walk.i = (((px - shape.origin.x) / c).floor() as i64).clamp(0, walk.nx - 1);
-        walk.j = (((py - shape.origin.y) / c).floor() as i64).clamp(0, walk.ny - 1);
+        walk.i = fast_floor((px - shape.origin.x) / c).clamp(0, walk.nx - 1);
+        walk.j = fast_floor((py - shape.origin.y) / c).clamp(0, walk.ny - 1);
         if d.x > 0.0 {
             walk.step_i = 1;
             walk.t_delta_x = c / d.x;

@@ -13,6 +13,7 @@
 pub mod builtin;
 pub mod calibration;
 pub mod camera;
+pub mod clearance;
 pub mod error;
 pub mod geometry;
 pub mod grid_index;

@@ -8,10 +8,11 @@
 use floorscan_core::{Point2, Pose2};
 
 use crate::camera::CameraRays;
+use crate::clearance::{sector_of, Clearance};
 use crate::error::{invalid_option, Result};
 use crate::rng::{derive_seed, Rng};
 use crate::scene::{Hit, Scene, Surface};
-use crate::texture::CoveringClass;
+use crate::texture::{CoveringClass, Footprint};
 use crate::truth::PixelLabel;
 
 /// Reusable buffers of a render (so rendering a run allocates once).
@@ -62,57 +63,53 @@ const ID_CEILING: u32 = 1;
 const ID_SIDE: u32 = 1 << 30;
 const ID_CAP: u32 = 1 << 31;
 
-/// Surface identity of a hit (for finding edges), and its label.
+/// A shaded sample: radiance (albedo times illumination), surface identity (for finding
+/// edges) and label.
+struct Sample {
+    radiance: f32,
+    id: u32,
+    label: PixelLabel,
+}
+
+/// Shades a hit seen along `d` by a pixel of angle `pixel_angle` [rad].
 #[inline]
-fn identify(scene: &Scene, hit: &Hit) -> (u32, PixelLabel) {
+fn shade(scene: &Scene, hit: &Hit, pixel_angle: f32, floor_footprint: Footprint) -> Sample {
+    let world = &scene.world;
+    let p = Point2::new(hit.point[0], hit.point[1]);
     match hit.surface {
-        Surface::Nothing => (ID_NOTHING, PixelLabel::Nothing),
-        Surface::Ceiling => (ID_CEILING, PixelLabel::Ceiling),
+        Surface::Nothing => Sample { radiance: 0.0, id: ID_NOTHING, label: PixelLabel::Nothing },
+        Surface::Ceiling => Sample {
+            radiance: world.lighting.ceiling_brightness as f32,
+            id: ID_CEILING,
+            label: PixelLabel::Ceiling,
+        },
         Surface::Floor => {
-            let c = scene.covering_at(Point2::new(hit.point[0], hit.point[1]));
-            let label = match scene.world.coverings[c].class {
+            let c = scene.covering_at(p);
+            let covering = &scene.coverings[c];
+            let albedo = covering.albedo_at(p, floor_footprint);
+            let label = match covering.covering.class {
                 CoveringClass::Carpet => PixelLabel::Carpet,
                 CoveringClass::Other => PixelLabel::OtherCovering,
                 CoveringClass::Paper => PixelLabel::Paper,
             };
-            (2 + c as u32, label)
-        }
-        Surface::Side { face, .. } => (ID_SIDE | face, PixelLabel::Obstacle),
-        Surface::Cap { solid, up } => (ID_CAP | solid << 1 | up as u32, PixelLabel::Obstacle),
-    }
-}
-
-/// Radiance (albedo times illumination) of a hit seen by a pixel of angle `pixel_angle`.
-#[inline]
-fn shade(scene: &Scene, hit: &Hit, d: [f64; 3], pixel_angle: f32) -> f32 {
-    let world = &scene.world;
-    let footprint = hit.t * pixel_angle as f64;
-    let p = Point2::new(hit.point[0], hit.point[1]);
-    match hit.surface {
-        Surface::Nothing => 0.0,
-        Surface::Ceiling => world.lighting.ceiling_brightness as f32,
-        Surface::Floor => {
-            let c = scene.covering_at(p);
-            // A pixel's footprint on the floor stretches along the ray as 1 / sin(elevation).
-            let stretch = 1.0 / d[2].abs().max(0.05).sqrt();
-            let albedo = world.coverings[c].albedo_at(p, footprint * stretch);
-            albedo * scene.light.at(p)
+            Sample { radiance: albedo * scene.light.at(p), id: 2 + c as u32, label }
         }
         Surface::Side { face, s } => {
             let f = &scene.sides[face as usize];
             let solid = &world.solids[f.solid as usize];
             let app = &world.appearances[solid.appearance];
-            let albedo = app.albedo_at(s, hit.point[2], footprint, f.seed);
+            let albedo = app.albedo_at(s, hit.point[2], Footprint::new(hit.t * pixel_angle as f64), f.seed);
             // Faces turned differently are lit differently (a fixed main light direction).
             let (nx, ny) = ((f.b.y - f.a.y) / f.length, -(f.b.x - f.a.x) / f.length);
             let turn = 0.88 + 0.12 * (0.6 * nx + 0.8 * ny) as f32;
-            albedo * scene.light.at(p) * world.lighting.wall_factor as f32 * turn
+            let radiance = albedo * scene.light.at(p) * world.lighting.wall_factor as f32 * turn;
+            Sample { radiance, id: ID_SIDE | face, label: PixelLabel::Obstacle }
         }
         Surface::Cap { solid, up } => {
             let app = &world.appearances[world.solids[solid as usize].appearance];
-            let albedo = app.albedo_at_point(p, footprint);
+            let albedo = app.albedo_at_point(p, Footprint::new(hit.t * pixel_angle as f64));
             let light = if up { scene.light.at(p) } else { 0.4 * world.lighting.ambient as f32 };
-            albedo * light
+            Sample { radiance: albedo * light, id: ID_CAP | solid << 1 | up as u32, label: PixelLabel::Obstacle }
         }
     }
 }
@@ -137,6 +134,8 @@ pub fn render_into(
     out.labels.resize(n, 0);
     out.image.resize(n, 0);
     let place = CameraPlacement::new(rays, world_from_robot);
+    let clear = Clearance::new(scene, place.world_from_camera.translation());
+    let yaw = place.world_from_camera.yaw;
 
     for k in 0..n {
         let d0 = rays.dirs[k];
@@ -147,15 +146,16 @@ pub fn render_into(
             continue;
         }
         let d = place.to_world(d0);
-        let hit = scene.trace(place.origin, d);
-        let (id, label) = identify(scene, &hit);
-        out.ids[k] = id;
-        out.labels[k] = label as u8;
-        out.radiance[k] = shade(scene, &hit, d, rays.pixel_angle[k]);
+        let free = clear.free_m[sector_of(rays.azimuth[k] + yaw)];
+        let hit = scene.trace_clear(place.origin, d, free, rays.horizontal[k]);
+        let sample = shade(scene, &hit, rays.pixel_angle[k], rays.floor_footprint[k]);
+        out.ids[k] = sample.id;
+        out.labels[k] = sample.label as u8;
+        out.radiance[k] = sample.radiance;
     }
 
     if cam.imaging.antialias {
-        antialias(scene, rays, &place, out);
+        antialias(scene, rays, &place, &clear, out);
     }
     if cam.imaging.blur_sigma_px > 0.0 {
         gaussian_blur(&mut out.radiance, &mut out.scratch, w, h, cam.imaging.blur_sigma_px);
@@ -175,7 +175,8 @@ pub fn render_into(
             let sigma = (read * read + shot * v.max(0.0)).sqrt();
             v += sigma * rng.normal_fast();
         }
-        out.image[k] = v.round().clamp(0.0, 255.0) as u8;
+        // Round half up (no libm call); the clamp keeps it in range.
+        out.image[k] = (v.clamp(0.0, 255.0) + 0.5) as u8;
     }
     Ok(())
 }
@@ -184,7 +185,7 @@ pub fn render_into(
 const AA_OFFSETS: [(f64, f64); 4] = [(-0.375, -0.125), (0.125, -0.375), (0.375, 0.125), (-0.125, 0.375)];
 
 /// Re-renders pixels that differ in surface from a 4-neighbour with four samples each.
-fn antialias(scene: &Scene, rays: &CameraRays, place: &CameraPlacement, out: &mut RenderBuffers) {
+fn antialias(scene: &Scene, rays: &CameraRays, place: &CameraPlacement, clear: &Clearance, out: &mut RenderBuffers) {
     let (w, h) = (rays.camera.width, rays.camera.height);
     let ids = &out.ids;
     for v in 0..h {
@@ -201,8 +202,9 @@ fn antialias(scene: &Scene, rays: &CameraRays, place: &CameraPlacement, out: &mu
             let mut sum = 0.0;
             for (du, dv) in AA_OFFSETS {
                 let d = place.to_world(rays.interpolated(u as f64 + du, v as f64 + dv));
-                let hit = scene.trace(place.origin, d);
-                sum += shade(scene, &hit, d, rays.pixel_angle[k]);
+                let free = clear.free_m[sector_of(d[1].atan2(d[0]))];
+                let hit = scene.trace_clear(place.origin, d, free, d[0].hypot(d[1]));
+                sum += shade(scene, &hit, rays.pixel_angle[k], rays.floor_footprint[k]).radiance;
             }
             out.radiance[k] = sum / AA_OFFSETS.len() as f32;
         }
@@ -211,30 +213,59 @@ fn antialias(scene: &Scene, rays: &CameraRays, place: &CameraPlacement, out: &mu
 
 /// Separable Gaussian blur with clamped borders.
 fn gaussian_blur(img: &mut [f32], tmp: &mut Vec<f32>, w: usize, h: usize, sigma: f64) {
-    let r = (3.0 * sigma).ceil() as isize;
-    let mut kernel: Vec<f32> = (-r..=r).map(|i| (-(i * i) as f64 / (2.0 * sigma * sigma)).exp() as f32).collect();
+    let r = ((3.0 * sigma).ceil() as usize).min(w.min(h) / 2).max(1);
+    let mut kernel: Vec<f32> =
+        (0..=2 * r).map(|i| (-((i as f64 - r as f64).powi(2)) / (2.0 * sigma * sigma)).exp() as f32).collect();
     let s: f32 = kernel.iter().sum();
     kernel.iter_mut().for_each(|k| *k /= s);
+    tmp.clear();
     tmp.resize(w * h, 0.0);
+    // Horizontal pass into tmp: clamped at the borders, straight in the interior.
     for v in 0..h {
         let row = &img[v * w..(v + 1) * w];
+        let out = &mut tmp[v * w..(v + 1) * w];
         for u in 0..w {
-            let mut acc = 0.0;
-            for (i, kv) in kernel.iter().enumerate() {
-                let uu = (u as isize + i as isize - r).clamp(0, w as isize - 1) as usize;
-                acc += kv * row[uu];
+            if u < r || u + r >= w {
+                out[u] = kernel
+                    .iter()
+                    .enumerate()
+                    .map(|(i, k)| k * row[(u + i).saturating_sub(r).min(w - 1)])
+                    .sum();
+            } else {
+                out[u] = kernel.iter().zip(&row[u - r..=u + r]).map(|(k, x)| k * x).sum();
             }
-            tmp[v * w + u] = acc;
         }
     }
+    // Vertical pass back into img: whole rows at a time (contiguous, vectorisable).
     for v in 0..h {
-        for u in 0..w {
-            let mut acc = 0.0;
-            for (i, kv) in kernel.iter().enumerate() {
-                let vv = (v as isize + i as isize - r).clamp(0, h as isize - 1) as usize;
-                acc += kv * tmp[vv * w + u];
+        let out = &mut img[v * w..(v + 1) * w];
+        out.fill(0.0);
+        for (i, k) in kernel.iter().enumerate() {
+            let vv = (v + i).saturating_sub(r).min(h - 1);
+            let src = &tmp[vv * w..(vv + 1) * w];
+            for (o, x) in out.iter_mut().zip(src) {
+                *o += k * x;
             }
-            img[v * w + u] = acc;
         }
+    }
+}
+
+#[cfg(test)]
+mod blur_tests {
+    use super::gaussian_blur;
+
+    #[test]
+    fn blur_keeps_constants_and_mass_and_spreads_a_point() {
+        let (w, h) = (9, 7);
+        let mut img = vec![3.0f32; w * h];
+        let mut tmp = Vec::new();
+        gaussian_blur(&mut img, &mut tmp, w, h, 0.8);
+        assert!(img.iter().all(|v| (v - 3.0).abs() < 1e-5));
+        let mut img = vec![0.0f32; w * h];
+        img[3 * w + 4] = 1.0;
+        gaussian_blur(&mut img, &mut tmp, w, h, 0.8);
+        let sum: f32 = img.iter().sum();
+        assert!((sum - 1.0).abs() < 1e-5);
+        assert!(img[3 * w + 4] < 0.5 && img[3 * w + 5] > 0.0 && (img[3 * w + 5] - img[3 * w + 3]).abs() < 1e-7);
     }
 }

@@ -75,26 +75,58 @@ impl Rng {
     }
 }
 
+/// 32-bit hash of a lattice point and a seed (multiply-xorshift mixing).
+#[inline(always)]
+fn mix(hx: u32, hy: u32, seed: u32) -> u32 {
+    let mut h = hx ^ hy ^ seed;
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x2C1B_3C6D);
+    h ^= h >> 12;
+    h = h.wrapping_mul(0x297A_2D39);
+    h ^ (h >> 15)
+}
+
+const HX: u32 = 0x8DA6_B343;
+const HY: u32 = 0xD816_3841;
+
+#[inline(always)]
+fn seed32(seed: u64) -> u32 {
+    (seed ^ (seed >> 32)) as u32
+}
+
+#[inline(always)]
+fn to_unit(h: u32) -> f32 {
+    (h >> 8) as f32 * (2.0 / (1u32 << 24) as f32) - 1.0
+}
+
 /// A hash of a lattice point and a seed, mapped to [-1, 1].
 #[inline]
 pub fn hash2(ix: i64, iy: i64, seed: u64) -> f32 {
-    let h = splitmix64((ix as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (iy as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F) ^ seed);
-    ((h >> 40) as f32) * (2.0 / (1u64 << 24) as f32) - 1.0
+    to_unit(mix((ix as u32).wrapping_mul(HX), (iy as u32).wrapping_mul(HY), seed32(seed)))
+}
+
+/// `x.floor()` as an integer, without a call into libm (x86-64's baseline has no rounding
+/// instruction). Exact for |x| < 2^52.
+#[inline(always)]
+pub fn fast_floor(x: f64) -> i64 {
+    let i = x as i64;
+    i - ((i as f64) > x) as i64
 }
 
 /// Smooth value noise in [-1, 1] at (x, y) in lattice units: hashed lattice values, blended with
 /// a smoothstep. Its standard deviation is about 0.42 (measured in the tests).
 #[inline]
 pub fn value_noise(x: f64, y: f64, seed: u64) -> f32 {
-    let (fx, fy) = (x.floor(), y.floor());
-    let (ix, iy) = (fx as i64, fy as i64);
-    let (tx, ty) = ((x - fx) as f32, (y - fy) as f32);
+    let (ix, iy) = (fast_floor(x), fast_floor(y));
+    let (tx, ty) = ((x - ix as f64) as f32, (y - iy as f64) as f32);
     let sx = tx * tx * (3.0 - 2.0 * tx);
     let sy = ty * ty * (3.0 - 2.0 * ty);
-    let a = hash2(ix, iy, seed);
-    let b = hash2(ix + 1, iy, seed);
-    let c = hash2(ix, iy + 1, seed);
-    let d = hash2(ix + 1, iy + 1, seed);
+    let (s, x0, y0) = (seed32(seed), (ix as u32).wrapping_mul(HX), (iy as u32).wrapping_mul(HY));
+    let (x1, y1) = (x0.wrapping_add(HX), y0.wrapping_add(HY));
+    let a = to_unit(mix(x0, y0, s));
+    let b = to_unit(mix(x1, y0, s));
+    let c = to_unit(mix(x0, y1, s));
+    let d = to_unit(mix(x1, y1, s));
     let top = a + (b - a) * sx;
     let bottom = c + (d - c) * sx;
     top + (bottom - top) * sy
@@ -130,6 +162,13 @@ mod tests {
             // Standard errors: 0.0022 for the mean, 0.0032 for the variance.
             assert!(m.abs() < 0.01, "mean {m}");
             assert!((var - 1.0).abs() < 0.015, "variance {var}");
+        }
+    }
+
+    #[test]
+    fn fast_floor_matches_floor() {
+        for x in [-2.5, -2.0, -1e-300, 0.0, 0.3, 1.0, 7.999, -7.999, 1e12 + 0.5, -1e12 - 0.5] {
+            assert_eq!(fast_floor(x), x.floor() as i64, "{x}");
         }
     }
 

@@ -4,8 +4,9 @@
 use floorscan_core::Point2;
 
 use crate::geometry::{point_in_polygon, ray_segment, Aabb};
-use crate::grid_index::{segment_cells, CellLists, CellWalk, GridShape};
+use crate::grid_index::{segment_cells, segment_meets_box, CellLists, CellWalk, GridShape};
 use crate::lightmap::LightMap;
+use crate::texture::PreparedCovering;
 use crate::rng::splitmix64;
 use crate::world::World;
 
@@ -64,9 +65,13 @@ pub struct Scene {
     pub shape: GridShape,
     faces: CellLists,
     regions: CellLists,
+    /// Per cell: the covering of the whole cell when one region (or none) decides it, else -1.
+    cell_covering: Vec<i32>,
     pub light: LightMap,
     /// Bounds of each solid's footprint.
     pub solid_bounds: Vec<Aabb>,
+    /// The world's coverings, prepared for shading (same indices).
+    pub coverings: Vec<PreparedCovering>,
 }
 
 impl Scene {
@@ -105,8 +110,12 @@ impl Scene {
             }
             let bb = Aabb::of_points(&s.polygon);
             solid_bounds.push(bb);
-            for (i, j) in shape.cells_overlapping(bb) {
-                face_pairs.push((j * shape.nx + i, k as u32 | CAP_BIT));
+            // Caps that no camera below the ceiling can see (floor-standing solids reaching the
+            // ceiling: walls) are left out of the index.
+            if s.base_m > 0.0 || s.top_m < world.ceiling_m {
+                for (i, j) in shape.cells_overlapping(bb) {
+                    face_pairs.push((j * shape.nx + i, k as u32 | CAP_BIT));
+                }
             }
         }
         let mut region_pairs = Vec::new();
@@ -116,13 +125,17 @@ impl Scene {
             }
         }
         let light = LightMap::new(&world.lighting, shape.bounds());
+        let regions = CellLists::build(shape.cell_count(), &region_pairs);
+        let cell_covering = (0..shape.cell_count()).map(|cell| uniform_covering(&world, &shape, &regions, cell)).collect();
         Scene {
             faces: CellLists::build(shape.cell_count(), &face_pairs),
-            regions: CellLists::build(shape.cell_count(), &region_pairs),
+            regions,
+            cell_covering,
             sides,
             shape,
             light,
             solid_bounds,
+            coverings: world.coverings.iter().map(|c| c.prepare()).collect(),
             world,
         }
     }
@@ -130,7 +143,11 @@ impl Scene {
     /// The floor covering (index into `world.coverings`) at a floor point.
     pub fn covering_at(&self, p: Point2) -> usize {
         if let Some((i, j)) = self.shape.cell_of(p) {
-            for &r in self.regions.get(j * self.shape.nx + i).iter().rev() {
+            let cell = j * self.shape.nx + i;
+            if let Ok(c) = usize::try_from(self.cell_covering[cell]) {
+                return c;
+            }
+            for &r in self.regions.get(cell).iter().rev() {
                 let region = &self.world.regions[r as usize];
                 if point_in_polygon(p, &region.polygon) {
                     return region.covering;
@@ -140,22 +157,48 @@ impl Scene {
         self.world.floor_covering
     }
 
-    /// The first surface along the ray from `o` in direction `d` (unit length; world frame).
-    pub fn trace(&self, o: [f64; 3], d: [f64; 3]) -> Hit {
+    /// Where the ray meets the floor or the ceiling (t, surface), if it does.
+    #[inline]
+    fn limit(&self, o: [f64; 3], d: [f64; 3]) -> (f64, Surface) {
         let ceiling = self.world.ceiling_m;
-        // The floor or the ceiling ends every ray that does not hit a solid first.
-        let (t_limit, limit_surface) = if d[2] < -1e-12 && o[2] > 0.0 {
+        if d[2] < -1e-12 && o[2] > 0.0 {
             (o[2] / -d[2], Surface::Floor)
         } else if d[2] > 1e-12 && o[2] < ceiling {
             ((ceiling - o[2]) / d[2], Surface::Ceiling)
         } else {
             (f64::INFINITY, Surface::Nothing)
-        };
+        }
+    }
+
+    /// [`Self::trace`] for a ray whose ground track is free of solids for `free_m` [m]
+    /// (its sector's [`crate::clearance::Clearance`]); `horizontal` is the length of the
+    /// horizontal part of `d`. Rays ending on the floor or ceiling within that distance skip
+    /// the grid walk; the result is the same.
+    #[inline]
+    pub fn trace_clear(&self, o: [f64; 3], d: [f64; 3], free_m: f64, horizontal: f64) -> Hit {
+        let (t, surface) = self.limit(o, d);
+        if t.is_finite() && t * horizontal < free_m {
+            return Hit { t, surface, point: [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]] };
+        }
+        // Nothing to meet before the clearance: start the grid walk there.
+        let t0 = if horizontal > 1e-12 && free_m.is_finite() { (free_m / horizontal).max(0.0) } else { 0.0 };
+        self.trace_after(o, d, t0)
+    }
+
+    /// The first surface along the ray from `o` in direction `d` (unit length; world frame).
+    pub fn trace(&self, o: [f64; 3], d: [f64; 3]) -> Hit {
+        self.trace_after(o, d, 0.0)
+    }
+
+    /// [`Self::trace`] for a ray known to meet no solid before `t0`.
+    fn trace_after(&self, o: [f64; 3], d: [f64; 3], t0: f64) -> Hit {
+        // The floor or the ceiling ends every ray that does not hit a solid first.
+        let (t_limit, limit_surface) = self.limit(o, d);
         let o2 = Point2::new(o[0], o[1]);
         let d2 = Point2::new(d[0], d[1]);
         let mut best_t = t_limit;
         let mut best = limit_surface;
-        let mut walk = CellWalk::new(&self.shape, o2, d2);
+        let mut walk = CellWalk::starting_at(&self.shape, o2, d2, t0);
         while let Some((cell, t_exit)) = walk.next_cell() {
             for &item in self.faces.get(cell) {
                 if item & CAP_BIT == 0 {
@@ -243,5 +286,71 @@ impl Scene {
             return Hit { t: f64::INFINITY, surface: Surface::Nothing, point: [f64::NAN; 3] };
         }
         Hit { t: best_t, surface: best, point: [o[0] + best_t * d[0], o[1] + best_t * d[1], o[2] + best_t * d[2]] }
+    }
+}
+
+/// The covering of a whole grid cell if the topmost region overlapping it covers it entirely
+/// (or no region overlaps it), else -1.
+fn uniform_covering(world: &World, shape: &GridShape, regions: &CellLists, cell: usize) -> i32 {
+    let list = regions.get(cell);
+    let Some(&top) = list.last() else {
+        return world.floor_covering as i32;
+    };
+    let region = &world.regions[top as usize];
+    let c = shape.cell_m;
+    let (i, j) = (cell % shape.nx, cell / shape.nx);
+    let lo = Point2::new(shape.origin.x + i as f64 * c, shape.origin.y + j as f64 * c);
+    let corners = [lo, Point2::new(lo.x + c, lo.y), Point2::new(lo.x + c, lo.y + c), Point2::new(lo.x, lo.y + c)];
+    let pad = 1e-9 * c;
+    let cell_box = Aabb { min: Point2::new(lo.x - pad, lo.y - pad), max: Point2::new(lo.x + c + pad, lo.y + c + pad) };
+    let n = region.polygon.len();
+    let edges_cross =
+        (0..n).any(|e| segment_meets_box(region.polygon[e], region.polygon[(e + 1) % n], cell_box));
+    if !edges_cross && corners.iter().all(|p| point_in_polygon(*p, &region.polygon)) {
+        region.covering as i32
+    } else {
+        -1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::builtin::builtin_world;
+    use crate::rng::Rng;
+
+    #[test]
+    fn grid_trace_agrees_with_brute_force_in_every_builtin_world() {
+        for name in crate::builtin::builtin_names() {
+            let scene = Scene::new(builtin_world(name).unwrap());
+            let b = scene.world.bounds();
+            let mut rng = Rng::new(42);
+            for _ in 0..4000 {
+                let o = [
+                    b.min.x + rng.uniform() * (b.max.x - b.min.x),
+                    b.min.y + rng.uniform() * (b.max.y - b.min.y),
+                    0.05 + rng.uniform() * 1.5,
+                ];
+                let (az, el) = (rng.uniform() * std::f64::consts::TAU, (rng.uniform() - 0.5) * 3.0);
+                let d = [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()];
+                let (fast, slow) = (scene.trace(o, d), scene.trace_brute_force(o, d));
+                assert!(
+                    (fast.t - slow.t).abs() < 1e-9 || (fast.t.is_infinite() && slow.t.is_infinite()),
+                    "{name}: {o:?} {d:?}: {fast:?} vs {slow:?}"
+                );
+                assert_eq!(fast.surface.is_obstacle(), slow.surface.is_obstacle(), "{name}: {fast:?} vs {slow:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn floor_regions_are_found_through_the_grid() {
+        let scene = Scene::new(builtin_world("lab").unwrap());
+        let mut rng = Rng::new(1);
+        let b = scene.world.bounds();
+        for _ in 0..5000 {
+            let p = Point2::new(b.min.x + rng.uniform() * (b.max.x - b.min.x), b.min.y + rng.uniform() * (b.max.y - b.min.y));
+            assert_eq!(scene.covering_at(p), scene.world.covering_at(p));
+        }
     }
 }

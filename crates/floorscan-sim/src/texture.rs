@@ -9,7 +9,7 @@
 use floorscan_core::Point2;
 use serde::{Deserialize, Serialize};
 
-use crate::rng::{hash2, value_noise};
+use crate::rng::{fast_floor, hash2, value_noise};
 
 /// How a floor covering is labelled in the ground truth.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -76,61 +76,94 @@ pub struct Covering {
     pub seed: u64,
 }
 
-/// Fraction of a feature's contrast that survives averaging over a footprint: 1 for footprints
-/// smaller than the feature, falling as feature / footprint beyond.
-#[inline]
-fn detail(feature_m: f64, footprint_m: f64) -> f32 {
-    if footprint_m <= feature_m {
-        1.0
-    } else {
-        (feature_m / footprint_m) as f32
+/// A pixel's footprint on a surface [m], with its inverse (so texture code multiplies).
+#[derive(Debug, Clone, Copy)]
+pub struct Footprint {
+    pub m: f64,
+    pub inv: f64,
+}
+
+impl Footprint {
+    pub fn new(m: f64) -> Footprint {
+        let m = m.max(1e-9);
+        Footprint { m, inv: 1.0 / m }
     }
 }
 
-/// Coverage (0..1) of a line of `width` centred on offset 0, at offset `d`, box-filtered over
-/// `footprint` (so thin lines fade instead of flickering when they are far).
+/// Fraction of a feature's contrast that survives averaging over a footprint: 1 for footprints
+/// smaller than the feature, falling as feature / footprint beyond.
 #[inline]
-fn line_coverage(d: f64, width: f64, footprint: f64) -> f64 {
-    let f = footprint.max(1e-9);
-    let lo = (d - f / 2.0).max(-width / 2.0);
-    let hi = (d + f / 2.0).min(width / 2.0);
-    ((hi - lo) / f).clamp(0.0, 1.0)
+fn detail(feature_m: f64, fp: Footprint) -> f32 {
+    (feature_m * fp.inv).min(1.0) as f32
+}
+
+/// Coverage (0..1) of a line of `width` centred on offset 0, at offset `d`, box-filtered over
+/// the footprint (so thin lines fade instead of flickering when they are far).
+#[inline]
+fn line_coverage(d: f64, width: f64, fp: Footprint) -> f64 {
+    let lo = (d - fp.m / 2.0).max(-width / 2.0);
+    let hi = (d + fp.m / 2.0).min(width / 2.0);
+    ((hi - lo) * fp.inv).clamp(0.0, 1.0)
 }
 
 impl Covering {
+    /// The covering with its scales inverted, ready for shading.
+    pub fn prepare(&self) -> PreparedCovering {
+        let (a, b) = match &self.pattern {
+            FloorPattern::Carpet { grain_m, mottle_m, .. } => (1.0 / grain_m, 1.0 / mottle_m),
+            FloorPattern::Linoleum { mottle_m, .. } => (1.0 / mottle_m, 0.0),
+            FloorPattern::Tiles { tile_m, .. } => (1.0 / tile_m, 0.0),
+            _ => (0.0, 0.0),
+        };
+        PreparedCovering { covering: self.clone(), inv_a: a, inv_b: b }
+    }
+
     /// Albedo at world point `p`, for a pixel whose footprint on the floor is `footprint_m`.
     pub fn albedo_at(&self, p: Point2, footprint_m: f64) -> f32 {
-        let a = self.albedo as f32;
-        let seed = self.seed;
-        match &self.pattern {
-            FloorPattern::Carpet { contrast, grain_m, mottle, mottle_m } => {
-                let fine = value_noise(p.x / grain_m, p.y / grain_m, seed)
-                    + 0.5 * value_noise(p.x / (2.3 * grain_m), p.y / (2.3 * grain_m), seed ^ 0x55);
-                let coarse = value_noise(p.x / mottle_m, p.y / mottle_m, seed ^ 0xAA);
-                let k = detail(*grain_m, footprint_m);
-                a * (1.0 + *contrast as f32 * 1.6 * k * fine + *mottle as f32 * 2.4 * coarse)
+        self.prepare().albedo_at(p, Footprint::new(footprint_m))
+    }
+}
+
+/// A [`Covering`] with inverted scales (see [`Covering::prepare`]).
+#[derive(Debug, Clone)]
+pub struct PreparedCovering {
+    pub covering: Covering,
+    inv_a: f64,
+    inv_b: f64,
+}
+
+impl PreparedCovering {
+    /// Albedo at world point `p` for a pixel footprint `fp`.
+    pub fn albedo_at(&self, p: Point2, fp: Footprint) -> f32 {
+        let c = &self.covering;
+        let a = c.albedo as f32;
+        let seed = c.seed;
+        match &c.pattern {
+            FloorPattern::Carpet { contrast, grain_m, mottle, .. } => {
+                let k = detail(*grain_m, fp);
+                // Skip the fibres where averaging has smoothed them away.
+                let fine = if k > 0.02 { value_noise(p.x * self.inv_a, p.y * self.inv_a, seed) } else { 0.0 };
+                let coarse = value_noise(p.x * self.inv_b, p.y * self.inv_b, seed ^ 0xAA);
+                a * (1.0 + *contrast as f32 * 2.4 * k * fine + *mottle as f32 * 2.4 * coarse)
             }
-            FloorPattern::Linoleum { mottle, mottle_m, speckle } => {
-                let coarse = value_noise(p.x / mottle_m, p.y / mottle_m, seed);
-                let fine = hash2((p.x / 0.003).floor() as i64, (p.y / 0.003).floor() as i64, seed ^ 0x33);
-                a * (1.0 + *mottle as f32 * 2.4 * coarse + *speckle as f32 * detail(0.003, footprint_m) * fine)
+            FloorPattern::Linoleum { mottle, speckle, .. } => {
+                let coarse = value_noise(p.x * self.inv_a, p.y * self.inv_a, seed);
+                let fine = hash2(fast_floor(p.x * (1.0 / 0.003)), fast_floor(p.y * (1.0 / 0.003)), seed ^ 0x33);
+                a * (1.0 + *mottle as f32 * 2.4 * coarse + *speckle as f32 * detail(0.003, fp) * fine)
             }
             FloorPattern::Tiles { tile_m, grout_m, grout_albedo, variation } => {
-                let (tx, ty) = (p.x / tile_m, p.y / tile_m);
-                let (ix, iy) = (tx.floor(), ty.floor());
-                let tile = a * (1.0 + *variation as f32 * hash2(ix as i64, iy as i64, seed));
-                let speck = 0.03 * detail(0.004, footprint_m) * value_noise(p.x / 0.004, p.y / 0.004, seed ^ 7);
+                let (tx, ty) = (p.x * self.inv_a, p.y * self.inv_a);
+                let (ix, iy) = (fast_floor(tx), fast_floor(ty));
+                let tile = a * (1.0 + *variation as f32 * hash2(ix, iy, seed));
+                let speck = 0.03 * detail(0.004, fp) * value_noise(p.x * 250.0, p.y * 250.0, seed ^ 7);
                 // Distance to the nearest grout line in each direction [m].
-                let dx = (tx - ix - 0.5).abs() * tile_m;
-                let dy = (ty - iy - 0.5).abs() * tile_m;
+                let dx = (tx - ix as f64 - 0.5).abs() * tile_m;
+                let dy = (ty - iy as f64 - 0.5).abs() * tile_m;
                 let half = tile_m / 2.0;
-                let g = line_coverage(half - dx, *grout_m, footprint_m)
-                    .max(line_coverage(half - dy, *grout_m, footprint_m)) as f32;
+                let g = line_coverage(half - dx, *grout_m, fp).max(line_coverage(half - dy, *grout_m, fp)) as f32;
                 (tile * (1.0 + speck)) * (1.0 - g) + *grout_albedo as f32 * g
             }
-            FloorPattern::Paper => {
-                a * (1.0 + 0.02 * detail(0.002, footprint_m) * value_noise(p.x / 0.002, p.y / 0.002, seed))
-            }
+            FloorPattern::Paper => a * (1.0 + 0.02 * detail(0.002, fp) * value_noise(p.x * 500.0, p.y * 500.0, seed)),
             FloorPattern::Checkerboard { origin, across, away, square_m, corners, dark_albedo, margin_m } => {
                 let q = Point2::new(p.x - origin.x, p.y - origin.y);
                 let i = (q.x * across.x + q.y * across.y) / square_m;
@@ -148,7 +181,7 @@ impl Covering {
                 let di = (i - i.round()).abs() * square_m;
                 let dj = (j - j.round()).abs() * square_m;
                 let near_edge = di.min(dj);
-                let w = ((near_edge / footprint_m.max(1e-9)) + 0.5).clamp(0.5, 1.0) as f32;
+                let w = ((near_edge * fp.inv) + 0.5).clamp(0.5, 1.0) as f32;
                 let (own, other) = if parity { (*dark_albedo as f32, a) } else { (a, *dark_albedo as f32) };
                 own * w + other * (1.0 - w)
             }
@@ -162,15 +195,15 @@ impl Covering {
                 // Lines running away: constant across-offset, within the away extent.
                 if s_away >= -overhang_m && s_away <= extent_away + overhang_m {
                     let k = (s_across / spacing_m).round().clamp(0.0, (lines[0].max(1) - 1) as f64);
-                    cover = cover.max(line_coverage(s_across - k * spacing_m, *width_m, footprint_m));
+                    cover = cover.max(line_coverage(s_across - k * spacing_m, *width_m, fp));
                 }
                 if s_across >= -overhang_m && s_across <= extent_across + overhang_m {
                     let k = (s_away / spacing_m).round().clamp(0.0, (lines[1].max(1) - 1) as f64);
-                    cover = cover.max(line_coverage(s_away - k * spacing_m, *width_m, footprint_m));
+                    cover = cover.max(line_coverage(s_away - k * spacing_m, *width_m, fp));
                 }
                 // Tape on carpet: the background keeps a carpet's fine texture.
-                let k = detail(0.004, footprint_m);
-                let bg = a * (1.0 + 0.1 * k * value_noise(p.x / 0.004, p.y / 0.004, seed));
+                let k = detail(0.004, fp);
+                let bg = a * (1.0 + 0.1 * k * value_noise(p.x * 250.0, p.y * 250.0, seed));
                 let c = cover as f32;
                 bg * (1.0 - c) + *line_albedo as f32 * c
             }
@@ -195,21 +228,21 @@ pub struct Appearance {
 }
 
 impl Appearance {
-    /// Albedo at position `s` along the face and height `z` [m], footprint `footprint_m`.
-    pub fn albedo_at(&self, s: f64, z: f64, footprint_m: f64, face_seed: u64) -> f32 {
+    /// Albedo at position `s` along the face and height `z` [m], footprint `fp`.
+    #[inline]
+    pub fn albedo_at(&self, s: f64, z: f64, fp: Footprint, face_seed: u64) -> f32 {
         if z < self.baseboard_m {
             return self.baseboard_albedo as f32;
         }
-        let k = detail(self.texture_m, footprint_m);
-        let seed = self.seed ^ face_seed;
-        let n = value_noise(s / self.texture_m, z / self.texture_m, seed)
-            + 0.4 * value_noise(s / (4.0 * self.texture_m), z / (0.5 * self.texture_m), seed ^ 1);
-        self.albedo as f32 * (1.0 + self.texture as f32 * 1.7 * k * n)
+        let k = detail(self.texture_m, fp);
+        let inv = 1.0 / self.texture_m;
+        let n = value_noise(s * inv, z * inv, self.seed ^ face_seed);
+        self.albedo as f32 * (1.0 + self.texture as f32 * 2.4 * k * n)
     }
 
     /// Albedo of a horizontal face (table tops, undersides) at `p`.
-    pub fn albedo_at_point(&self, p: Point2, footprint_m: f64) -> f32 {
-        let k = detail(self.texture_m, footprint_m);
+    pub fn albedo_at_point(&self, p: Point2, fp: Footprint) -> f32 {
+        let k = detail(self.texture_m, fp);
         let n = value_noise(p.x / self.texture_m, p.y / (3.0 * self.texture_m), self.seed);
         self.albedo as f32 * (1.0 + self.texture as f32 * 1.7 * k * n)
     }

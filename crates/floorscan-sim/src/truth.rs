@@ -10,6 +10,7 @@ use floorscan_core::{ColumnStatus, Point2, Pose2};
 use serde::{Deserialize, Serialize};
 
 use crate::camera::CameraRays;
+use crate::clearance::{sector_of, Clearance};
 use crate::error::{check_range, Result};
 use crate::render::CameraPlacement;
 use crate::scene::{Scene, Surface};
@@ -131,6 +132,7 @@ struct Column<'a> {
     scene: &'a Scene,
     rays: &'a CameraRays,
     place: CameraPlacement,
+    clear: &'a Clearance,
     u: u32,
 }
 
@@ -149,7 +151,17 @@ impl Column<'_> {
     /// Class and hit of the exact ray through (u, v).
     fn classify(&self, v: f64) -> Option<(Class, crate::scene::Hit, [f64; 3])> {
         let d = self.ray_at(v)?;
-        let hit = self.scene.trace(self.place.origin, self.place.to_world(d));
+        let dw = self.place.to_world(d);
+        let (w, h) = (self.rays.camera.width, self.rays.camera.height);
+        // Pixel centres have their azimuth precomputed; other rows compute it.
+        let (azimuth, horizontal) = if v.fract() == 0.0 && v >= 0.0 && (v as usize) < h {
+            let k = v as usize * w + self.u as usize;
+            (self.rays.azimuth[k] + self.place.world_from_camera.yaw, self.rays.horizontal[k])
+        } else {
+            (dw[1].atan2(dw[0]), dw[0].hypot(dw[1]))
+        };
+        let free = self.clear.free_m[sector_of(azimuth)];
+        let hit = self.scene.trace_clear(self.place.origin, dw, free, horizontal);
         let class = match hit.surface {
             Surface::Floor => Class::Floor(self.scene.covering_at(Point2::new(hit.point[0], hit.point[1]))),
             s if s.is_obstacle() => Class::Obstacle,
@@ -160,7 +172,7 @@ impl Column<'_> {
 
     /// Bisects the edge between row `inside` (where `keep` holds) and row `outside` (above it).
     fn bisect(&self, mut inside: f64, mut outside: f64, keep: impl Fn(Class) -> bool) -> (f64, f64) {
-        for _ in 0..48 {
+        for _ in 0..30 {
             let mid = 0.5 * (inside + outside);
             match self.classify(mid) {
                 Some((c, _, _)) if keep(c) => inside = mid,
@@ -180,8 +192,9 @@ impl Column<'_> {
 pub fn frame_truth(scene: &Scene, rays: &CameraRays, world_from_robot: Pose2, options: &TruthOptions) -> FrameTruth {
     let place = CameraPlacement::new(rays, world_from_robot);
     let home = scene.covering_at(place.world_from_camera.translation());
+    let clear = Clearance::new(scene, place.world_from_camera.translation());
     let columns = (0..rays.camera.width as u32)
-        .map(|u| column_truth(&Column { scene, rays, place, u }, home, options))
+        .map(|u| column_truth(&Column { scene, rays, place, clear: &clear, u }, home, options))
         .collect();
     FrameTruth { pose: world_from_robot, world_from_camera: place.world_from_camera, columns }
 }
@@ -257,4 +270,142 @@ fn column_truth(col: &Column, home: usize, options: &TruthOptions) -> ColumnTrut
     }
     t.status = status.unwrap_or(if last_floor.is_some() { ColumnStatus::NoBoundary } else { ColumnStatus::Invalid });
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{Camera, Imaging};
+    use crate::render::{render_into, RenderBuffers};
+    use crate::world_file::parse_world;
+    use floorscan_core::mount::ground_to_pixel;
+
+    /// A floor with one straight wall whose face is at x = `d` in the camera ground frame.
+    fn wall_scene(d: f64, extra: &str) -> Scene {
+        let text = format!(
+            "name = \"wall\"\n[start]\nx = 0\ny = 0\n[[walls]]\nfrom = [{x}, -30]\nto = [{x}, 30]\n{extra}",
+            x = d + 0.05
+        );
+        Scene::new(parse_world(&text, "wall").unwrap())
+    }
+
+    fn camera_at_origin() -> (CameraRays, Pose2) {
+        let mut cam = Camera::default();
+        cam.imaging = Imaging::ideal();
+        let pose = crate::calibration::robot_pose(&cam);
+        (CameraRays::new(cam).unwrap(), pose)
+    }
+
+    /// The row where the line x = d crosses column u, from the lens model's forward projection
+    /// only: bisection on y until the projected column is u.
+    fn predicted_row(cam: &Camera, d: f64, u: f64) -> f64 {
+        let project = |y: f64| ground_to_pixel(&cam.lens, &cam.mount, Point2::new(d, y)).unwrap();
+        // Column u decreases as y grows (y is left).
+        let (mut lo, mut hi) = (-20.0 * d, 20.0 * d);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            match ground_to_pixel(&cam.lens, &cam.mount, Point2::new(d, mid)) {
+                Some(p) if p[0] > u => lo = mid,
+                Some(_) => hi = mid,
+                None => {
+                    if mid > 0.0 { hi = mid } else { lo = mid }
+                }
+            }
+        }
+        project(0.5 * (lo + hi))[1]
+    }
+
+    #[test]
+    fn a_wall_at_a_known_distance_gives_the_rows_and_points_the_lens_predicts() {
+        let (rays, pose) = camera_at_origin();
+        let cam = rays.camera.clone();
+        for d in [0.6, 1.5, 3.0] {
+            let scene = wall_scene(d, "");
+            let truth = frame_truth(&scene, &rays, pose, &TruthOptions::default());
+            let mut checked = 0;
+            for c in &truth.columns {
+                if c.status != ColumnStatus::Boundary {
+                    continue;
+                }
+                let p = c.point.unwrap();
+                assert!((p.x - d).abs() < 1e-7, "d {d} column {}: {p:?}", c.column);
+                let px = ground_to_pixel(&cam.lens, &cam.mount, p).unwrap();
+                assert!((px[0] - c.column as f64).abs() < 1e-6 && (px[1] - c.row).abs() < 1e-6);
+                let want = predicted_row(&cam, d, c.column as f64);
+                assert!((c.row - want).abs() < 1e-6, "d {d} column {}: row {} vs {want}", c.column, c.row);
+                let o = c.obstacle_world.unwrap();
+                let pw = c.point_world.unwrap();
+                assert!((o.x - pw.x).abs() < 1e-6 && (o.y - pw.y).abs() < 1e-6 && c.obstacle_z_m < 1e-6);
+                checked += 1;
+            }
+            // The wall spans the whole field of view near the robot.
+            assert!(checked > 250, "d {d}: only {checked} boundary columns");
+            // Labels of an ideal render agree: floor below the boundary row, wall above.
+            let mut buf = RenderBuffers::default();
+            render_into(&scene, &rays, pose, 0, 0, &mut buf).unwrap();
+            for c in truth.columns.iter().filter(|c| c.status == ColumnStatus::Boundary) {
+                let above = c.row.floor() as usize;
+                assert_eq!(buf.labels[above * cam.width + c.column as usize], PixelLabel::Obstacle as u8);
+                for v in 0..cam.height {
+                    let label = buf.labels[v * cam.width + c.column as usize];
+                    if (v as f64) > c.row + 1e-6 {
+                        assert_eq!(label, PixelLabel::Carpet as u8);
+                    } else if (v as f64) < c.row - 1e-6 {
+                        // The wall, and above its top edge the ceiling.
+                        assert!(label == PixelLabel::Obstacle as u8 || label == PixelLabel::Ceiling as u8);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn statuses_too_close_and_no_boundary() {
+        let (rays, pose) = camera_at_origin();
+        let near = frame_truth(&wall_scene(0.01, ""), &rays, pose, &TruthOptions::default());
+        let mid = near.columns[160];
+        assert_eq!(mid.status, ColumnStatus::TooClose);
+        let far = frame_truth(&wall_scene(12.0, ""), &rays, pose, &TruthOptions::default());
+        assert_eq!(far.columns[160].status, ColumnStatus::NoBoundary);
+        let far_ok = frame_truth(&wall_scene(12.0, ""), &rays, pose, &TruthOptions { max_range_m: 20.0 });
+        assert_eq!(far_ok.columns[160].status, ColumnStatus::Boundary);
+    }
+
+    #[test]
+    fn an_overhang_hides_the_floor_under_it_as_the_lens_predicts() {
+        // A slab from z = 0.1 to 0.3 m whose front face is at x = 1.0 in front of a camera 0.4 m
+        // high: the floor stays visible under it up to x = 1.0 / (1 - 0.1 / 0.4) = 4/3 m.
+        let (rays, pose) = camera_at_origin();
+        let scene = Scene::new(
+            parse_world(
+                "name = \"o\"\n[start]\nx = 0\ny = 0\n[[boxes]]\nrect = [1.0, -5, 1.5, 5]\nbase_m = 0.1\nheight_m = 0.3\n",
+                "o",
+            )
+            .unwrap(),
+        );
+        let truth = frame_truth(&scene, &rays, pose, &TruthOptions::default());
+        let c = truth.columns[160];
+        assert_eq!(c.status, ColumnStatus::Boundary);
+        let (p, o) = (c.point.unwrap(), c.obstacle_world.unwrap());
+        let y_scale = 1.0 / p.x;
+        assert!((p.x - 4.0 / 3.0).abs() < 1e-6, "{p:?}");
+        assert!((o.x - 1.0).abs() < 1e-6 && (o.y - p.y * y_scale).abs() < 1e-6, "{o:?}");
+        assert!((c.obstacle_z_m - 0.1).abs() < 1e-6);
+    }
+
+    #[test]
+    fn paper_on_the_carpet_is_an_appearance_boundary_but_not_an_obstacle() {
+        let (rays, pose) = camera_at_origin();
+        let scene = wall_scene(3.0, "[[regions]]\ncovering = \"paper\"\nrect = [1.0, -0.2, 1.3, 0.2]\n");
+        let truth = frame_truth(&scene, &rays, pose, &TruthOptions::default());
+        let c = truth.columns[160];
+        assert_eq!(c.status, ColumnStatus::Boundary);
+        assert!((c.point.unwrap().x - 3.0).abs() < 1e-7);
+        let a = c.appearance_point.unwrap();
+        assert!((a.x - 1.0).abs() < 1e-7, "{a:?}");
+        assert!(c.appearance_row > c.row);
+        // Away from the paper, the appearance boundary is the wall.
+        let side = truth.columns[20];
+        assert!((side.appearance_row - side.row).abs() < 1e-6);
+    }
 }
