@@ -20,6 +20,7 @@ from .errors import (
     OutOfBoundsError,
     TableError,
     UnsupportedVersionError,
+    WorldError,
 )
 from .grid import InsertStats, OccupancyGrid
 from .grid_options import Evidence
@@ -59,4 +60,5 @@ __all__ = [
     "VisualRanger",
     "read_scans_csv",
     "write_scans_csv",
+    "WorldError",
 ]

@@ -59,6 +59,10 @@ class DatasetError(FloorscanError, ValueError):
     """A dataset folder, log or bag is missing parts or holds malformed lines."""
 
 
+class WorldError(FileFormatError):
+    """A simulator world file is invalid (the message names the line or the field)."""
+
+
 __all__ = [
     "FloorscanError",
     "ImageError",
@@ -73,4 +77,5 @@ __all__ = [
     "OutOfBoundsError",
     "CalibrationError",
     "DatasetError",
+    "WorldError",
 ]

@@ -11,6 +11,7 @@ mod image;
 mod local_map;
 mod ranger;
 mod scan;
+mod sim;
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -20,5 +21,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scan::PyScan>()?;
     m.add_class::<grid::PyOccupancyGrid>()?;
     m.add_class::<local_map::PyLocalMap>()?;
+    sim::register(m)?;
     Ok(())
 }

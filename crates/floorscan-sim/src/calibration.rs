@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::camera::Camera;
 use crate::error::{check_range, invalid_option, Result};
 use crate::texture::{Covering, CoveringClass, FloorPattern};
-use crate::world::{FloorRegion, Light, Lighting, World};
+use crate::world::{FloorRegion, World};
 
 /// Which pattern lies on the floor.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -162,6 +162,19 @@ pub fn default_pattern(kind: PatternKind, camera: &Camera) -> Result<PatternSpec
     };
     let half_width = (n_i - 1) as f64 * step / 2.0;
     let margin = 4.0;
+    // The outline's edges bow in a wide-angle image: check points along them.
+    let along_outline = |spec: &PatternSpec| -> Vec<Point2> {
+        let o = spec.outline();
+        (0..4)
+            .flat_map(|e| {
+                let (a, b) = (o[e], o[(e + 1) % 4]);
+                (0..32).map(move |k| {
+                    let t = k as f64 / 32.0;
+                    Point2::new(a.x + t * (b.x - a.x), a.y + t * (b.y - a.y))
+                })
+            })
+            .collect()
+    };
     let inside = |p: Point2| {
         ground_to_pixel(&camera.lens, &camera.mount, p).is_some_and(|px| {
             px[0] >= margin
@@ -172,29 +185,47 @@ pub fn default_pattern(kind: PatternKind, camera: &Camera) -> Result<PatternSpec
     };
     for k in 0..300 {
         let spec = PatternSpec { near_left: Point2::new(0.05 + 0.02 * k as f64, half_width), ..base.clone() };
-        if spec.outline().into_iter().chain(spec.points()).all(inside) {
+        if along_outline(&spec).into_iter().chain(spec.points()).all(inside) {
             return Ok(spec);
         }
     }
     Err(invalid_option("camera", "the calibration pattern does not fit in this camera's view of the floor"))
 }
 
-/// A world with only the pattern on a carpet, lit evenly, with the camera ground frame of a
-/// robot at `robot_pose()` at the world origin.
+/// The room of the calibration scene: 8 x 8 m around the camera, evenly lit.
+const CALIBRATION_ROOM: &str = r#"
+name = "calibration"
+description = "An evenly lit room with a calibration pattern on the carpet"
+[start]
+x = 0.0
+y = 0.0
+[lighting]
+ambient = 0.5
+exposure_jitter = 0.0
+grid = { spacing_m = 2.0, power = 0.6, area = [-1.0, -3.0, 5.0, 3.0] }
+[[walls]]
+from = [-2.0, -4.0]
+to = [6.0, -4.0]
+[[walls]]
+from = [6.0, -4.0]
+to = [6.0, 4.0]
+[[walls]]
+from = [6.0, 4.0]
+to = [-2.0, 4.0]
+[[walls]]
+from = [-2.0, 4.0]
+to = [-2.0, -4.0]
+"#;
+
+/// The calibration scene: the pattern on the carpet of an evenly lit room, in the camera ground
+/// frame of a robot at [`robot_pose`] (the world origin).
 pub fn calibration_world(spec: &PatternSpec) -> Result<World> {
     spec.validate()?;
-    let mut carpet = crate::world_file::parse_world("name = \"calibration\"\n[start]\nx = 0\ny = 0\n", "calibration")?;
-    let index = carpet.coverings.len();
-    carpet.coverings.push(spec.covering());
-    carpet.regions.push(FloorRegion { polygon: spec.outline(), covering: index });
-    let mut lights = Vec::new();
-    for i in -2..=3 {
-        for j in -3..=3 {
-            lights.push(Light { position: Point2::new(i as f64 * 1.5, j as f64 * 1.5), height_m: 2.6, power: 0.5 });
-        }
-    }
-    carpet.lighting = Lighting { ambient: 0.5, lights, exposure_jitter: 0.0, ..carpet.lighting };
-    World::new(carpet)
+    let mut world = crate::world_file::parse_world(CALIBRATION_ROOM, "calibration")?;
+    let index = world.coverings.len();
+    world.coverings.push(spec.covering());
+    world.regions.push(FloorRegion { polygon: spec.outline(), covering: index });
+    World::new(world)
 }
 
 /// The robot pose that puts the camera ground frame at the world origin.

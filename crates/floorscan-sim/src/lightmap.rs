@@ -19,10 +19,13 @@ pub struct LightMap {
     cell: f64,
     values: Vec<f32>,
     ambient: f32,
+    /// Median illumination over the raster: the exposure reference.
+    pub typical: f32,
 }
 
 impl LightMap {
-    pub fn new(lighting: &Lighting, bounds: Aabb) -> LightMap {
+    /// Illumination over `bounds`; the exposure reference is the median over `reference`.
+    pub fn new(lighting: &Lighting, bounds: Aabb, reference: Aabb) -> LightMap {
         let mut cell = LIGHT_CELL_M;
         let (w, h) = (bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y);
         while (w / cell) * (h / cell) > 4.0e6 {
@@ -37,7 +40,19 @@ impl LightMap {
                 values[j * nx + i] += illuminance(lighting, p) as f32;
             }
         }
-        LightMap { origin: bounds.min, nx, ny, cell, values, ambient: lighting.ambient as f32 }
+        let mut sorted: Vec<f32> = (0..nx * ny)
+            .filter(|k| {
+                let p = Point2::new(bounds.min.x + (k % nx) as f64 * cell, bounds.min.y + (k / nx) as f64 * cell);
+                reference.contains(p)
+            })
+            .map(|k| values[k])
+            .collect();
+        if sorted.is_empty() {
+            sorted.push(lighting.ambient as f32);
+        }
+        sorted.sort_by(f32::total_cmp);
+        let typical = sorted[sorted.len() / 2].max(1e-6);
+        LightMap { origin: bounds.min, nx, ny, cell, values, ambient: lighting.ambient as f32, typical }
     }
 
     /// Floor illuminance at `p` (ambient outside the raster).
@@ -87,7 +102,7 @@ mod tests {
             ceiling_brightness: 0.5,
         };
         let b = Aabb { min: Point2::new(0.0, 0.0), max: Point2::new(5.0, 4.0) };
-        let m = LightMap::new(&lighting, b);
+        let m = LightMap::new(&lighting, b, b);
         // Right below the light: ambient + power.
         assert!((m.at(Point2::new(2.0, 1.0)) - 1.1).abs() < 1e-4);
         for p in [Point2::new(0.33, 0.71), Point2::new(4.2, 3.3)] {

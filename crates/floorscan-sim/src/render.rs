@@ -165,7 +165,7 @@ pub fn render_into(
     let lighting = &scene.world.lighting;
     let jitter = if lighting.exposure_jitter > 0.0 { (lighting.exposure_jitter * rng.normal()).exp() } else { 1.0 };
     out.exposure = lighting.exposure * jitter;
-    let scale = (255.0 * out.exposure) as f32;
+    let scale = (255.0 * out.exposure / (0.9 * scene.light.typical as f64)) as f32;
     let read = cam.imaging.read_noise_dn as f32;
     let shot = cam.imaging.shot_noise_gain as f32;
     let noisy = read > 0.0 || shot > 0.0;

@@ -124,7 +124,12 @@ impl Scene {
                 region_pairs.push((j * shape.nx + i, k as u32));
             }
         }
-        let light = LightMap::new(&world.lighting, shape.bounds());
+        // Light the floor well beyond the world (far floor seen through doorways).
+        let lit = Aabb {
+            min: Point2::new(bounds.min.x - 4.0, bounds.min.y - 4.0),
+            max: Point2::new(bounds.max.x + 4.0, bounds.max.y + 4.0),
+        };
+        let light = LightMap::new(&world.lighting, lit, b);
         let regions = CellLists::build(shape.cell_count(), &region_pairs);
         let cell_covering = (0..shape.cell_count()).map(|cell| uniform_covering(&world, &shape, &regions, cell)).collect();
         Scene {

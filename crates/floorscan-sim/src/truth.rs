@@ -272,6 +272,35 @@ fn column_truth(col: &Column, home: usize, options: &TruthOptions) -> ColumnTrut
     t
 }
 
+/// Header of the truth columns CSV (`truth/columns.csv` of a dataset, one line per frame and
+/// image column; docs/dataset-format.md).
+pub const COLUMNS_CSV_HEADER: &str = "timestamp,frame,column,status,row,x,y,world_x,world_y,obstacle_x,obstacle_y,obstacle_z,appearance_row,appearance_x,appearance_y";
+
+/// Appends the truth CSV lines (no header) of frames with their timestamps [s]. Missing values
+/// are written as `nan`.
+pub fn write_columns_csv(frames: &[FrameTruth], timestamps_s: &[f64], out: &mut String) {
+    use std::fmt::Write;
+    let f = |v: f64| if v.is_nan() { "nan".to_string() } else { format!("{v:.6}") };
+    let xy = |p: Option<Point2>| p.map_or(("nan".to_string(), "nan".to_string()), |p| (f(p.x), f(p.y)));
+    for (k, (frame, t)) in frames.iter().zip(timestamps_s).enumerate() {
+        for c in &frame.columns {
+            let (x, y) = xy(c.point);
+            let (wx, wy) = xy(c.point_world);
+            let (ox, oy) = xy(c.obstacle_world);
+            let (ax, ay) = xy(c.appearance_point);
+            let _ = writeln!(
+                out,
+                "{t:.6},{k},{},{},{},{x},{y},{wx},{wy},{ox},{oy},{},{},{ax},{ay}",
+                c.column,
+                c.status.as_str(),
+                f(c.row),
+                f(c.obstacle_z_m),
+                f(c.appearance_row),
+            );
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

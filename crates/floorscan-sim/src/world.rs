@@ -53,7 +53,8 @@ pub struct Lighting {
     /// Illumination everywhere, from indirect light (same units as light power).
     pub ambient: f64,
     pub lights: Vec<Light>,
-    /// Mean exposure: scales the whole image (1 maps albedo 1 under illumination 1 to 255).
+    /// Mean exposure, > 0: scales the whole image. At 1, a surface of albedo 0.9 under the
+    /// world's median floor illumination reads 255 (as a camera's auto exposure would set it).
     pub exposure: f64,
     /// Standard deviation of the per-frame relative exposure change (log scale), >= 0.
     pub exposure_jitter: f64,
