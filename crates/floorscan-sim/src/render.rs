@@ -269,3 +269,78 @@ mod blur_tests {
         assert!(img[3 * w + 4] < 0.5 && img[3 * w + 5] > 0.0 && (img[3 * w + 5] - img[3 * w + 3]).abs() < 1e-7);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::builtin::builtin_world;
+    use crate::camera::{Camera, Imaging};
+    use crate::world_file::parse_world;
+
+    fn corridor_view(seed: u64, frame: u64) -> RenderBuffers {
+        let scene = Scene::new(builtin_world("corridor").unwrap());
+        let rays = CameraRays::new(Camera::default()).unwrap();
+        let mut buf = RenderBuffers::default();
+        render_into(&scene, &rays, Pose2::new(3.0, 0.2, 0.3), seed, frame, &mut buf).unwrap();
+        buf
+    }
+
+    #[test]
+    fn the_same_seed_gives_the_same_bytes() {
+        let (a, b) = (corridor_view(7, 3), corridor_view(7, 3));
+        assert_eq!(a.image, b.image);
+        assert_eq!(a.labels, b.labels);
+        // Another seed or frame changes the noise, not the labels.
+        let (c, d) = (corridor_view(8, 3), corridor_view(7, 4));
+        assert_ne!(a.image, c.image);
+        assert_ne!(a.image, d.image);
+        assert_eq!(a.labels, c.labels);
+    }
+
+    #[test]
+    fn labels_switch_exactly_where_the_exact_mapping_crosses_a_covering_edge() {
+        // Paper covers the floor beyond x = 1.2 m (camera ground frame): a pixel sees paper
+        // exactly when pixel_to_ground says its floor point lies beyond that line.
+        let mut cam = Camera::default();
+        cam.imaging = Imaging::ideal();
+        let pose = crate::calibration::robot_pose(&cam);
+        let scene = Scene::new(
+            parse_world("name = \"p\"\n[start]\nx = 0\ny = 0\n[[regions]]\ncovering = \"paper\"\nrect = [1.2, -1000, 1000, 1000]\n", "p")
+                .unwrap(),
+        );
+        let rays = CameraRays::new(cam.clone()).unwrap();
+        let mut buf = RenderBuffers::default();
+        render_into(&scene, &rays, pose, 0, 0, &mut buf).unwrap();
+        let (mut paper, mut carpet) = (0, 0);
+        for v in 0..cam.height {
+            for u in 0..cam.width {
+                let label = buf.labels[v * cam.width + u];
+                match cam.pixel_to_ground(u as f64, v as f64, 1e9) {
+                    Some(p) if (p.x - 1.2).abs() > 1e-9 && p.x < 40.0 => {
+                        let want = if p.x > 1.2 { PixelLabel::Paper } else { PixelLabel::Carpet };
+                        assert_eq!(label, want as u8, "pixel ({u}, {v}) sees {p:?}");
+                        if p.x > 1.2 { paper += 1 } else { carpet += 1 }
+                    }
+                    Some(_) => {}
+                    None => assert_ne!(label, PixelLabel::Carpet as u8),
+                }
+            }
+        }
+        assert!(paper > 5000 && carpet > 20000, "paper {paper}, carpet {carpet}");
+        // Paper is brighter than carpet in the image.
+        let mean = |l: PixelLabel| {
+            let v: Vec<f64> =
+                buf.labels.iter().zip(&buf.image).filter(|(a, _)| **a == l as u8).map(|(_, &b)| b as f64).collect();
+            v.iter().sum::<f64>() / v.len() as f64
+        };
+        assert!(mean(PixelLabel::Paper) > mean(PixelLabel::Carpet) + 50.0);
+    }
+
+    #[test]
+    fn non_finite_poses_are_errors() {
+        let scene = Scene::new(builtin_world("room").unwrap());
+        let rays = CameraRays::new(Camera::default()).unwrap();
+        let mut buf = RenderBuffers::default();
+        assert!(render_into(&scene, &rays, Pose2::new(f64::NAN, 0.0, 0.0), 0, 0, &mut buf).is_err());
+    }
+}

@@ -92,3 +92,31 @@ pub fn render_run(scene: &Scene, rays: &CameraRays, poses: &[Pose2], seed: u64, 
     run.truth = truths.into_iter().flatten().collect();
     Ok(run)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::builtin::builtin_world;
+    use crate::camera::Camera;
+
+    #[test]
+    fn threads_do_not_change_the_result() {
+        let scene = Scene::new(builtin_world("lab").unwrap());
+        let rays = CameraRays::new(Camera::wide_angle(64, 48)).unwrap();
+        let poses: Vec<Pose2> = (0..7).map(|k| Pose2::new(1.0 + 0.3 * k as f64, 0.1, 0.05 * k as f64)).collect();
+        let out = |threads| {
+            render_run(&scene, &rays, &poses, 5, RunOutputs { labels: true, truth: Some(TruthOptions::default()), threads })
+                .unwrap()
+        };
+        let (a, b) = (out(1), out(3));
+        assert_eq!(a.images, b.images);
+        assert_eq!(a.labels, b.labels);
+        assert_eq!(a.truth.len(), b.truth.len());
+        for (k, (x, y)) in a.truth.iter().zip(&b.truth).enumerate() {
+            // (Debug text: NaN fields compare unequal with ==.)
+            assert_eq!(format!("{x:?}"), format!("{y:?}"), "frame {k}");
+        }
+        assert_eq!(a.images.len(), 7 * 64 * 48);
+        assert!(render_run(&scene, &rays, &poses, 5, RunOutputs { labels: false, truth: None, threads: 0 }).is_err());
+    }
+}

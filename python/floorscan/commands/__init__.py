@@ -7,4 +7,5 @@ COMMAND_MODULES = [
     "floorscan.commands.config",
     "floorscan.commands.run",
     "floorscan.commands.map_log",
+    "floorscan.commands.sim",
 ]
