@@ -8,8 +8,8 @@ occupancy rasters (:class:`OccupancyRaster`). Everything is deterministic per se
 
 >>> from floorscan.sim import World, Camera, render
 >>> image, truth = render(World.builtin("corridor"), Camera(), (1.0, 0.0, 0.0))
->>> sorted(set(truth.status_names))
-['boundary']
+>>> image.shape, sorted(set(truth.status_names))
+((240, 320), ['boundary', 'no_boundary'])
 """
 
 from .calibration import PATTERN_KINDS, CalibrationPattern, render_calibration
