@@ -8,7 +8,6 @@ import math
 
 import numpy as np
 import pytest
-
 from floorscan import (
     CameraMount,
     FileFormatError,
@@ -38,7 +37,9 @@ def wall_world(d: float) -> World:
     """Carpet with one long straight wall whose face is at x = d (camera ground frame of a
     robot whose camera sits at the origin)."""
     x = d + 0.05
-    return World.from_toml(f'name = "wall"\n[start]\nx = 0\ny = 0\n[[walls]]\nfrom = [{x}, -30]\nto = [{x}, 30]\n')
+    return World.from_toml(
+        f'name = "wall"\n[start]\nx = 0\ny = 0\n[[walls]]\nfrom = [{x}, -30]\nto = [{x}, 30]\n'
+    )
 
 
 def camera_at_origin_pose(cam: Camera):
@@ -63,7 +64,9 @@ def test_builtin_worlds_load_with_a_tour():
 
 def test_world_file_errors_name_the_line_or_the_field(tmp_path):
     bad_value = tmp_path / "bad_value.toml"
-    bad_value.write_text('name = "w"\n[start]\nx = 0\ny = 0\n[[walls]]\nfrom = [0, 0]\nto = [1, 0]\nheight_m = -2\n')
+    bad_value.write_text(
+        'name = "w"\n[start]\nx = 0\ny = 0\n[[walls]]\nfrom = [0, 0]\nto = [1, 0]\nheight_m = -2\n'
+    )
     with pytest.raises(WorldError, match=r"walls\[0\]\.height_m") as e:
         World.load(bad_value)
     assert isinstance(e.value, FileFormatError) and isinstance(e.value, FloorscanError)
@@ -88,8 +91,12 @@ def test_world_file_errors_name_the_line_or_the_field(tmp_path):
 def test_exact_mapping_is_the_core_ground_table_of_the_same_lens_and_mount():
     cam = Camera()
     table = cam.ground_table(spacing_px=1, max_range_m=10.0)
-    core = GroundTable.from_camera(cam.lens, cam.mount, image_width=320, image_height=240, spacing_px=1)
-    assert np.array_equal(np.nan_to_num(table.nodes[0], nan=-1), np.nan_to_num(core.nodes[0], nan=-1))
+    core = GroundTable.from_camera(
+        cam.lens, cam.mount, image_width=320, image_height=240, spacing_px=1
+    )
+    assert np.array_equal(
+        np.nan_to_num(table.nodes[0], nan=-1), np.nan_to_num(core.nodes[0], nan=-1)
+    )
     v, u = np.mgrid[0:240:7, 0:320:9].astype(np.float64)
     x, y = cam.pixel_to_ground(u, v, max_range_m=10.0)
     tx, ty = table.lookup(u, v)
@@ -148,7 +155,9 @@ def test_rendering_agrees_with_the_exact_mapping_in_a_real_world():
     b = np.nonzero(truth.status_names == "boundary")[0]
     assert len(b) > 200
     x, y = cam.pixel_to_ground(b.astype(float), truth.rows[b], max_range_m=1e9)
-    assert np.allclose(x, truth.points[b, 0], atol=1e-5) and np.allclose(y, truth.points[b, 1], atol=1e-5)
+    assert np.allclose(x, truth.points[b, 0], atol=1e-5) and np.allclose(
+        y, truth.points[b, 1], atol=1e-5
+    )
     # World points are the camera points placed by world_from_camera.
     cx, cy, cyaw = truth.world_from_camera
     wx = cx + math.cos(cyaw) * truth.points[b, 0] - math.sin(cyaw) * truth.points[b, 1]
@@ -191,34 +200,55 @@ def test_the_image_looks_like_a_camera_image():
 
 
 def test_zero_odometry_noise_gives_the_truth():
-    tr = Robot(odometry=OdometryNoise.none()).drive(start=(1.0, 0.0, 0.0), seconds=20, waypoints=[(3, 0), (3, 2)])
+    tr = Robot(odometry=OdometryNoise.none()).drive(
+        start=(1.0, 0.0, 0.0), seconds=20, waypoints=[(3, 0), (3, 2)]
+    )
     assert np.array_equal(tr.poses, tr.odometry)
     assert len(tr) == 201 and tr.timestamps[1] == pytest.approx(0.1)
 
 
 def test_systematic_odometry_errors_follow_their_parameters():
     straight = [(10.0, 0.2, 0.0)]  # 2 m straight
-    tr = Robot(odometry=OdometryNoise.none().__class__(
-        wheel_sigma_per_sqrt_m=0, radius_scale_error=0.05, radius_difference=0, wheelbase_error=0
-    )).drive(start=(0, 0, 0), seconds=12, commands=straight)
+    tr = Robot(
+        odometry=OdometryNoise.none().__class__(
+            wheel_sigma_per_sqrt_m=0,
+            radius_scale_error=0.05,
+            radius_difference=0,
+            wheelbase_error=0,
+        )
+    ).drive(start=(0, 0, 0), seconds=12, commands=straight)
     assert tr.poses[-1][0] == pytest.approx(2.0, abs=1e-9)
     assert tr.odometry[-1][0] == pytest.approx(2.1, abs=1e-9)
-    bend = Robot(odometry=OdometryNoise(
-        wheel_sigma_per_sqrt_m=0, radius_scale_error=0, radius_difference=0.01, wheelbase_error=0
-    )).drive(start=(0, 0, 0), seconds=12, commands=straight)
+    bend = Robot(
+        odometry=OdometryNoise(
+            wheel_sigma_per_sqrt_m=0,
+            radius_scale_error=0,
+            radius_difference=0.01,
+            wheelbase_error=0,
+        )
+    ).drive(start=(0, 0, 0), seconds=12, commands=straight)
     # Heading drift = distance * difference / wheelbase.
     assert bend.odometry[-1][2] == pytest.approx(2.0 * 0.01 / 0.3, rel=1e-9)
 
 
 def test_random_odometry_error_statistics_match_sigma():
     sigma = 0.03
-    robot = Robot(odometry=OdometryNoise(
-        wheel_sigma_per_sqrt_m=sigma, radius_scale_error=0, radius_difference=0, wheelbase_error=0
-    ))
-    yaw = np.array([
-        robot.drive(start=(0, 0, 0), seconds=5, commands=[(5.0, 0.2, 0.0)], seed=s).odometry[-1][2]
-        for s in range(1500)
-    ])
+    robot = Robot(
+        odometry=OdometryNoise(
+            wheel_sigma_per_sqrt_m=sigma,
+            radius_scale_error=0,
+            radius_difference=0,
+            wheelbase_error=0,
+        )
+    )
+    yaw = np.array(
+        [
+            robot.drive(start=(0, 0, 0), seconds=5, commands=[(5.0, 0.2, 0.0)], seed=s).odometry[
+                -1
+            ][2]
+            for s in range(1500)
+        ]
+    )
     # 1 m per wheel: heading variance 2 sigma^2 D / b^2, zero mean.
     expected = 2 * sigma**2 * 1.0 / 0.3**2
     assert yaw.var() == pytest.approx(expected, rel=0.15)

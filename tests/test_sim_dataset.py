@@ -9,7 +9,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from floorscan import DatasetError
 from floorscan.cli import main
 from floorscan.dataset import read_images_txt, read_rig, read_trajectory
@@ -31,7 +30,9 @@ else:  # pragma: no cover
 
 @pytest.fixture(scope="module")
 def dataset(tmp_path_factory):
-    run = simulate_run(World.builtin("room"), camera=Camera(width=160, height=120), seconds=2.0, seed=4)
+    run = simulate_run(
+        World.builtin("room"), camera=Camera(width=160, height=120), seconds=2.0, seed=4
+    )
     folder = write_dataset(run, tmp_path_factory.mktemp("ds") / "room")
     return run, folder
 
@@ -50,7 +51,9 @@ def test_images_and_trajectories_read_back(dataset):
         assert np.allclose(p[:, :2], poses[:, :2], atol=1e-8)
         assert np.allclose(np.angle(np.exp(1j * (p[:, 2] - poses[:, 2]))), 0, atol=1e-9)
         # TUM lines: 8 numbers, z = 0, a unit quaternion about z.
-        rows = [ln.split() for ln in (folder / name).read_text().splitlines() if not ln.startswith("#")]
+        rows = [
+            ln.split() for ln in (folder / name).read_text().splitlines() if not ln.startswith("#")
+        ]
         q = np.array(rows, dtype=float)
         assert q.shape == (21, 8) and np.all(q[:, 3:6] == 0)
         assert np.allclose(q[:, 6] ** 2 + q[:, 7] ** 2, 1.0)
@@ -81,7 +84,9 @@ def test_truth_folder(dataset):
 def test_checkerboard_scene_matches_its_pattern_toml(dataset):
     run, folder = dataset
     spec = tomllib.loads((folder / "calibration" / "pattern.toml").read_text())
-    assert spec["kind"] == "checkerboard" and spec["inner_corners"] == [9, 7] and spec["square"] == 0.1
+    assert (
+        spec["kind"] == "checkerboard" and spec["inner_corners"] == [9, 7] and spec["square"] == 0.1
+    )
     assert set(spec) == {"kind", "inner_corners", "square", "near_left", "yaw"}
     image = read_grey(folder / "calibration" / "pattern.png")
     cam = run.camera
@@ -147,10 +152,28 @@ def test_existing_folders_are_not_overwritten_unless_asked(tmp_path):
 
 def test_sim_command_writes_a_dataset(tmp_path, capsys):
     out = tmp_path / "corridor"
-    code = main(["sim", "--world", "corridor", "--seconds", "0.5", "--out", str(out), "--width", "64",
-                 "--height", "48", "--calibration", "lines"])
+    code = main(
+        [
+            "sim",
+            "--world",
+            "corridor",
+            "--seconds",
+            "0.5",
+            "--out",
+            str(out),
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--calibration",
+            "lines",
+        ]
+    )
     assert code == 0
     assert len(read_images_txt(out)) == 6
     assert tomllib.loads((out / "calibration" / "pattern.toml").read_text())["kind"] == "lines"
     assert "simulated 6 frames" in capsys.readouterr().err
-    assert main(["sim", "--world", "nowhere.toml", "--seconds", "1", "--out", str(tmp_path / "x")]) == 1
+    assert (
+        main(["sim", "--world", "nowhere.toml", "--seconds", "1", "--out", str(tmp_path / "x")])
+        == 1
+    )

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from floorscan import VisualRanger
 from floorscan.sim import Camera, World, simulate_run
 

@@ -87,7 +87,9 @@ def read_trajectory(path: PathLike) -> Tuple[np.ndarray, np.ndarray]:
             continue
         parts = line.split()
         if len(parts) != 8:
-            raise DatasetError(f"{path}:{lineno}: expected 'timestamp tx ty tz qx qy qz qw', got {line!r}")
+            raise DatasetError(
+                f"{path}:{lineno}: expected 'timestamp tx ty tz qx qy qz qw', got {line!r}"
+            )
         try:
             rows.append([float(p) for p in parts])
         except ValueError:

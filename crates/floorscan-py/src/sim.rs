@@ -7,13 +7,17 @@ use std::sync::Arc;
 use floorscan_core::mount::ground_to_pixel;
 use floorscan_core::{Point2, Pose2};
 use floorscan_sim::builtin::{builtin_names, builtin_world};
-use floorscan_sim::calibration::{calibration_world, default_pattern, robot_pose, PatternKind, PatternSpec};
+use floorscan_sim::calibration::{
+    calibration_world, default_pattern, robot_pose, PatternKind, PatternSpec,
+};
 use floorscan_sim::occupancy::{occupancy_raster, OccupancyOptions};
 use floorscan_sim::odometry::OdometryNoise;
 use floorscan_sim::render::{render_into, RenderBuffers};
 use floorscan_sim::robot::{drive, Motion, RobotOptions};
 use floorscan_sim::run::{render_run, RunOutputs};
-use floorscan_sim::truth::{frame_truth, write_columns_csv, FrameTruth, TruthOptions, COLUMNS_CSV_HEADER};
+use floorscan_sim::truth::{
+    frame_truth, write_columns_csv, FrameTruth, TruthOptions, COLUMNS_CSV_HEADER,
+};
 use floorscan_sim::world_file::parse_world;
 use floorscan_sim::{Camera, CameraRays, Scene};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
@@ -41,6 +45,15 @@ impl<T> IntoSimResult<T> for floorscan_sim::Result<T> {
     }
 }
 
+type Xy<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+type Rendered<'py> = (Bound<'py, PyAny>, Bound<'py, PyAny>, Option<PyTruth>, f64);
+type RenderedRun<'py> = (
+    Bound<'py, PyAny>,
+    Option<Bound<'py, PyAny>>,
+    Option<PyTruth>,
+    Bound<'py, PyAny>,
+);
+
 fn parse_json<T: serde::de::DeserializeOwned>(what: &str, text: &str) -> PyResult<T> {
     serde_json::from_str(text).map_err(|e| error("OptionError", format!("invalid {what}: {e}")))
 }
@@ -57,13 +70,17 @@ impl PyWorld {
     #[staticmethod]
     fn from_toml(py: Python<'_>, text: &str, source_name: &str) -> PyResult<Self> {
         let world = parse_world(text, source_name).sim()?;
-        Ok(Self { scene: Arc::new(py.detach(|| Scene::new(world))) })
+        Ok(Self {
+            scene: Arc::new(py.detach(|| Scene::new(world))),
+        })
     }
 
     #[staticmethod]
     fn builtin(py: Python<'_>, name: &str) -> PyResult<Self> {
         let world = builtin_world(name).sim()?;
-        Ok(Self { scene: Arc::new(py.detach(|| Scene::new(world))) })
+        Ok(Self {
+            scene: Arc::new(py.detach(|| Scene::new(world))),
+        })
     }
 
     #[staticmethod]
@@ -109,7 +126,11 @@ impl PyWorld {
     }
 
     /// True occupancy raster: (cells (H, W) int8 with 100/0/-1, row 0 = lowest y; origin x, y).
-    fn occupancy<'py>(&self, py: Python<'py>, options_json: &str) -> PyResult<(Bound<'py, PyAny>, f64, f64)> {
+    fn occupancy<'py>(
+        &self,
+        py: Python<'py>,
+        options_json: &str,
+    ) -> PyResult<(Bound<'py, PyAny>, f64, f64)> {
         let opts: OccupancyOptions = parse_json("occupancy options", options_json)?;
         let scene = self.scene.clone();
         let r = py.detach(|| occupancy_raster(&scene.world, &opts)).sim()?;
@@ -129,7 +150,9 @@ impl PyCamera {
     #[staticmethod]
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
         let camera: Camera = parse_json("camera", text)?;
-        Ok(Self { rays: Arc::new(py.detach(|| CameraRays::new(camera)).sim()?) })
+        Ok(Self {
+            rays: Arc::new(py.detach(|| CameraRays::new(camera)).sim()?),
+        })
     }
 
     /// The default wide-angle camera at a resolution, as JSON.
@@ -149,16 +172,22 @@ impl PyCamera {
         u: PyReadonlyArray1<'py, f64>,
         v: PyReadonlyArray1<'py, f64>,
         max_range_m: f64,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<Xy<'py>> {
         let (u, v) = (u.as_array().to_vec(), v.as_array().to_vec());
         if u.len() != v.len() {
-            return Err(error("LengthMismatchError", format!("u has {} values, v has {}", u.len(), v.len())));
+            return Err(error(
+                "LengthMismatchError",
+                format!("u has {} values, v has {}", u.len(), v.len()),
+            ));
         }
         let cam = &self.rays.camera;
         let (x, y): (Vec<f64>, Vec<f64>) = py.detach(|| {
             u.iter()
                 .zip(&v)
-                .map(|(&u, &v)| cam.pixel_to_ground(u, v, max_range_m).map_or((f64::NAN, f64::NAN), |p| (p.x, p.y)))
+                .map(|(&u, &v)| {
+                    cam.pixel_to_ground(u, v, max_range_m)
+                        .map_or((f64::NAN, f64::NAN), |p| (p.x, p.y))
+                })
                 .unzip()
         });
         Ok((PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
@@ -170,17 +199,21 @@ impl PyCamera {
         py: Python<'py>,
         x: PyReadonlyArray1<'py, f64>,
         y: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<Xy<'py>> {
         let (x, y) = (x.as_array().to_vec(), y.as_array().to_vec());
         if x.len() != y.len() {
-            return Err(error("LengthMismatchError", format!("x has {} values, y has {}", x.len(), y.len())));
+            return Err(error(
+                "LengthMismatchError",
+                format!("x has {} values, y has {}", x.len(), y.len()),
+            ));
         }
         let cam = &self.rays.camera;
         let (u, v): (Vec<f64>, Vec<f64>) = py.detach(|| {
             x.iter()
                 .zip(&y)
                 .map(|(&x, &y)| {
-                    ground_to_pixel(&cam.lens, &cam.mount, Point2::new(x, y)).map_or((f64::NAN, f64::NAN), |p| (p[0], p[1]))
+                    ground_to_pixel(&cam.lens, &cam.mount, Point2::new(x, y))
+                        .map_or((f64::NAN, f64::NAN), |p| (p[0], p[1]))
                 })
                 .unzip()
         });
@@ -188,9 +221,16 @@ impl PyCamera {
     }
 
     /// The exact ground table of the camera.
-    fn ground_table(&self, py: Python<'_>, spacing_px: usize, max_range_m: f64) -> PyResult<PyGroundTable> {
+    fn ground_table(
+        &self,
+        py: Python<'_>,
+        spacing_px: usize,
+        max_range_m: f64,
+    ) -> PyResult<PyGroundTable> {
         let cam = self.rays.camera.clone();
-        let inner = py.detach(|| cam.ground_table(spacing_px, max_range_m)).sim()?;
+        let inner = py
+            .detach(|| cam.ground_table(spacing_px, max_range_m))
+            .sim()?;
         Ok(PyGroundTable { inner })
     }
 }
@@ -219,7 +259,11 @@ impl PyTruth {
         if times.len() != self.frames.len() {
             return Err(error(
                 "LengthMismatchError",
-                format!("{} frames but {} timestamps", self.frames.len(), times.len()),
+                format!(
+                    "{} frames but {} timestamps",
+                    self.frames.len(),
+                    times.len()
+                ),
             ));
         }
         Ok(py.detach(|| {
@@ -236,33 +280,80 @@ fn pose_of(x: f64, y: f64, yaw: f64) -> PyResult<Pose2> {
     Pose2::checked(x, y, yaw).map_err(to_pyerr)
 }
 
-fn image_array<'py>(py: Python<'py>, data: Vec<u8>, shape: &[usize]) -> PyResult<Bound<'py, PyAny>> {
-    Ok(PyArray1::from_vec(py, data).reshape(shape.to_vec())?.into_any())
+fn image_array<'py>(
+    py: Python<'py>,
+    data: Vec<u8>,
+    shape: &[usize],
+) -> PyResult<Bound<'py, PyAny>> {
+    Ok(PyArray1::from_vec(py, data)
+        .reshape(shape.to_vec())?
+        .into_any())
 }
 
 /// Truth of frames as a dict of arrays, shapes (N, W) or (N, W, 2).
-fn truth_dict<'py>(py: Python<'py>, frames: &[FrameTruth], width: usize) -> PyResult<Bound<'py, PyDict>> {
+fn truth_dict<'py>(
+    py: Python<'py>,
+    frames: &[FrameTruth],
+    width: usize,
+) -> PyResult<Bound<'py, PyDict>> {
     let n = frames.len();
     let cols = || frames.iter().flat_map(|f| f.columns.iter());
     let nan2 = |p: Option<Point2>| p.map_or([f64::NAN, f64::NAN], |p| [p.x, p.y]);
     let d = PyDict::new(py);
-    let scalar = |v: Vec<f64>| -> PyResult<Bound<'py, PyAny>> { Ok(PyArray1::from_vec(py, v).reshape([n, width])?.into_any()) };
-    let pairs = |v: Vec<f64>| -> PyResult<Bound<'py, PyAny>> { Ok(PyArray1::from_vec(py, v).reshape([n, width, 2])?.into_any()) };
-    d.set_item("status", PyArray1::from_vec(py, cols().map(|c| c.status.code()).collect()).reshape([n, width])?)?;
+    let scalar = |v: Vec<f64>| -> PyResult<Bound<'py, PyAny>> {
+        Ok(PyArray1::from_vec(py, v).reshape([n, width])?.into_any())
+    };
+    let pairs = |v: Vec<f64>| -> PyResult<Bound<'py, PyAny>> {
+        Ok(PyArray1::from_vec(py, v).reshape([n, width, 2])?.into_any())
+    };
+    d.set_item(
+        "status",
+        PyArray1::from_vec(py, cols().map(|c| c.status.code()).collect()).reshape([n, width])?,
+    )?;
     d.set_item("row", scalar(cols().map(|c| c.row).collect())?)?;
-    d.set_item("point", pairs(cols().flat_map(|c| nan2(c.point)).collect())?)?;
-    d.set_item("point_world", pairs(cols().flat_map(|c| nan2(c.point_world)).collect())?)?;
-    d.set_item("obstacle_world", pairs(cols().flat_map(|c| nan2(c.obstacle_world)).collect())?)?;
-    d.set_item("obstacle_z", scalar(cols().map(|c| c.obstacle_z_m).collect())?)?;
-    d.set_item("appearance_row", scalar(cols().map(|c| c.appearance_row).collect())?)?;
-    d.set_item("appearance_point", pairs(cols().flat_map(|c| nan2(c.appearance_point)).collect())?)?;
-    let poses: Vec<f64> = frames.iter().flat_map(|f| [f.pose.x, f.pose.y, f.pose.yaw]).collect();
+    d.set_item(
+        "point",
+        pairs(cols().flat_map(|c| nan2(c.point)).collect())?,
+    )?;
+    d.set_item(
+        "point_world",
+        pairs(cols().flat_map(|c| nan2(c.point_world)).collect())?,
+    )?;
+    d.set_item(
+        "obstacle_world",
+        pairs(cols().flat_map(|c| nan2(c.obstacle_world)).collect())?,
+    )?;
+    d.set_item(
+        "obstacle_z",
+        scalar(cols().map(|c| c.obstacle_z_m).collect())?,
+    )?;
+    d.set_item(
+        "appearance_row",
+        scalar(cols().map(|c| c.appearance_row).collect())?,
+    )?;
+    d.set_item(
+        "appearance_point",
+        pairs(cols().flat_map(|c| nan2(c.appearance_point)).collect())?,
+    )?;
+    let poses: Vec<f64> = frames
+        .iter()
+        .flat_map(|f| [f.pose.x, f.pose.y, f.pose.yaw])
+        .collect();
     d.set_item("pose", PyArray1::from_vec(py, poses).reshape([n, 3])?)?;
     let cams: Vec<f64> = frames
         .iter()
-        .flat_map(|f| [f.world_from_camera.x, f.world_from_camera.y, f.world_from_camera.yaw])
+        .flat_map(|f| {
+            [
+                f.world_from_camera.x,
+                f.world_from_camera.y,
+                f.world_from_camera.yaw,
+            ]
+        })
         .collect();
-    d.set_item("world_from_camera", PyArray1::from_vec(py, cams).reshape([n, 3])?)?;
+    d.set_item(
+        "world_from_camera",
+        PyArray1::from_vec(py, cams).reshape([n, 3])?,
+    )?;
     Ok(d)
 }
 
@@ -281,25 +372,34 @@ fn sim_render<'py>(
     frame: u64,
     truth: bool,
     max_range_m: f64,
-) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Option<PyTruth>, f64)> {
+) -> PyResult<Rendered<'py>> {
     let pose = pose_of(x, y, yaw)?;
     let (scene, rays) = (world.scene.clone(), camera.rays.clone());
     let opts = TruthOptions { max_range_m };
-    let (buf, t) = py.detach(|| -> floorscan_sim::Result<_> {
-        let mut buf = RenderBuffers::default();
-        render_into(&scene, &rays, pose, seed, frame, &mut buf)?;
-        let t = if truth {
-            opts.validate()?;
-            Some(frame_truth(&scene, &rays, pose, &opts))
-        } else {
-            None
-        };
-        Ok((buf, t))
-    })
-    .sim()?;
+    let (buf, t) = py
+        .detach(|| -> floorscan_sim::Result<_> {
+            let mut buf = RenderBuffers::default();
+            render_into(&scene, &rays, pose, seed, frame, &mut buf)?;
+            let t = if truth {
+                opts.validate()?;
+                Some(frame_truth(&scene, &rays, pose, &opts))
+            } else {
+                None
+            };
+            Ok((buf, t))
+        })
+        .sim()?;
     let (w, h) = (rays.camera.width, rays.camera.height);
-    let truth = t.map(|t| PyTruth { frames: vec![t], width: w });
-    Ok((image_array(py, buf.image, &[h, w])?, image_array(py, buf.labels, &[h, w])?, truth, buf.exposure))
+    let truth = t.map(|t| PyTruth {
+        frames: vec![t],
+        width: w,
+    });
+    Ok((
+        image_array(py, buf.image, &[h, w])?,
+        image_array(py, buf.labels, &[h, w])?,
+        truth,
+        buf.exposure,
+    ))
 }
 
 /// Drives the robot: (times (N,), truth (N, 3), odometry (N, 3)).
@@ -320,13 +420,23 @@ fn sim_drive<'py>(
     let motion: Motion = parse_json("motion", motion_json)?;
     let robot: RobotOptions = parse_json("robot options", robot_json)?;
     let noise: OdometryNoise = parse_json("odometry noise", noise_json)?;
-    let tr = py.detach(|| drive(start, &motion, &robot, &noise, duration_s, seed)).sim()?;
+    let tr = py
+        .detach(|| drive(start, &motion, &robot, &noise, duration_s, seed))
+        .sim()?;
     let n = tr.times_s.len();
-    let flat = |p: &[Pose2]| p.iter().flat_map(|p| [p.x, p.y, p.yaw]).collect::<Vec<f64>>();
+    let flat = |p: &[Pose2]| {
+        p.iter()
+            .flat_map(|p| [p.x, p.y, p.yaw])
+            .collect::<Vec<f64>>()
+    };
     Ok((
         PyArray1::from_vec(py, tr.times_s).into_any(),
-        PyArray1::from_vec(py, flat(&tr.truth)).reshape([n, 3])?.into_any(),
-        PyArray1::from_vec(py, flat(&tr.odometry)).reshape([n, 3])?.into_any(),
+        PyArray1::from_vec(py, flat(&tr.truth))
+            .reshape([n, 3])?
+            .into_any(),
+        PyArray1::from_vec(py, flat(&tr.odometry))
+            .reshape([n, 3])?
+            .into_any(),
     ))
 }
 
@@ -344,20 +454,45 @@ fn sim_render_run<'py>(
     truth: bool,
     max_range_m: f64,
     threads: usize,
-) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>, Option<PyTruth>, Bound<'py, PyAny>)> {
+) -> PyResult<RenderedRun<'py>> {
     if poses.shape()[1] != 3 {
-        return Err(error("GeometryError", format!("poses must have shape (N, 3), got {:?}", poses.shape())));
+        return Err(error(
+            "GeometryError",
+            format!("poses must have shape (N, 3), got {:?}", poses.shape()),
+        ));
     }
     let a = poses.as_array();
-    let poses: Vec<Pose2> = a.rows().into_iter().map(|r| Pose2::new(r[0], r[1], r[2])).collect();
+    let poses: Vec<Pose2> = a
+        .rows()
+        .into_iter()
+        .map(|r| Pose2::new(r[0], r[1], r[2]))
+        .collect();
     let (scene, rays) = (world.scene.clone(), camera.rays.clone());
-    let outputs = RunOutputs { labels, truth: truth.then_some(TruthOptions { max_range_m }), threads };
-    let run = py.detach(|| render_run(&scene, &rays, &poses, seed, outputs)).sim()?;
+    let outputs = RunOutputs {
+        labels,
+        truth: truth.then_some(TruthOptions { max_range_m }),
+        threads,
+    };
+    let run = py
+        .detach(|| render_run(&scene, &rays, &poses, seed, outputs))
+        .sim()?;
     let (n, h, w) = (poses.len(), run.height, run.width);
     let images = image_array(py, run.images, &[n, h, w])?;
-    let labels = if labels { Some(image_array(py, run.labels, &[n, h, w])?) } else { None };
-    let truth = truth.then(|| PyTruth { frames: run.truth, width: w });
-    Ok((images, labels, truth, PyArray1::from_vec(py, run.exposures).into_any()))
+    let labels = if labels {
+        Some(image_array(py, run.labels, &[n, h, w])?)
+    } else {
+        None
+    };
+    let truth = truth.then_some(PyTruth {
+        frames: run.truth,
+        width: w,
+    });
+    Ok((
+        images,
+        labels,
+        truth,
+        PyArray1::from_vec(py, run.exposures).into_any(),
+    ))
 }
 
 /// The default pattern of a kind ("checkerboard" or "lines") in front of a camera, as JSON.
@@ -387,7 +522,10 @@ fn sim_render_calibration<'py>(
         })
         .sim()?;
     let (w, h) = (rays.camera.width, rays.camera.height);
-    Ok((image_array(py, buf.image, &[h, w])?, image_array(py, buf.labels, &[h, w])?))
+    Ok((
+        image_array(py, buf.image, &[h, w])?,
+        image_array(py, buf.labels, &[h, w])?,
+    ))
 }
 
 /// Pattern points (inner corners or crossings; camera ground frame), (M, 2).
@@ -397,7 +535,11 @@ fn sim_pattern_points<'py>(py: Python<'py>, pattern_json: &str) -> PyResult<Boun
     spec.validate().sim()?;
     let pts = spec.points();
     let n = pts.len();
-    Ok(PyArray1::from_vec(py, pts.iter().flat_map(|p| [p.x, p.y]).collect()).reshape([n, 2])?.into_any())
+    Ok(
+        PyArray1::from_vec(py, pts.iter().flat_map(|p| [p.x, p.y]).collect())
+            .reshape([n, 2])?
+            .into_any(),
+    )
 }
 
 /// Validates options of a simulator component given as JSON: `kind` is "camera", "imaging",
@@ -405,11 +547,21 @@ fn sim_pattern_points<'py>(py: Python<'py>, pattern_json: &str) -> PyResult<Boun
 #[pyfunction]
 fn sim_validate(kind: &str, options_json: &str) -> PyResult<()> {
     match kind {
-        "camera" => parse_json::<Camera>("camera", options_json)?.validate().sim(),
-        "imaging" => parse_json::<floorscan_sim::Imaging>("imaging", options_json)?.validate().sim(),
-        "robot" => parse_json::<RobotOptions>("robot options", options_json)?.validate().sim(),
-        "odometry" => parse_json::<OdometryNoise>("odometry noise", options_json)?.validate().sim(),
-        "pattern" => parse_json::<PatternSpec>("pattern", options_json)?.validate().sim(),
+        "camera" => parse_json::<Camera>("camera", options_json)?
+            .validate()
+            .sim(),
+        "imaging" => parse_json::<floorscan_sim::Imaging>("imaging", options_json)?
+            .validate()
+            .sim(),
+        "robot" => parse_json::<RobotOptions>("robot options", options_json)?
+            .validate()
+            .sim(),
+        "odometry" => parse_json::<OdometryNoise>("odometry noise", options_json)?
+            .validate()
+            .sim(),
+        "pattern" => parse_json::<PatternSpec>("pattern", options_json)?
+            .validate()
+            .sim(),
         "occupancy" => {
             let o: OccupancyOptions = parse_json("occupancy options", options_json)?;
             // The checks live in the raster builder: run them on an empty world's bounds.

@@ -18,8 +18,19 @@ fn corridor() -> Scene {
 /// Poses along the corridor tour (every 5 s of a 60 s run), so the timing covers many views.
 fn tour_poses(scene: &Scene) -> Vec<Pose2> {
     let w = &scene.world;
-    let motion = Motion::Waypoints { points: w.tour.clone(), repeat: true };
-    let tr = drive(w.start, &motion, &RobotOptions::default(), &OdometryNoise::none(), 60.0, 0).unwrap();
+    let motion = Motion::Waypoints {
+        points: w.tour.clone(),
+        repeat: true,
+    };
+    let tr = drive(
+        w.start,
+        &motion,
+        &RobotOptions::default(),
+        &OdometryNoise::none(),
+        60.0,
+        0,
+    )
+    .unwrap();
     tr.truth.iter().step_by(50).copied().collect()
 }
 
@@ -43,7 +54,12 @@ fn bench_render(c: &mut Criterion) {
     group.bench_function("truth_320x240", |b| {
         b.iter(|| {
             k += 1;
-            frame_truth(&scene, &rays, poses[k % poses.len()], &TruthOptions::default())
+            frame_truth(
+                &scene,
+                &rays,
+                poses[k % poses.len()],
+                &TruthOptions::default(),
+            )
         })
     });
     group.finish();
@@ -51,12 +67,33 @@ fn bench_render(c: &mut Criterion) {
     let mut group = c.benchmark_group("run_corridor");
     group.sample_size(10);
     let w = &scene.world;
-    let motion = Motion::Waypoints { points: w.tour.clone(), repeat: true };
-    let tr = drive(w.start, &motion, &RobotOptions::default(), &OdometryNoise::default(), 60.0, 0).unwrap();
+    let motion = Motion::Waypoints {
+        points: w.tour.clone(),
+        repeat: true,
+    };
+    let tr = drive(
+        w.start,
+        &motion,
+        &RobotOptions::default(),
+        &OdometryNoise::default(),
+        60.0,
+        0,
+    )
+    .unwrap();
     group.bench_function("60s_10hz_320x240_images_labels_truth_1thread", |b| {
         b.iter(|| {
-            render_run(&scene, &rays, &tr.truth, 0, RunOutputs { labels: true, truth: Some(TruthOptions::default()), threads: 1 })
-                .unwrap()
+            render_run(
+                &scene,
+                &rays,
+                &tr.truth,
+                0,
+                RunOutputs {
+                    labels: true,
+                    truth: Some(TruthOptions::default()),
+                    threads: 1,
+                },
+            )
+            .unwrap()
         })
     });
     group.finish();

@@ -23,7 +23,12 @@ pub fn builtin_world(name: &str) -> Result<World> {
     let (_, text) = BUILTIN_WORLDS
         .iter()
         .find(|(n, _)| *n == name)
-        .ok_or_else(|| invalid_option("world", format!("no built-in world {name:?} (known: {:?})", builtin_names())))?;
+        .ok_or_else(|| {
+            invalid_option(
+                "world",
+                format!("no built-in world {name:?} (known: {:?})", builtin_names()),
+            )
+        })?;
     parse_world(text, &format!("built-in world {name:?}"))
 }
 
@@ -41,15 +46,34 @@ mod tests {
             let w = builtin_world(name).unwrap();
             assert!(!w.tour.is_empty(), "{name} has no tour");
             let raster = occupancy_raster(&w, &OccupancyOptions::default()).unwrap();
-            let motion = Motion::Waypoints { points: w.tour.clone(), repeat: true };
-            let tr = drive(w.start, &motion, &RobotOptions::default(), &OdometryNoise::none(), 240.0, 0).unwrap();
+            let motion = Motion::Waypoints {
+                points: w.tour.clone(),
+                repeat: true,
+            };
+            let tr = drive(
+                w.start,
+                &motion,
+                &RobotOptions::default(),
+                &OdometryNoise::none(),
+                240.0,
+                0,
+            )
+            .unwrap();
             let radius = 0.18; // robot base radius [m]
             for p in &tr.truth {
-                assert_eq!(raster.at(p.translation()), FREE, "{name}: robot at {p:?} is not in free space");
+                assert_eq!(
+                    raster.at(p.translation()),
+                    FREE,
+                    "{name}: robot at {p:?} is not in free space"
+                );
                 for k in 0..16 {
                     let a = k as f64 * std::f64::consts::TAU / 16.0;
                     let q = Point2::new(p.x + radius * a.cos(), p.y + radius * a.sin());
-                    assert_ne!(raster.at(q), OCCUPIED, "{name}: robot at {p:?} touches an obstacle");
+                    assert_ne!(
+                        raster.at(q),
+                        OCCUPIED,
+                        "{name}: robot at {p:?} touches an obstacle"
+                    );
                 }
             }
         }
@@ -62,8 +86,18 @@ mod tests {
         assert!(b.max.x - b.min.x >= 15.0);
         let raster = occupancy_raster(&w, &OccupancyOptions::default()).unwrap();
         // Doorways connect the corridor to the rooms: room centres are reachable (free).
-        for room in [(4.0, 3.0), (8.0, 3.0), (12.0, 3.0), (5.5, -3.0), (10.5, -3.0)] {
-            assert_eq!(raster.at(Point2::new(room.0, room.1)), FREE, "room at {room:?}");
+        for room in [
+            (4.0, 3.0),
+            (8.0, 3.0),
+            (12.0, 3.0),
+            (5.5, -3.0),
+            (10.5, -3.0),
+        ] {
+            assert_eq!(
+                raster.at(Point2::new(room.0, room.1)),
+                FREE,
+                "room at {room:?}"
+            );
         }
         // Both arms of the T are free.
         assert_eq!(raster.at(Point2::new(19.0, 5.0)), FREE);

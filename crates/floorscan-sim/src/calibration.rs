@@ -62,13 +62,19 @@ impl PatternSpec {
 
     pub fn validate(&self) -> Result<()> {
         if !(self.near_left.x.is_finite() && self.near_left.y.is_finite() && self.yaw.is_finite()) {
-            return Err(invalid_option("near_left", "pattern placement must be finite"));
+            return Err(invalid_option(
+                "near_left",
+                "pattern placement must be finite",
+            ));
         }
         match self.kind {
             PatternKind::Checkerboard => {
                 check_range("square", self.square_m, 1e-3, 10.0)?;
                 if self.inner_corners.iter().any(|&n| !(2..=100).contains(&n)) {
-                    return Err(invalid_option("inner_corners", "each count must be in 2..=100"));
+                    return Err(invalid_option(
+                        "inner_corners",
+                        "each count must be in 2..=100",
+                    ));
                 }
             }
             PatternKind::Lines => {
@@ -100,10 +106,15 @@ impl PatternSpec {
     /// (j), left to right within a row (i).
     pub fn points(&self) -> Vec<Point2> {
         let (n_i, n_j, step) = match self.kind {
-            PatternKind::Checkerboard => (self.inner_corners[0], self.inner_corners[1], self.square_m),
+            PatternKind::Checkerboard => {
+                (self.inner_corners[0], self.inner_corners[1], self.square_m)
+            }
             PatternKind::Lines => (self.lines[0], self.lines[1], self.spacing_m),
         };
-        (0..n_j).flat_map(|j| (0..n_i).map(move |i| (i, j))).map(|(i, j)| self.at(i as f64, j as f64, step)).collect()
+        (0..n_j)
+            .flat_map(|j| (0..n_i).map(move |i| (i, j)))
+            .map(|(i, j)| self.at(i as f64, j as f64, step))
+            .collect()
     }
 
     /// Outline of the pattern sheet (with its margin or the lines' overhang), counter-clockwise.
@@ -121,7 +132,12 @@ impl PatternSpec {
             }
         };
         // Across runs to the right (-y), so this order is counter-clockwise.
-        vec![self.at(lo_i, hi_j, step), self.at(lo_i, lo_j, step), self.at(hi_i, lo_j, step), self.at(hi_i, hi_j, step)]
+        vec![
+            self.at(lo_i, hi_j, step),
+            self.at(lo_i, lo_j, step),
+            self.at(hi_i, lo_j, step),
+            self.at(hi_i, hi_j, step),
+        ]
     }
 
     fn covering(&self) -> Covering {
@@ -147,8 +163,18 @@ impl PatternSpec {
                 overhang_m: 0.5 * self.spacing_m,
             },
         };
-        let albedo = if self.kind == PatternKind::Checkerboard { 0.85 } else { 0.34 };
-        Covering { name: "pattern".into(), class: CoveringClass::Other, albedo, pattern, seed: 0x5EED }
+        let albedo = if self.kind == PatternKind::Checkerboard {
+            0.85
+        } else {
+            0.34
+        };
+        Covering {
+            name: "pattern".into(),
+            class: CoveringClass::Other,
+            albedo,
+            pattern,
+            seed: 0x5EED,
+        }
     }
 }
 
@@ -184,12 +210,22 @@ pub fn default_pattern(kind: PatternKind, camera: &Camera) -> Result<PatternSpec
         })
     };
     for k in 0..300 {
-        let spec = PatternSpec { near_left: Point2::new(0.05 + 0.02 * k as f64, half_width), ..base.clone() };
-        if along_outline(&spec).into_iter().chain(spec.points()).all(inside) {
+        let spec = PatternSpec {
+            near_left: Point2::new(0.05 + 0.02 * k as f64, half_width),
+            ..base.clone()
+        };
+        if along_outline(&spec)
+            .into_iter()
+            .chain(spec.points())
+            .all(inside)
+        {
             return Ok(spec);
         }
     }
-    Err(invalid_option("camera", "the calibration pattern does not fit in this camera's view of the floor"))
+    Err(invalid_option(
+        "camera",
+        "the calibration pattern does not fit in this camera's view of the floor",
+    ))
 }
 
 /// The room of the calibration scene: 8 x 8 m around the camera, evenly lit.
@@ -224,7 +260,10 @@ pub fn calibration_world(spec: &PatternSpec) -> Result<World> {
     let mut world = crate::world_file::parse_world(CALIBRATION_ROOM, "calibration")?;
     let index = world.coverings.len();
     world.coverings.push(spec.covering());
-    world.regions.push(FloorRegion { polygon: spec.outline(), covering: index });
+    world.regions.push(FloorRegion {
+        polygon: spec.outline(),
+        covering: index,
+    });
     World::new(world)
 }
 

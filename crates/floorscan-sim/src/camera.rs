@@ -32,14 +32,26 @@ pub struct Imaging {
 
 impl Default for Imaging {
     fn default() -> Self {
-        Self { read_noise_dn: 1.5, shot_noise_gain: 0.06, blur_sigma_px: 0.6, vignetting: 0.35, antialias: true }
+        Self {
+            read_noise_dn: 1.5,
+            shot_noise_gain: 0.06,
+            blur_sigma_px: 0.6,
+            vignetting: 0.35,
+            antialias: true,
+        }
     }
 }
 
 impl Imaging {
     /// No noise, no blur, no vignetting, no anti-aliasing: the scene's radiance quantised.
     pub fn ideal() -> Self {
-        Self { read_noise_dn: 0.0, shot_noise_gain: 0.0, blur_sigma_px: 0.0, vignetting: 0.0, antialias: false }
+        Self {
+            read_noise_dn: 0.0,
+            shot_noise_gain: 0.0,
+            blur_sigma_px: 0.0,
+            vignetting: 0.0,
+            antialias: false,
+        }
     }
 
     pub fn validate(&self) -> Result<()> {
@@ -89,7 +101,11 @@ impl Camera {
                 k3: 0.0,
                 k4: 0.0,
             },
-            mount: CameraMount { height_m: 0.40, tilt_rad: 0.6, roll_rad: 0.0 },
+            mount: CameraMount {
+                height_m: 0.40,
+                tilt_rad: 0.6,
+                roll_rad: 0.0,
+            },
             width,
             height,
             robot_from_camera: Pose2::new(0.12, 0.0, 0.0),
@@ -103,7 +119,10 @@ impl Camera {
         self.imaging.validate()?;
         for (name, v) in [("width", self.width), ("height", self.height)] {
             if !(8..=8192).contains(&v) {
-                return Err(invalid_option(name, format!("must be in 8..=8192 px, got {v}")));
+                return Err(invalid_option(
+                    name,
+                    format!("must be in 8..=8192 px, got {v}"),
+                ));
             }
         }
         if !self.robot_from_camera.is_finite() {
@@ -120,7 +139,14 @@ impl Camera {
 
     /// The exact ground table of this camera (for scoring calibrations).
     pub fn ground_table(&self, spacing_px: usize, max_range_m: f64) -> Result<GroundTable> {
-        Ok(ground_table_from_camera(&self.lens, &self.mount, self.width, self.height, spacing_px, max_range_m)?)
+        Ok(ground_table_from_camera(
+            &self.lens,
+            &self.mount,
+            self.width,
+            self.height,
+            spacing_px,
+            max_range_m,
+        )?)
     }
 
     /// Ray direction (camera ground frame, unit length) through pixel (u, v), or `None`.
@@ -169,11 +195,18 @@ impl CameraRays {
                 let (a, b) = (dirs[k], dirs[nb]);
                 let dot = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]).clamp(-1.0, 1.0);
                 let angle = dot.acos();
-                pixel_angle[k] = if angle.is_finite() { angle as f32 } else { 0.01 };
+                pixel_angle[k] = if angle.is_finite() {
+                    angle as f32
+                } else {
+                    0.01
+                };
             }
         }
         let (_, _, cx, cy) = camera.lens.intrinsics();
-        let r_max = cx.max(w as f64 - 1.0 - cx).hypot(cy.max(h as f64 - 1.0 - cy)).max(1.0);
+        let r_max = cx
+            .max(w as f64 - 1.0 - cx)
+            .hypot(cy.max(h as f64 - 1.0 - cy))
+            .max(1.0);
         let vig = camera.imaging.vignetting;
         let mut gain = Vec::with_capacity(w * h);
         for v in 0..h {
@@ -193,7 +226,15 @@ impl CameraRays {
                 Footprint::new(height / down * *a as f64 / down.sqrt())
             })
             .collect();
-        Ok(CameraRays { camera, dirs, pixel_angle, gain, azimuth, horizontal, floor_footprint })
+        Ok(CameraRays {
+            camera,
+            dirs,
+            pixel_angle,
+            gain,
+            azimuth,
+            horizontal,
+            floor_footprint,
+        })
     }
 
     /// A ray between pixel centres (bilinear interpolation of the four neighbouring rays,
@@ -205,8 +246,18 @@ impl CameraRays {
         let (i, j) = ((u as usize).min(w - 2), (v as usize).min(h - 2));
         let (fu, fv) = (u - i as f64, v - j as f64);
         let k = j * w + i;
-        let ds = [self.dirs[k], self.dirs[k + 1], self.dirs[k + w], self.dirs[k + w + 1]];
-        let ws = [(1.0 - fu) * (1.0 - fv), fu * (1.0 - fv), (1.0 - fu) * fv, fu * fv];
+        let ds = [
+            self.dirs[k],
+            self.dirs[k + 1],
+            self.dirs[k + w],
+            self.dirs[k + w + 1],
+        ];
+        let ws = [
+            (1.0 - fu) * (1.0 - fv),
+            fu * (1.0 - fv),
+            (1.0 - fu) * fv,
+            fu * fv,
+        ];
         let mut d = [0.0; 3];
         for (dd, ww) in ds.iter().zip(ws) {
             if dd[0].is_nan() {
@@ -231,7 +282,10 @@ mod tests {
         cam.validate().unwrap();
         let near = cam.pixel_to_ground(159.5, 239.0, 100.0).unwrap();
         assert!(near.x > 0.0 && near.x < 0.15, "bottom row sees {near:?}");
-        assert!(cam.pixel_to_ground(159.5, 0.0, 1e9).is_none(), "top row sees the floor");
+        assert!(
+            cam.pixel_to_ground(159.5, 0.0, 1e9).is_none(),
+            "top row sees the floor"
+        );
         // The horizontal field of view is wide: a ray at the left edge is more than 60 degrees off.
         let left = cam.ray(0.0, 119.5).unwrap();
         assert!(left[1].atan2(left[0]) > 60f64.to_radians());
@@ -251,14 +305,27 @@ mod tests {
 
     #[test]
     fn invalid_cameras_are_errors() {
-        let mut c = Camera::default();
-        c.width = 2;
+        let c = Camera {
+            width: 2,
+            ..Default::default()
+        };
         assert!(c.validate().is_err());
-        let mut c = Camera::default();
-        c.imaging.vignetting = 2.0;
+        let c = Camera {
+            imaging: Imaging {
+                vignetting: 2.0,
+                ..Imaging::default()
+            },
+            ..Default::default()
+        };
         assert!(c.validate().is_err());
-        let mut c = Camera::default();
-        c.mount.height_m = -1.0;
+        let c = Camera {
+            mount: CameraMount {
+                height_m: -1.0,
+                tilt_rad: 0.6,
+                roll_rad: 0.0,
+            },
+            ..Default::default()
+        };
         assert!(CameraRays::new(c).is_err());
     }
 }

@@ -36,13 +36,19 @@ impl Clearance {
             let b = scene.solid_bounds[k];
             if b.contains(o) && point_in_polygon(o, &s.polygon) {
                 // The camera is above or below this solid (under a table): no shortcut.
-                return Clearance { free_m: vec![0.0; SECTORS] };
+                return Clearance {
+                    free_m: vec![0.0; SECTORS],
+                };
             }
             let n = s.polygon.len();
             for e in 0..n {
                 let a = s.polygon[e];
                 let c = s.polygon[(e + 1) % n];
-                shade_segment(&mut free, Point2::new(a.x - o.x, a.y - o.y), Point2::new(c.x - o.x, c.y - o.y));
+                shade_segment(
+                    &mut free,
+                    Point2::new(a.x - o.x, a.y - o.y),
+                    Point2::new(c.x - o.x, c.y - o.y),
+                );
             }
         }
         Clearance { free_m: free }
@@ -78,7 +84,11 @@ fn shade_segment(free: &mut [f64], a: Point2, b: Point2) {
     } else if span < -std::f64::consts::PI {
         span += std::f64::consts::TAU;
     }
-    let (start, end) = if span >= 0.0 { (za, za + span) } else { (za + span, za) };
+    let (start, end) = if span >= 0.0 {
+        (za, za + span)
+    } else {
+        (za + span, za)
+    };
     let k0 = crate::rng::fast_floor(start / SECTOR_RAD);
     let k1 = crate::rng::fast_floor(end / SECTOR_RAD);
     // Parameter where the segment's line meets the ray of azimuth phi.
@@ -96,7 +106,11 @@ fn shade_segment(free: &mut [f64], a: Point2, b: Point2) {
         let s_hi = s_at((k + 1) as f64 * SECTOR_RAD);
         // The piece of the segment inside this wedge: between the two boundary crossings,
         // clamped to the segment (its ends lie in the first and last wedges).
-        let (mut lo, mut hi) = if s_lo.is_nan() || s_hi.is_nan() { (0.0, 1.0) } else { (s_lo.min(s_hi), s_lo.max(s_hi)) };
+        let (mut lo, mut hi) = if s_lo.is_nan() || s_hi.is_nan() {
+            (0.0, 1.0)
+        } else {
+            (s_lo.min(s_hi), s_lo.max(s_hi))
+        };
         lo = lo.clamp(0.0, 1.0);
         hi = hi.clamp(0.0, 1.0);
         if k0 == k1 {
@@ -107,7 +121,11 @@ fn shade_segment(free: &mut [f64], a: Point2, b: Point2) {
             lo = lo.min(s_end);
             hi = hi.max(s_end);
         }
-        let d = if (lo..=hi).contains(&s_foot) { nearest } else { dist2(lo).min(dist2(hi)).sqrt() };
+        let d = if (lo..=hi).contains(&s_foot) {
+            nearest
+        } else {
+            dist2(lo).min(dist2(hi)).sqrt()
+        };
         // A hair less, so rounding can never make a blocked ray look clear.
         let d = d * (1.0 - 1e-9) - 1e-9;
         let slot = &mut free[k.rem_euclid(SECTORS as i64) as usize];
@@ -137,7 +155,12 @@ mod tests {
                 // A horizontal ray at a low height meets the first solid standing on the floor.
                 let hit = scene.trace_brute_force([o.x, o.y, 0.01], d);
                 if hit.surface.is_obstacle() {
-                    assert!(hit.t >= c.free_m[sector_of(az)], "{name}: az {az}: hit {} < {}", hit.t, c.free_m[sector_of(az)]);
+                    assert!(
+                        hit.t >= c.free_m[sector_of(az)],
+                        "{name}: az {az}: hit {} < {}",
+                        hit.t,
+                        c.free_m[sector_of(az)]
+                    );
                 }
             }
             // And it is useful: most sectors are clear for at least 0.3 m.

@@ -31,6 +31,9 @@ pub(crate) fn check_range(name: &'static str, value: f64, lo: f64, hi: f64) -> R
     if value.is_finite() && value >= lo && value <= hi {
         Ok(())
     } else {
-        Err(invalid_option(name, format!("must be finite and in [{lo}, {hi}], got {value}")))
+        Err(invalid_option(
+            name,
+            format!("must be finite and in [{lo}, {hi}], got {value}"),
+        ))
     }
 }

@@ -12,8 +12,14 @@ pub struct Aabb {
 
 impl Aabb {
     pub const EMPTY: Aabb = Aabb {
-        min: Point2 { x: f64::INFINITY, y: f64::INFINITY },
-        max: Point2 { x: f64::NEG_INFINITY, y: f64::NEG_INFINITY },
+        min: Point2 {
+            x: f64::INFINITY,
+            y: f64::INFINITY,
+        },
+        max: Point2 {
+            x: f64::NEG_INFINITY,
+            y: f64::NEG_INFINITY,
+        },
     };
 
     pub fn of_points(points: &[Point2]) -> Aabb {
@@ -80,7 +86,11 @@ pub fn ray_segment(o: Point2, d: Point2, a: Point2, b: Point2) -> Option<(f64, f
     let tn = w.x * e.y - w.y * e.x;
     let sn = w.x * d.y - w.y * d.x;
     // Range checks on the numerators (sign-adjusted), so misses cost no division.
-    let (tn, sn, den) = if denom < 0.0 { (-tn, -sn, -denom) } else { (tn, sn, denom) };
+    let (tn, sn, den) = if denom < 0.0 {
+        (-tn, -sn, -denom)
+    } else {
+        (tn, sn, denom)
+    };
     if !(den > 1e-300 && tn >= 0.0 && sn >= 0.0 && sn <= den) {
         return None;
     }
@@ -132,7 +142,19 @@ mod tests {
         .unwrap();
         assert!((t - 2.0).abs() < 1e-12 && (s - 0.25).abs() < 1e-12);
         // Behind the origin, or past the segment's ends: no hit.
-        assert!(ray_segment(Point2::new(3.0, 0.0), Point2::new(1.0, 0.0), Point2::new(2.0, -1.0), Point2::new(2.0, 1.0)).is_none());
-        assert!(ray_segment(Point2::new(0.0, 2.0), Point2::new(1.0, 0.0), Point2::new(2.0, -1.0), Point2::new(2.0, 1.0)).is_none());
+        assert!(ray_segment(
+            Point2::new(3.0, 0.0),
+            Point2::new(1.0, 0.0),
+            Point2::new(2.0, -1.0),
+            Point2::new(2.0, 1.0)
+        )
+        .is_none());
+        assert!(ray_segment(
+            Point2::new(0.0, 2.0),
+            Point2::new(1.0, 0.0),
+            Point2::new(2.0, -1.0),
+            Point2::new(2.0, 1.0)
+        )
+        .is_none());
     }
 }

@@ -94,7 +94,10 @@ impl CellLists {
             items[fill[c] as usize] = it;
             fill[c] += 1;
         }
-        CellLists { offsets: counts, items }
+        CellLists {
+            offsets: counts,
+            items,
+        }
     }
 
     #[inline]
@@ -130,7 +133,9 @@ impl CellWalk {
     /// before t0; exit parameters still count from `o`.
     pub fn starting_at(shape: &GridShape, o: Point2, d: Point2, t0: f64) -> CellWalk {
         let c = shape.cell_m;
-        let inside = shape.cell_of(Point2::new(o.x + t0 * d.x, o.y + t0 * d.y)).is_some();
+        let inside = shape
+            .cell_of(Point2::new(o.x + t0 * d.x, o.y + t0 * d.y))
+            .is_some();
         // Entry into the grid box (slab test), unless the track starts inside.
         let mut t_start: f64 = t0;
         let mut t_end = f64::INFINITY;
@@ -253,7 +258,10 @@ pub fn segment_cells(shape: &GridShape, a: Point2, b: Point2) -> Vec<(usize, usi
     shape
         .cells_overlapping(Aabb::of_points(&[a, b]))
         .filter(|&(i, j)| {
-            let lo = Point2::new(shape.origin.x + i as f64 * c - pad, shape.origin.y + j as f64 * c - pad);
+            let lo = Point2::new(
+                shape.origin.x + i as f64 * c - pad,
+                shape.origin.y + j as f64 * c - pad,
+            );
             let hi = Point2::new(lo.x + c + 2.0 * pad, lo.y + c + 2.0 * pad);
             segment_meets_box(a, b, Aabb { min: lo, max: hi })
         })
@@ -265,7 +273,12 @@ mod tests {
     use super::*;
 
     fn shape() -> GridShape {
-        GridShape { origin: Point2::new(0.0, 0.0), cell_m: 1.0, nx: 10, ny: 10 }
+        GridShape {
+            origin: Point2::new(0.0, 0.0),
+            cell_m: 1.0,
+            nx: 10,
+            ny: 10,
+        }
     }
 
     #[test]

@@ -36,13 +36,19 @@ impl LightMap {
         let mut values = vec![lighting.ambient as f32; nx * ny];
         for j in 0..ny {
             for i in 0..nx {
-                let p = Point2::new(bounds.min.x + i as f64 * cell, bounds.min.y + j as f64 * cell);
+                let p = Point2::new(
+                    bounds.min.x + i as f64 * cell,
+                    bounds.min.y + j as f64 * cell,
+                );
                 values[j * nx + i] += illuminance(lighting, p) as f32;
             }
         }
         let mut sorted: Vec<f32> = (0..nx * ny)
             .filter(|k| {
-                let p = Point2::new(bounds.min.x + (k % nx) as f64 * cell, bounds.min.y + (k / nx) as f64 * cell);
+                let p = Point2::new(
+                    bounds.min.x + (k % nx) as f64 * cell,
+                    bounds.min.y + (k / nx) as f64 * cell,
+                );
                 reference.contains(p)
             })
             .map(|k| values[k])
@@ -52,7 +58,15 @@ impl LightMap {
         }
         sorted.sort_by(f32::total_cmp);
         let typical = sorted[sorted.len() / 2].max(1e-6);
-        LightMap { origin: bounds.min, nx, ny, cell, values, ambient: lighting.ambient as f32, typical }
+        LightMap {
+            origin: bounds.min,
+            nx,
+            ny,
+            cell,
+            values,
+            ambient: lighting.ambient as f32,
+            typical,
+        }
     }
 
     /// Floor illuminance at `p` (ambient outside the raster).
@@ -95,13 +109,20 @@ mod tests {
     fn light_map_matches_the_point_source_formula() {
         let lighting = Lighting {
             ambient: 0.3,
-            lights: vec![Light { position: Point2::new(2.0, 1.0), height_m: 2.5, power: 0.8 }],
+            lights: vec![Light {
+                position: Point2::new(2.0, 1.0),
+                height_m: 2.5,
+                power: 0.8,
+            }],
             exposure: 1.0,
             exposure_jitter: 0.0,
             wall_factor: 0.7,
             ceiling_brightness: 0.5,
         };
-        let b = Aabb { min: Point2::new(0.0, 0.0), max: Point2::new(5.0, 4.0) };
+        let b = Aabb {
+            min: Point2::new(0.0, 0.0),
+            max: Point2::new(5.0, 4.0),
+        };
         let m = LightMap::new(&lighting, b, b);
         // Right below the light: ambient + power.
         assert!((m.at(Point2::new(2.0, 1.0)) - 1.1).abs() < 1e-4);

@@ -36,7 +36,11 @@ pub struct OccupancyOptions {
 
 impl Default for OccupancyOptions {
     fn default() -> Self {
-        Self { resolution_m: 0.05, robot_height_m: 0.5, margin_m: 0.5 }
+        Self {
+            resolution_m: 0.05,
+            robot_height_m: 0.5,
+            margin_m: 0.5,
+        }
     }
 }
 
@@ -71,7 +75,10 @@ pub fn occupancy_raster(world: &World, options: &OccupancyOptions) -> Result<Occ
     check_range("margin_m", options.margin_m, 0.0, 100.0)?;
     let b = world.bounds();
     let m = options.margin_m;
-    let bounds = Aabb { min: Point2::new(b.min.x - m, b.min.y - m), max: Point2::new(b.max.x + m, b.max.y + m) };
+    let bounds = Aabb {
+        min: Point2::new(b.min.x - m, b.min.y - m),
+        max: Point2::new(b.max.x + m, b.max.y + m),
+    };
     let res = options.resolution_m;
     let shape = GridShape {
         origin: bounds.min,
@@ -80,10 +87,17 @@ pub fn occupancy_raster(world: &World, options: &OccupancyOptions) -> Result<Occ
         ny: (((bounds.max.y - bounds.min.y) / res).ceil() as usize).max(1),
     };
     if shape.nx * shape.ny > 200_000_000 {
-        return Err(invalid_option("resolution_m", format!("gives {} x {} cells (too many)", shape.nx, shape.ny)));
+        return Err(invalid_option(
+            "resolution_m",
+            format!("gives {} x {} cells (too many)", shape.nx, shape.ny),
+        ));
     }
     let mut cells = vec![UNKNOWN; shape.nx * shape.ny];
-    for s in world.solids.iter().filter(|s| s.base_m < options.robot_height_m) {
+    for s in world
+        .solids
+        .iter()
+        .filter(|s| s.base_m < options.robot_height_m)
+    {
         let n = s.polygon.len();
         for e in 0..n {
             for (i, j) in segment_cells(&shape, s.polygon[e], s.polygon[(e + 1) % n]) {
@@ -91,7 +105,10 @@ pub fn occupancy_raster(world: &World, options: &OccupancyOptions) -> Result<Occ
             }
         }
         for (i, j) in shape.cells_overlapping(Aabb::of_points(&s.polygon)) {
-            let c = Point2::new(shape.origin.x + (i as f64 + 0.5) * res, shape.origin.y + (j as f64 + 0.5) * res);
+            let c = Point2::new(
+                shape.origin.x + (i as f64 + 0.5) * res,
+                shape.origin.y + (j as f64 + 0.5) * res,
+            );
             if point_in_polygon(c, &s.polygon) {
                 cells[j * shape.nx + i] = OCCUPIED;
             }
@@ -125,7 +142,13 @@ pub fn occupancy_raster(world: &World, options: &OccupancyOptions) -> Result<Occ
             }
         }
     }
-    Ok(OccupancyRaster { origin: shape.origin, resolution_m: res, width: shape.nx, height: shape.ny, cells })
+    Ok(OccupancyRaster {
+        origin: shape.origin,
+        resolution_m: res,
+        width: shape.nx,
+        height: shape.ny,
+        cells,
+    })
 }
 
 #[cfg(test)]
@@ -162,7 +185,15 @@ thickness_m = 0.05
             "t",
         )
         .unwrap();
-        let r = occupancy_raster(&w, &OccupancyOptions { resolution_m: 0.25, robot_height_m: 0.5, margin_m: 0.0 }).unwrap();
+        let r = occupancy_raster(
+            &w,
+            &OccupancyOptions {
+                resolution_m: 0.25,
+                robot_height_m: 0.5,
+                margin_m: 0.0,
+            },
+        )
+        .unwrap();
         // Bounds: walls extend 0.025 m past their ends: [0.1, 1.25]; 5 x 5 cells from (0.1, 0.1).
         assert_eq!((r.width, r.height), (5, 5));
         let expected = [
@@ -190,9 +221,26 @@ thickness_m = 0.05
         .unwrap();
         let low = occupancy_raster(&w, &OccupancyOptions::default()).unwrap();
         assert_eq!(low.at(Point2::new(2.0, 0.0)), FREE);
-        assert_eq!(low.at(Point2::new(2.0 - 0.5 + 0.075, 0.5 - 0.075)), OCCUPIED);
-        let tall = occupancy_raster(&w, &OccupancyOptions { robot_height_m: 1.0, ..Default::default() }).unwrap();
+        assert_eq!(
+            low.at(Point2::new(2.0 - 0.5 + 0.075, 0.5 - 0.075)),
+            OCCUPIED
+        );
+        let tall = occupancy_raster(
+            &w,
+            &OccupancyOptions {
+                robot_height_m: 1.0,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         assert_eq!(tall.at(Point2::new(2.0, 0.0)), OCCUPIED);
-        assert!(occupancy_raster(&w, &OccupancyOptions { resolution_m: 0.0, ..Default::default() }).is_err());
+        assert!(occupancy_raster(
+            &w,
+            &OccupancyOptions {
+                resolution_m: 0.0,
+                ..Default::default()
+            }
+        )
+        .is_err());
     }
 }

@@ -34,18 +34,33 @@ pub struct OdometryNoise {
 
 impl Default for OdometryNoise {
     fn default() -> Self {
-        Self { wheel_sigma_per_sqrt_m: 0.01, radius_scale_error: 0.01, radius_difference: 0.004, wheelbase_error: 0.02 }
+        Self {
+            wheel_sigma_per_sqrt_m: 0.01,
+            radius_scale_error: 0.01,
+            radius_difference: 0.004,
+            wheelbase_error: 0.02,
+        }
     }
 }
 
 impl OdometryNoise {
     /// No error at all.
     pub fn none() -> Self {
-        Self { wheel_sigma_per_sqrt_m: 0.0, radius_scale_error: 0.0, radius_difference: 0.0, wheelbase_error: 0.0 }
+        Self {
+            wheel_sigma_per_sqrt_m: 0.0,
+            radius_scale_error: 0.0,
+            radius_difference: 0.0,
+            wheelbase_error: 0.0,
+        }
     }
 
     pub fn validate(&self) -> Result<()> {
-        check_range("wheel_sigma_per_sqrt_m", self.wheel_sigma_per_sqrt_m, 0.0, 1.0)?;
+        check_range(
+            "wheel_sigma_per_sqrt_m",
+            self.wheel_sigma_per_sqrt_m,
+            0.0,
+            1.0,
+        )?;
         check_range("radius_scale_error", self.radius_scale_error, -0.5, 0.5)?;
         check_range("radius_difference", self.radius_difference, -0.5, 0.5)?;
         check_range("wheelbase_error", self.wheelbase_error, -0.5, 0.5)
@@ -59,9 +74,17 @@ pub fn integrate(pose: Pose2, left_m: f64, right_m: f64, wheelbase_m: f64) -> Po
     let dyaw = (right_m - left_m) / wheelbase_m;
     // Exact for a constant-velocity step: the chord of the arc, along the mean heading.
     let half = 0.5 * dyaw;
-    let d = if half.abs() > 1e-9 { arc * half.sin() / half } else { arc };
+    let d = if half.abs() > 1e-9 {
+        arc * half.sin() / half
+    } else {
+        arc
+    };
     let mid = pose.yaw + half;
-    Pose2::new(pose.x + d * mid.cos(), pose.y + d * mid.sin(), normalize_angle(pose.yaw + dyaw))
+    Pose2::new(
+        pose.x + d * mid.cos(),
+        pose.y + d * mid.sin(),
+        normalize_angle(pose.yaw + dyaw),
+    )
 }
 
 /// The odometry of one robot: integrates measured wheel travel.
@@ -77,7 +100,12 @@ pub struct Odometry {
 impl Odometry {
     pub fn new(noise: OdometryNoise, wheelbase_m: f64, start: Pose2, seed: u64) -> Result<Self> {
         noise.validate()?;
-        Ok(Self { noise, wheelbase_m, rng: Rng::new(seed), pose: start })
+        Ok(Self {
+            noise,
+            wheelbase_m,
+            rng: Rng::new(seed),
+            pose: start,
+        })
     }
 
     /// The measured travel of the wheels for a true travel (left, right) [m].
@@ -95,7 +123,12 @@ impl Odometry {
     /// Feeds one step of true wheel travel.
     pub fn step(&mut self, left_m: f64, right_m: f64) {
         let (l, r) = self.measure(left_m, right_m);
-        self.pose = integrate(self.pose, l, r, self.wheelbase_m * (1.0 + self.noise.wheelbase_error));
+        self.pose = integrate(
+            self.pose,
+            l,
+            r,
+            self.wheelbase_m * (1.0 + self.noise.wheelbase_error),
+        );
     }
 }
 
@@ -124,7 +157,10 @@ mod tests {
 
     #[test]
     fn scale_error_stretches_straight_travel() {
-        let noise = OdometryNoise { radius_scale_error: 0.03, ..OdometryNoise::none() };
+        let noise = OdometryNoise {
+            radius_scale_error: 0.03,
+            ..OdometryNoise::none()
+        };
         let (t, o) = drive(noise, 0.01, 0.01, 200, 1);
         assert!((t.x - 2.0).abs() < 1e-9);
         assert!((o.x - 2.0 * 1.03).abs() < 1e-9 && o.y.abs() < 1e-12);
@@ -132,7 +168,10 @@ mod tests {
 
     #[test]
     fn wheelbase_error_scales_turns_in_place() {
-        let noise = OdometryNoise { wheelbase_error: 0.05, ..OdometryNoise::none() };
+        let noise = OdometryNoise {
+            wheelbase_error: 0.05,
+            ..OdometryNoise::none()
+        };
         // Turn in place by 1 rad: wheels travel -+ b/2 in total.
         let (t, o) = drive(noise, -B / 2.0 / 100.0, B / 2.0 / 100.0, 100, 1);
         assert!((t.yaw - 1.0).abs() < 1e-12);
@@ -141,7 +180,10 @@ mod tests {
 
     #[test]
     fn radius_difference_bends_a_straight_line() {
-        let noise = OdometryNoise { radius_difference: 0.01, ..OdometryNoise::none() };
+        let noise = OdometryNoise {
+            radius_difference: 0.01,
+            ..OdometryNoise::none()
+        };
         let (_, o) = drive(noise, 0.01, 0.01, 300, 1);
         // Heading drift = distance * difference / wheelbase.
         assert!((o.yaw - 3.0 * 0.01 / B).abs() < 1e-9, "{}", o.yaw);
@@ -154,7 +196,10 @@ mod tests {
         // variance sigma^2 D, so the travelled distance (l + r) / 2 has sigma^2 D / 2 and the
         // heading 2 sigma^2 D / b^2; both are unbiased.
         let sigma = 0.02;
-        let noise = OdometryNoise { wheel_sigma_per_sqrt_m: sigma, ..OdometryNoise::none() };
+        let noise = OdometryNoise {
+            wheel_sigma_per_sqrt_m: sigma,
+            ..OdometryNoise::none()
+        };
         let n = 4000;
         let (mut dist, mut yaw) = (Vec::new(), Vec::new());
         for seed in 0..n {
@@ -170,21 +215,39 @@ mod tests {
         }
         let stats = |v: &[f64]| {
             let m = v.iter().sum::<f64>() / v.len() as f64;
-            (m, v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (v.len() - 1) as f64)
+            (
+                m,
+                v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (v.len() - 1) as f64,
+            )
         };
         let ((m_d, var_d), (m_y, var_y)) = (stats(&dist), stats(&yaw));
         let (exp_d, exp_y) = (sigma * sigma / 2.0, 2.0 * sigma * sigma / (B * B));
         // Relative standard error of a variance from 4000 samples: about 2.2 %.
-        assert!((var_d / exp_d - 1.0).abs() < 0.1, "distance variance {var_d} vs {exp_d}");
-        assert!((var_y / exp_y - 1.0).abs() < 0.1, "yaw variance {var_y} vs {exp_y}");
+        assert!(
+            (var_d / exp_d - 1.0).abs() < 0.1,
+            "distance variance {var_d} vs {exp_d}"
+        );
+        assert!(
+            (var_y / exp_y - 1.0).abs() < 0.1,
+            "yaw variance {var_y} vs {exp_y}"
+        );
         // Means within 4 standard errors of zero.
-        assert!(m_d.abs() < 4.0 * (exp_d / n as f64).sqrt(), "distance biased: {m_d}");
-        assert!(m_y.abs() < 4.0 * (exp_y / n as f64).sqrt(), "heading biased: {m_y}");
+        assert!(
+            m_d.abs() < 4.0 * (exp_d / n as f64).sqrt(),
+            "distance biased: {m_d}"
+        );
+        assert!(
+            m_y.abs() < 4.0 * (exp_y / n as f64).sqrt(),
+            "heading biased: {m_y}"
+        );
     }
 
     #[test]
     fn invalid_noise_is_rejected() {
-        let bad = OdometryNoise { radius_scale_error: 0.9, ..OdometryNoise::none() };
+        let bad = OdometryNoise {
+            radius_scale_error: 0.9,
+            ..OdometryNoise::none()
+        };
         assert!(Odometry::new(bad, B, Pose2::IDENTITY, 0).is_err());
     }
 }

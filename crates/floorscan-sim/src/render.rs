@@ -54,7 +54,11 @@ impl CameraPlacement {
     /// A camera-ground-frame direction rotated into the world.
     #[inline]
     pub fn to_world(&self, d: [f64; 3]) -> [f64; 3] {
-        [self.cos_yaw * d[0] - self.sin_yaw * d[1], self.sin_yaw * d[0] + self.cos_yaw * d[1], d[2]]
+        [
+            self.cos_yaw * d[0] - self.sin_yaw * d[1],
+            self.sin_yaw * d[0] + self.cos_yaw * d[1],
+            d[2],
+        ]
     }
 }
 
@@ -77,7 +81,11 @@ fn shade(scene: &Scene, hit: &Hit, pixel_angle: f32, floor_footprint: Footprint)
     let world = &scene.world;
     let p = Point2::new(hit.point[0], hit.point[1]);
     match hit.surface {
-        Surface::Nothing => Sample { radiance: 0.0, id: ID_NOTHING, label: PixelLabel::Nothing },
+        Surface::Nothing => Sample {
+            radiance: 0.0,
+            id: ID_NOTHING,
+            label: PixelLabel::Nothing,
+        },
         Surface::Ceiling => Sample {
             radiance: world.lighting.ceiling_brightness as f32,
             id: ID_CEILING,
@@ -92,24 +100,45 @@ fn shade(scene: &Scene, hit: &Hit, pixel_angle: f32, floor_footprint: Footprint)
                 CoveringClass::Other => PixelLabel::OtherCovering,
                 CoveringClass::Paper => PixelLabel::Paper,
             };
-            Sample { radiance: albedo * scene.light.at(p), id: 2 + c as u32, label }
+            Sample {
+                radiance: albedo * scene.light.at(p),
+                id: 2 + c as u32,
+                label,
+            }
         }
         Surface::Side { face, s } => {
             let f = &scene.sides[face as usize];
             let solid = &world.solids[f.solid as usize];
             let app = &world.appearances[solid.appearance];
-            let albedo = app.albedo_at(s, hit.point[2], Footprint::new(hit.t * pixel_angle as f64), f.seed);
+            let albedo = app.albedo_at(
+                s,
+                hit.point[2],
+                Footprint::new(hit.t * pixel_angle as f64),
+                f.seed,
+            );
             // Faces turned differently are lit differently (a fixed main light direction).
             let (nx, ny) = ((f.b.y - f.a.y) / f.length, -(f.b.x - f.a.x) / f.length);
             let turn = 0.88 + 0.12 * (0.6 * nx + 0.8 * ny) as f32;
             let radiance = albedo * scene.light.at(p) * world.lighting.wall_factor as f32 * turn;
-            Sample { radiance, id: ID_SIDE | face, label: PixelLabel::Obstacle }
+            Sample {
+                radiance,
+                id: ID_SIDE | face,
+                label: PixelLabel::Obstacle,
+            }
         }
         Surface::Cap { solid, up } => {
             let app = &world.appearances[world.solids[solid as usize].appearance];
             let albedo = app.albedo_at_point(p, Footprint::new(hit.t * pixel_angle as f64));
-            let light = if up { scene.light.at(p) } else { 0.4 * world.lighting.ambient as f32 };
-            Sample { radiance: albedo * light, id: ID_CAP | solid << 1 | up as u32, label: PixelLabel::Obstacle }
+            let light = if up {
+                scene.light.at(p)
+            } else {
+                0.4 * world.lighting.ambient as f32
+            };
+            Sample {
+                radiance: albedo * light,
+                id: ID_CAP | solid << 1 | up as u32,
+                label: PixelLabel::Obstacle,
+            }
         }
     }
 }
@@ -158,12 +187,22 @@ pub fn render_into(
         antialias(scene, rays, &place, &clear, out);
     }
     if cam.imaging.blur_sigma_px > 0.0 {
-        gaussian_blur(&mut out.radiance, &mut out.scratch, w, h, cam.imaging.blur_sigma_px);
+        gaussian_blur(
+            &mut out.radiance,
+            &mut out.scratch,
+            w,
+            h,
+            cam.imaging.blur_sigma_px,
+        );
     }
 
     let mut rng = Rng::new(derive_seed(seed, frame_index));
     let lighting = &scene.world.lighting;
-    let jitter = if lighting.exposure_jitter > 0.0 { (lighting.exposure_jitter * rng.normal()).exp() } else { 1.0 };
+    let jitter = if lighting.exposure_jitter > 0.0 {
+        (lighting.exposure_jitter * rng.normal()).exp()
+    } else {
+        1.0
+    };
     out.exposure = lighting.exposure * jitter;
     let scale = (255.0 * out.exposure / (0.9 * scene.light.typical as f64)) as f32;
     let read = cam.imaging.read_noise_dn as f32;
@@ -182,10 +221,21 @@ pub fn render_into(
 }
 
 /// Rotated-grid offsets of the four anti-aliasing samples [px].
-const AA_OFFSETS: [(f64, f64); 4] = [(-0.375, -0.125), (0.125, -0.375), (0.375, 0.125), (-0.125, 0.375)];
+const AA_OFFSETS: [(f64, f64); 4] = [
+    (-0.375, -0.125),
+    (0.125, -0.375),
+    (0.375, 0.125),
+    (-0.125, 0.375),
+];
 
 /// Re-renders pixels that differ in surface from a 4-neighbour with four samples each.
-fn antialias(scene: &Scene, rays: &CameraRays, place: &CameraPlacement, clear: &Clearance, out: &mut RenderBuffers) {
+fn antialias(
+    scene: &Scene,
+    rays: &CameraRays,
+    place: &CameraPlacement,
+    clear: &Clearance,
+    out: &mut RenderBuffers,
+) {
     let (w, h) = (rays.camera.width, rays.camera.height);
     let ids = &out.ids;
     for v in 0..h {
@@ -214,8 +264,9 @@ fn antialias(scene: &Scene, rays: &CameraRays, place: &CameraPlacement, clear: &
 /// Separable Gaussian blur with clamped borders.
 fn gaussian_blur(img: &mut [f32], tmp: &mut Vec<f32>, w: usize, h: usize, sigma: f64) {
     let r = ((3.0 * sigma).ceil() as usize).min(w.min(h) / 2).max(1);
-    let mut kernel: Vec<f32> =
-        (0..=2 * r).map(|i| (-((i as f64 - r as f64).powi(2)) / (2.0 * sigma * sigma)).exp() as f32).collect();
+    let mut kernel: Vec<f32> = (0..=2 * r)
+        .map(|i| (-((i as f64 - r as f64).powi(2)) / (2.0 * sigma * sigma)).exp() as f32)
+        .collect();
     let s: f32 = kernel.iter().sum();
     kernel.iter_mut().for_each(|k| *k /= s);
     tmp.clear();
@@ -232,7 +283,11 @@ fn gaussian_blur(img: &mut [f32], tmp: &mut Vec<f32>, w: usize, h: usize, sigma:
                     .map(|(i, k)| k * row[(u + i).saturating_sub(r).min(w - 1)])
                     .sum();
             } else {
-                out[u] = kernel.iter().zip(&row[u - r..=u + r]).map(|(k, x)| k * x).sum();
+                out[u] = kernel
+                    .iter()
+                    .zip(&row[u - r..=u + r])
+                    .map(|(k, x)| k * x)
+                    .sum();
             }
         }
     }
@@ -266,7 +321,11 @@ mod blur_tests {
         gaussian_blur(&mut img, &mut tmp, w, h, 0.8);
         let sum: f32 = img.iter().sum();
         assert!((sum - 1.0).abs() < 1e-5);
-        assert!(img[3 * w + 4] < 0.5 && img[3 * w + 5] > 0.0 && (img[3 * w + 5] - img[3 * w + 3]).abs() < 1e-7);
+        assert!(
+            img[3 * w + 4] < 0.5
+                && img[3 * w + 5] > 0.0
+                && (img[3 * w + 5] - img[3 * w + 3]).abs() < 1e-7
+        );
     }
 }
 
@@ -281,7 +340,15 @@ mod tests {
         let scene = Scene::new(builtin_world("corridor").unwrap());
         let rays = CameraRays::new(Camera::default()).unwrap();
         let mut buf = RenderBuffers::default();
-        render_into(&scene, &rays, Pose2::new(3.0, 0.2, 0.3), seed, frame, &mut buf).unwrap();
+        render_into(
+            &scene,
+            &rays,
+            Pose2::new(3.0, 0.2, 0.3),
+            seed,
+            frame,
+            &mut buf,
+        )
+        .unwrap();
         buf
     }
 
@@ -301,8 +368,10 @@ mod tests {
     fn labels_switch_exactly_where_the_exact_mapping_crosses_a_covering_edge() {
         // Paper covers the floor beyond x = 1.2 m (camera ground frame): a pixel sees paper
         // exactly when pixel_to_ground says its floor point lies beyond that line.
-        let mut cam = Camera::default();
-        cam.imaging = Imaging::ideal();
+        let cam = Camera {
+            imaging: Imaging::ideal(),
+            ..Default::default()
+        };
         let pose = crate::calibration::robot_pose(&cam);
         let scene = Scene::new(
             parse_world("name = \"p\"\n[start]\nx = 0\ny = 0\n[[regions]]\ncovering = \"paper\"\nrect = [1.2, -1000, 1000, 1000]\n", "p")
@@ -317,20 +386,36 @@ mod tests {
                 let label = buf.labels[v * cam.width + u];
                 match cam.pixel_to_ground(u as f64, v as f64, 1e9) {
                     Some(p) if (p.x - 1.2).abs() > 1e-9 && p.x < 40.0 => {
-                        let want = if p.x > 1.2 { PixelLabel::Paper } else { PixelLabel::Carpet };
+                        let want = if p.x > 1.2 {
+                            PixelLabel::Paper
+                        } else {
+                            PixelLabel::Carpet
+                        };
                         assert_eq!(label, want as u8, "pixel ({u}, {v}) sees {p:?}");
-                        if p.x > 1.2 { paper += 1 } else { carpet += 1 }
+                        if p.x > 1.2 {
+                            paper += 1
+                        } else {
+                            carpet += 1
+                        }
                     }
                     Some(_) => {}
                     None => assert_ne!(label, PixelLabel::Carpet as u8),
                 }
             }
         }
-        assert!(paper > 5000 && carpet > 20000, "paper {paper}, carpet {carpet}");
+        assert!(
+            paper > 5000 && carpet > 20000,
+            "paper {paper}, carpet {carpet}"
+        );
         // Paper is brighter than carpet in the image.
         let mean = |l: PixelLabel| {
-            let v: Vec<f64> =
-                buf.labels.iter().zip(&buf.image).filter(|(a, _)| **a == l as u8).map(|(_, &b)| b as f64).collect();
+            let v: Vec<f64> = buf
+                .labels
+                .iter()
+                .zip(&buf.image)
+                .filter(|(a, _)| **a == l as u8)
+                .map(|(_, &b)| b as f64)
+                .collect();
             v.iter().sum::<f64>() / v.len() as f64
         };
         assert!(mean(PixelLabel::Paper) > mean(PixelLabel::Carpet) + 50.0);
@@ -341,6 +426,14 @@ mod tests {
         let scene = Scene::new(builtin_world("room").unwrap());
         let rays = CameraRays::new(Camera::default()).unwrap();
         let mut buf = RenderBuffers::default();
-        assert!(render_into(&scene, &rays, Pose2::new(f64::NAN, 0.0, 0.0), 0, 0, &mut buf).is_err());
+        assert!(render_into(
+            &scene,
+            &rays,
+            Pose2::new(f64::NAN, 0.0, 0.0),
+            0,
+            0,
+            &mut buf
+        )
+        .is_err());
     }
 }

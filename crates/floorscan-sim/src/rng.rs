@@ -102,7 +102,11 @@ fn to_unit(h: u32) -> f32 {
 /// A hash of a lattice point and a seed, mapped to [-1, 1].
 #[inline]
 pub fn hash2(ix: i64, iy: i64, seed: u64) -> f32 {
-    to_unit(mix((ix as u32).wrapping_mul(HX), (iy as u32).wrapping_mul(HY), seed32(seed)))
+    to_unit(mix(
+        (ix as u32).wrapping_mul(HX),
+        (iy as u32).wrapping_mul(HY),
+        seed32(seed),
+    ))
 }
 
 /// `x.floor()` as an integer, without a call into libm (x86-64's baseline has no rounding
@@ -121,7 +125,11 @@ pub fn value_noise(x: f64, y: f64, seed: u64) -> f32 {
     let (tx, ty) = ((x - ix as f64) as f32, (y - iy as f64) as f32);
     let sx = tx * tx * (3.0 - 2.0 * tx);
     let sy = ty * ty * (3.0 - 2.0 * ty);
-    let (s, x0, y0) = (seed32(seed), (ix as u32).wrapping_mul(HX), (iy as u32).wrapping_mul(HY));
+    let (s, x0, y0) = (
+        seed32(seed),
+        (ix as u32).wrapping_mul(HX),
+        (iy as u32).wrapping_mul(HY),
+    );
     let (x1, y1) = (x0.wrapping_add(HX), y0.wrapping_add(HY));
     let a = to_unit(mix(x0, y0, s));
     let b = to_unit(mix(x1, y0, s));
@@ -143,13 +151,19 @@ mod tests {
             assert_eq!(a.next_u64(), b.next_u64());
         }
         assert_ne!(derive_seed(7, 0), derive_seed(7, 1));
-        assert_ne!(Rng::new(derive_seed(7, 0)).next_u64(), Rng::new(derive_seed(7, 1)).next_u64());
+        assert_ne!(
+            Rng::new(derive_seed(7, 0)).next_u64(),
+            Rng::new(derive_seed(7, 1)).next_u64()
+        );
     }
 
     fn mean_var(v: &[f64]) -> (f64, f64) {
         let n = v.len() as f64;
         let m = v.iter().sum::<f64>() / n;
-        (m, v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1.0))
+        (
+            m,
+            v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1.0),
+        )
     }
 
     #[test]
@@ -167,7 +181,18 @@ mod tests {
 
     #[test]
     fn fast_floor_matches_floor() {
-        for x in [-2.5, -2.0, -1e-300, 0.0, 0.3, 1.0, 7.999, -7.999, 1e12 + 0.5, -1e12 - 0.5] {
+        for x in [
+            -2.5,
+            -2.0,
+            -1e-300,
+            0.0,
+            0.3,
+            1.0,
+            7.999,
+            -7.999,
+            1e12 + 0.5,
+            -1e12 - 0.5,
+        ] {
             assert_eq!(fast_floor(x), x.floor() as i64, "{x}");
         }
     }
@@ -195,6 +220,10 @@ mod tests {
             .map(|i| value_noise((i % 200) as f64 * 0.31, (i / 200) as f64 * 0.29, 1) as f64)
             .collect();
         let (m, var) = mean_var(&samples);
-        assert!(m.abs() < 0.03 && (var.sqrt() - 0.42).abs() < 0.05, "mean {m} std {}", var.sqrt());
+        assert!(
+            m.abs() < 0.03 && (var.sqrt() - 0.42).abs() < 0.05,
+            "mean {m} std {}",
+            var.sqrt()
+        );
     }
 }

@@ -46,7 +46,12 @@ impl RobotOptions {
         check_range("frame_rate_hz", self.frame_rate_hz, 1e-6, 1000.0)?;
         check_range("wheelbase_m", self.wheelbase_m, 1e-6, 5.0)?;
         check_range("waypoint_tolerance_m", self.waypoint_tolerance_m, 1e-6, 5.0)?;
-        check_range("control_rate_hz", self.control_rate_hz, self.frame_rate_hz, 10_000.0)
+        check_range(
+            "control_rate_hz",
+            self.control_rate_hz,
+            self.frame_rate_hz,
+            10_000.0,
+        )
     }
 }
 
@@ -86,7 +91,11 @@ fn steer(pose: Pose2, target: Point2, opts: &RobotOptions) -> (f64, f64) {
     let err = normalize_angle(bearing - pose.yaw);
     let omega = (2.5 * err).clamp(-opts.turn_rate_radps, opts.turn_rate_radps);
     // Turn on the spot when far off course; slow down in curves.
-    let v = if err.abs() > 0.6 { 0.0 } else { opts.speed_mps * err.cos().powi(4) };
+    let v = if err.abs() > 0.6 {
+        0.0
+    } else {
+        opts.speed_mps * err.cos().powi(4)
+    };
     let dist = (target.x - pose.x).hypot(target.y - pose.y);
     (v.min(dist * opts.control_rate_hz), omega)
 }
@@ -108,27 +117,45 @@ pub fn drive(
     }
     match motion {
         Motion::Waypoints { points, .. } => {
-            if let Some(i) = points.iter().position(|p| !(p.x.is_finite() && p.y.is_finite())) {
-                return Err(invalid_option("waypoints", format!("waypoint {i} is not finite")));
+            if let Some(i) = points
+                .iter()
+                .position(|p| !(p.x.is_finite() && p.y.is_finite()))
+            {
+                return Err(invalid_option(
+                    "waypoints",
+                    format!("waypoint {i} is not finite"),
+                ));
             }
         }
         Motion::Commands(cmds) => {
             if let Some(i) = cmds.iter().position(|c| {
-                !(c.duration_s >= 0.0 && c.duration_s.is_finite() && c.v_mps.is_finite() && c.omega_radps.is_finite())
+                !(c.duration_s >= 0.0
+                    && c.duration_s.is_finite()
+                    && c.v_mps.is_finite()
+                    && c.omega_radps.is_finite())
             }) {
-                return Err(invalid_option("commands", format!("command {i} must be finite with duration >= 0")));
+                return Err(invalid_option(
+                    "commands",
+                    format!("command {i} must be finite with duration >= 0"),
+                ));
             }
         }
     }
     let frames = (duration_s * options.frame_rate_hz + 1e-9).floor() as usize + 1;
-    let substeps = (options.control_rate_hz / options.frame_rate_hz).round().max(1.0) as usize;
+    let substeps = (options.control_rate_hz / options.frame_rate_hz)
+        .round()
+        .max(1.0) as usize;
     let dt = 1.0 / (options.frame_rate_hz * substeps as f64);
     let b = options.wheelbase_m;
     let mut odo = Odometry::new(*noise, b, start, seed)?;
     let mut pose = start;
     let mut target = 0usize;
     let (mut cmd_index, mut cmd_elapsed) = (0usize, 0.0);
-    let mut out = Trajectory { times_s: Vec::with_capacity(frames), truth: Vec::with_capacity(frames), odometry: Vec::with_capacity(frames) };
+    let mut out = Trajectory {
+        times_s: Vec::with_capacity(frames),
+        truth: Vec::with_capacity(frames),
+        odometry: Vec::with_capacity(frames),
+    };
     for k in 0..frames {
         out.times_s.push(k as f64 / options.frame_rate_hz);
         out.truth.push(pose);
@@ -153,12 +180,15 @@ pub fn drive(
                     break steer(pose, p, options);
                 },
                 Motion::Commands(cmds) => {
-                    while cmd_index < cmds.len() && cmd_elapsed >= cmds[cmd_index].duration_s - 1e-12 {
+                    while cmd_index < cmds.len()
+                        && cmd_elapsed >= cmds[cmd_index].duration_s - 1e-12
+                    {
                         cmd_index += 1;
                         cmd_elapsed = 0.0;
                     }
                     cmd_elapsed += dt;
-                    cmds.get(cmd_index).map_or((0.0, 0.0), |c| (c.v_mps, c.omega_radps))
+                    cmds.get(cmd_index)
+                        .map_or((0.0, 0.0), |c| (c.v_mps, c.omega_radps))
                 }
             };
             let left = (v - 0.5 * omega * b) * dt;
@@ -177,33 +207,72 @@ mod tests {
     #[test]
     fn waypoints_are_reached_at_the_cruise_speed() {
         let opts = RobotOptions::default();
-        let motion = Motion::Waypoints { points: vec![Point2::new(3.0, 0.0), Point2::new(3.0, 2.0)], repeat: false };
-        let tr = drive(Pose2::IDENTITY, &motion, &opts, &OdometryNoise::none(), 30.0, 0).unwrap();
+        let motion = Motion::Waypoints {
+            points: vec![Point2::new(3.0, 0.0), Point2::new(3.0, 2.0)],
+            repeat: false,
+        };
+        let tr = drive(
+            Pose2::IDENTITY,
+            &motion,
+            &opts,
+            &OdometryNoise::none(),
+            30.0,
+            0,
+        )
+        .unwrap();
         assert_eq!(tr.times_s.len(), 301);
         // 3 m straight at 0.3 m/s: at 5 s the robot is at 1.5 m.
         assert!((tr.truth[50].x - 1.5).abs() < 0.02, "{:?}", tr.truth[50]);
         let end = tr.truth.last().unwrap();
-        assert!((end.x - 3.0).abs() < 0.1 && (end.y - 2.0).abs() < 0.06, "{end:?}");
+        assert!(
+            (end.x - 3.0).abs() < 0.1 && (end.y - 2.0).abs() < 0.06,
+            "{end:?}"
+        );
         assert_eq!(tr.truth, tr.odometry);
     }
 
     #[test]
     fn velocity_commands_drive_an_arc() {
         let opts = RobotOptions::default();
-        let motion = Motion::Commands(vec![VelocityCommand { duration_s: 10.0, v_mps: 0.2, omega_radps: 0.1 }]);
-        let tr = drive(Pose2::IDENTITY, &motion, &opts, &OdometryNoise::none(), 12.0, 0).unwrap();
+        let motion = Motion::Commands(vec![VelocityCommand {
+            duration_s: 10.0,
+            v_mps: 0.2,
+            omega_radps: 0.1,
+        }]);
+        let tr = drive(
+            Pose2::IDENTITY,
+            &motion,
+            &opts,
+            &OdometryNoise::none(),
+            12.0,
+            0,
+        )
+        .unwrap();
         // A circle of radius 2 m: after 10 s the heading is 1 rad, then the robot stops.
         let p = tr.truth[100];
         assert!((p.yaw - 1.0).abs() < 1e-9);
-        assert!((p.x - 2.0 * 1f64.sin()).abs() < 1e-9 && (p.y - 2.0 * (1.0 - 1f64.cos())).abs() < 1e-9);
+        assert!(
+            (p.x - 2.0 * 1f64.sin()).abs() < 1e-9 && (p.y - 2.0 * (1.0 - 1f64.cos())).abs() < 1e-9
+        );
         assert_eq!(tr.truth[120], p);
     }
 
     #[test]
     fn bad_options_are_errors() {
-        let opts = RobotOptions { speed_mps: -1.0, ..RobotOptions::default() };
+        let opts = RobotOptions {
+            speed_mps: -1.0,
+            ..RobotOptions::default()
+        };
         let m = Motion::Commands(vec![]);
         assert!(drive(Pose2::IDENTITY, &m, &opts, &OdometryNoise::none(), 1.0, 0).is_err());
-        assert!(drive(Pose2::IDENTITY, &m, &RobotOptions::default(), &OdometryNoise::none(), f64::NAN, 0).is_err());
+        assert!(drive(
+            Pose2::IDENTITY,
+            &m,
+            &RobotOptions::default(),
+            &OdometryNoise::none(),
+            f64::NAN,
+            0
+        )
+        .is_err());
     }
 }

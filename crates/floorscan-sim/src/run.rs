@@ -34,9 +34,18 @@ pub struct RunOutputs {
 }
 
 /// Renders frame k at `poses[k]` with noise stream `k` of `seed`.
-pub fn render_run(scene: &Scene, rays: &CameraRays, poses: &[Pose2], seed: u64, outputs: RunOutputs) -> Result<RenderedRun> {
+pub fn render_run(
+    scene: &Scene,
+    rays: &CameraRays,
+    poses: &[Pose2],
+    seed: u64,
+    outputs: RunOutputs,
+) -> Result<RenderedRun> {
     if outputs.threads == 0 || outputs.threads > 256 {
-        return Err(invalid_option("threads", format!("must be in 1..=256, got {}", outputs.threads)));
+        return Err(invalid_option(
+            "threads",
+            format!("must be in 1..=256, got {}", outputs.threads),
+        ));
     }
     if let Some(t) = &outputs.truth {
         t.validate()?;
@@ -51,7 +60,11 @@ pub fn render_run(scene: &Scene, rays: &CameraRays, poses: &[Pose2], seed: u64, 
         width: w,
         height: h,
         images: vec![0; n * px],
-        labels: if outputs.labels { vec![0; n * px] } else { vec![] },
+        labels: if outputs.labels {
+            vec![0; n * px]
+        } else {
+            vec![]
+        },
         truth: vec![],
         exposures: vec![0.0; n],
     };
@@ -84,7 +97,13 @@ pub fn render_run(scene: &Scene, rays: &CameraRays, poses: &[Pose2], seed: u64, 
                 Ok(())
             }));
         }
-        handles.into_iter().map(|h| h.join().unwrap_or_else(|_| Err(invalid_option("threads", "a render thread failed")))).collect()
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err(invalid_option("threads", "a render thread failed")))
+            })
+            .collect()
     });
     for r in results {
         r?;
@@ -103,10 +122,22 @@ mod tests {
     fn threads_do_not_change_the_result() {
         let scene = Scene::new(builtin_world("lab").unwrap());
         let rays = CameraRays::new(Camera::wide_angle(64, 48)).unwrap();
-        let poses: Vec<Pose2> = (0..7).map(|k| Pose2::new(1.0 + 0.3 * k as f64, 0.1, 0.05 * k as f64)).collect();
+        let poses: Vec<Pose2> = (0..7)
+            .map(|k| Pose2::new(1.0 + 0.3 * k as f64, 0.1, 0.05 * k as f64))
+            .collect();
         let out = |threads| {
-            render_run(&scene, &rays, &poses, 5, RunOutputs { labels: true, truth: Some(TruthOptions::default()), threads })
-                .unwrap()
+            render_run(
+                &scene,
+                &rays,
+                &poses,
+                5,
+                RunOutputs {
+                    labels: true,
+                    truth: Some(TruthOptions::default()),
+                    threads,
+                },
+            )
+            .unwrap()
         };
         let (a, b) = (out(1), out(3));
         assert_eq!(a.images, b.images);
@@ -117,6 +148,17 @@ mod tests {
             assert_eq!(format!("{x:?}"), format!("{y:?}"), "frame {k}");
         }
         assert_eq!(a.images.len(), 7 * 64 * 48);
-        assert!(render_run(&scene, &rays, &poses, 5, RunOutputs { labels: false, truth: None, threads: 0 }).is_err());
+        assert!(render_run(
+            &scene,
+            &rays,
+            &poses,
+            5,
+            RunOutputs {
+                labels: false,
+                truth: None,
+                threads: 0
+            }
+        )
+        .is_err());
     }
 }

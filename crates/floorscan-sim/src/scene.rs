@@ -6,8 +6,8 @@ use floorscan_core::Point2;
 use crate::geometry::{point_in_polygon, ray_segment, Aabb};
 use crate::grid_index::{segment_cells, segment_meets_box, CellLists, CellWalk, GridShape};
 use crate::lightmap::LightMap;
-use crate::texture::PreparedCovering;
 use crate::rng::splitmix64;
+use crate::texture::PreparedCovering;
 use crate::world::World;
 
 /// A vertical face: the side of a solid between `z0` and `z1` along segment a-b.
@@ -31,9 +31,15 @@ pub enum Surface {
     Floor,
     Ceiling,
     /// Side face `face`, at offset `s` [m] along it.
-    Side { face: u32, s: f64 },
+    Side {
+        face: u32,
+        s: f64,
+    },
     /// Top (`up`) or bottom face of a solid.
-    Cap { solid: u32, up: bool },
+    Cap {
+        solid: u32,
+        up: bool,
+    },
 }
 
 impl Surface {
@@ -131,7 +137,9 @@ impl Scene {
         };
         let light = LightMap::new(&world.lighting, lit, b);
         let regions = CellLists::build(shape.cell_count(), &region_pairs);
-        let cell_covering = (0..shape.cell_count()).map(|cell| uniform_covering(&world, &shape, &regions, cell)).collect();
+        let cell_covering = (0..shape.cell_count())
+            .map(|cell| uniform_covering(&world, &shape, &regions, cell))
+            .collect();
         Scene {
             faces: CellLists::build(shape.cell_count(), &face_pairs),
             regions,
@@ -183,10 +191,18 @@ impl Scene {
     pub fn trace_clear(&self, o: [f64; 3], d: [f64; 3], free_m: f64, horizontal: f64) -> Hit {
         let (t, surface) = self.limit(o, d);
         if t.is_finite() && t * horizontal < free_m {
-            return Hit { t, surface, point: [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]] };
+            return Hit {
+                t,
+                surface,
+                point: [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]],
+            };
         }
         // Nothing to meet before the clearance: start the grid walk there.
-        let t0 = if horizontal > 1e-12 && free_m.is_finite() { (free_m / horizontal).max(0.0) } else { 0.0 };
+        let t0 = if horizontal > 1e-12 && free_m.is_finite() {
+            (free_m / horizontal).max(0.0)
+        } else {
+            0.0
+        };
         self.trace_after(o, d, t0)
     }
 
@@ -213,7 +229,10 @@ impl Scene {
                             let z = o[2] + t * d[2];
                             if z >= f.z0 && z <= f.z1 {
                                 best_t = t;
-                                best = Surface::Side { face: item, s: s * f.length };
+                                best = Surface::Side {
+                                    face: item,
+                                    s: s * f.length,
+                                };
                             }
                         }
                     }
@@ -233,7 +252,10 @@ impl Scene {
                         let p = Point2::new(o[0] + t * d[0], o[1] + t * d[1]);
                         if self.solid_bounds[k].contains(p) && point_in_polygon(p, &s.polygon) {
                             best_t = t;
-                            best = Surface::Cap { solid: k as u32, up };
+                            best = Surface::Cap {
+                                solid: k as u32,
+                                up,
+                            };
                         }
                     }
                 }
@@ -243,12 +265,20 @@ impl Scene {
             }
         }
         if !best_t.is_finite() {
-            return Hit { t: f64::INFINITY, surface: Surface::Nothing, point: [f64::NAN; 3] };
+            return Hit {
+                t: f64::INFINITY,
+                surface: Surface::Nothing,
+                point: [f64::NAN; 3],
+            };
         }
         Hit {
             t: best_t,
             surface: best,
-            point: [o[0] + best_t * d[0], o[1] + best_t * d[1], o[2] + best_t * d[2]],
+            point: [
+                o[0] + best_t * d[0],
+                o[1] + best_t * d[1],
+                o[2] + best_t * d[2],
+            ],
         }
     }
 
@@ -269,13 +299,20 @@ impl Scene {
                 let z = o[2] + t * d[2];
                 if t < best_t && z >= f.z0 && z <= f.z1 {
                     best_t = t;
-                    best = Surface::Side { face: id as u32, s: s * f.length };
+                    best = Surface::Side {
+                        face: id as u32,
+                        s: s * f.length,
+                    };
                 }
             }
         }
         for (k, s) in self.world.solids.iter().enumerate() {
             for (z, up) in [(s.top_m, true), (s.base_m, false)] {
-                let visible = if up { o[2] > z && d[2] < 0.0 } else { z > 0.0 && o[2] < z && d[2] > 0.0 };
+                let visible = if up {
+                    o[2] > z && d[2] < 0.0
+                } else {
+                    z > 0.0 && o[2] < z && d[2] > 0.0
+                };
                 if !visible {
                     continue;
                 }
@@ -283,14 +320,29 @@ impl Scene {
                 let p = Point2::new(o[0] + t * d[0], o[1] + t * d[1]);
                 if t < best_t && point_in_polygon(p, &s.polygon) {
                     best_t = t;
-                    best = Surface::Cap { solid: k as u32, up };
+                    best = Surface::Cap {
+                        solid: k as u32,
+                        up,
+                    };
                 }
             }
         }
         if !best_t.is_finite() {
-            return Hit { t: f64::INFINITY, surface: Surface::Nothing, point: [f64::NAN; 3] };
+            return Hit {
+                t: f64::INFINITY,
+                surface: Surface::Nothing,
+                point: [f64::NAN; 3],
+            };
         }
-        Hit { t: best_t, surface: best, point: [o[0] + best_t * d[0], o[1] + best_t * d[1], o[2] + best_t * d[2]] }
+        Hit {
+            t: best_t,
+            surface: best,
+            point: [
+                o[0] + best_t * d[0],
+                o[1] + best_t * d[1],
+                o[2] + best_t * d[2],
+            ],
+        }
     }
 }
 
@@ -305,13 +357,25 @@ fn uniform_covering(world: &World, shape: &GridShape, regions: &CellLists, cell:
     let c = shape.cell_m;
     let (i, j) = (cell % shape.nx, cell / shape.nx);
     let lo = Point2::new(shape.origin.x + i as f64 * c, shape.origin.y + j as f64 * c);
-    let corners = [lo, Point2::new(lo.x + c, lo.y), Point2::new(lo.x + c, lo.y + c), Point2::new(lo.x, lo.y + c)];
+    let corners = [
+        lo,
+        Point2::new(lo.x + c, lo.y),
+        Point2::new(lo.x + c, lo.y + c),
+        Point2::new(lo.x, lo.y + c),
+    ];
     let pad = 1e-9 * c;
-    let cell_box = Aabb { min: Point2::new(lo.x - pad, lo.y - pad), max: Point2::new(lo.x + c + pad, lo.y + c + pad) };
+    let cell_box = Aabb {
+        min: Point2::new(lo.x - pad, lo.y - pad),
+        max: Point2::new(lo.x + c + pad, lo.y + c + pad),
+    };
     let n = region.polygon.len();
     let edges_cross =
         (0..n).any(|e| segment_meets_box(region.polygon[e], region.polygon[(e + 1) % n], cell_box));
-    if !edges_cross && corners.iter().all(|p| point_in_polygon(*p, &region.polygon)) {
+    if !edges_cross
+        && corners
+            .iter()
+            .all(|p| point_in_polygon(*p, &region.polygon))
+    {
         region.covering as i32
     } else {
         -1
@@ -336,14 +400,22 @@ mod tests {
                     b.min.y + rng.uniform() * (b.max.y - b.min.y),
                     0.05 + rng.uniform() * 1.5,
                 ];
-                let (az, el) = (rng.uniform() * std::f64::consts::TAU, (rng.uniform() - 0.5) * 3.0);
+                let (az, el) = (
+                    rng.uniform() * std::f64::consts::TAU,
+                    (rng.uniform() - 0.5) * 3.0,
+                );
                 let d = [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()];
                 let (fast, slow) = (scene.trace(o, d), scene.trace_brute_force(o, d));
                 assert!(
-                    (fast.t - slow.t).abs() < 1e-9 || (fast.t.is_infinite() && slow.t.is_infinite()),
+                    (fast.t - slow.t).abs() < 1e-9
+                        || (fast.t.is_infinite() && slow.t.is_infinite()),
                     "{name}: {o:?} {d:?}: {fast:?} vs {slow:?}"
                 );
-                assert_eq!(fast.surface.is_obstacle(), slow.surface.is_obstacle(), "{name}: {fast:?} vs {slow:?}");
+                assert_eq!(
+                    fast.surface.is_obstacle(),
+                    slow.surface.is_obstacle(),
+                    "{name}: {fast:?} vs {slow:?}"
+                );
             }
         }
     }
@@ -354,7 +426,10 @@ mod tests {
         let mut rng = Rng::new(1);
         let b = scene.world.bounds();
         for _ in 0..5000 {
-            let p = Point2::new(b.min.x + rng.uniform() * (b.max.x - b.min.x), b.min.y + rng.uniform() * (b.max.y - b.min.y));
+            let p = Point2::new(
+                b.min.x + rng.uniform() * (b.max.x - b.min.x),
+                b.min.y + rng.uniform() * (b.max.y - b.min.y),
+            );
             assert_eq!(scene.covering_at(p), scene.world.covering_at(p));
         }
     }

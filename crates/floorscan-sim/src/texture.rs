@@ -29,12 +29,26 @@ pub enum CoveringClass {
 pub enum FloorPattern {
     /// Fibres of size `grain_m` with relative amplitude `contrast`, plus low-frequency mottling
     /// (`mottle` relative amplitude at the scale `mottle_m`).
-    Carpet { contrast: f64, grain_m: f64, mottle: f64, mottle_m: f64 },
+    Carpet {
+        contrast: f64,
+        grain_m: f64,
+        mottle: f64,
+        mottle_m: f64,
+    },
     /// Smooth, slightly mottled sheet with fine speckles.
-    Linoleum { mottle: f64, mottle_m: f64, speckle: f64 },
+    Linoleum {
+        mottle: f64,
+        mottle_m: f64,
+        speckle: f64,
+    },
     /// Square tiles of side `tile_m` (axis-aligned in the world), separated by grout lines
     /// `grout_m` wide of albedo `grout_albedo`; each tile's albedo varies by `variation`.
-    Tiles { tile_m: f64, grout_m: f64, grout_albedo: f64, variation: f64 },
+    Tiles {
+        tile_m: f64,
+        grout_m: f64,
+        grout_albedo: f64,
+        variation: f64,
+    },
     /// Plain paper with a faint texture.
     Paper,
     /// A checkerboard: squares of side `square_m` whose inner corners are at
@@ -110,12 +124,18 @@ impl Covering {
     /// The covering with its scales inverted, ready for shading.
     pub fn prepare(&self) -> PreparedCovering {
         let (a, b) = match &self.pattern {
-            FloorPattern::Carpet { grain_m, mottle_m, .. } => (1.0 / grain_m, 1.0 / mottle_m),
+            FloorPattern::Carpet {
+                grain_m, mottle_m, ..
+            } => (1.0 / grain_m, 1.0 / mottle_m),
             FloorPattern::Linoleum { mottle_m, .. } => (1.0 / mottle_m, 0.0),
             FloorPattern::Tiles { tile_m, .. } => (1.0 / tile_m, 0.0),
             _ => (0.0, 0.0),
         };
-        PreparedCovering { covering: self.clone(), inv_a: a, inv_b: b }
+        PreparedCovering {
+            covering: self.clone(),
+            inv_a: a,
+            inv_b: b,
+        }
     }
 
     /// Albedo at world point `p`, for a pixel whose footprint on the floor is `footprint_m`.
@@ -139,32 +159,69 @@ impl PreparedCovering {
         let a = c.albedo as f32;
         let seed = c.seed;
         match &c.pattern {
-            FloorPattern::Carpet { contrast, grain_m, mottle, .. } => {
+            FloorPattern::Carpet {
+                contrast,
+                grain_m,
+                mottle,
+                ..
+            } => {
                 let k = detail(*grain_m, fp);
                 // Skip the fibres where averaging has smoothed them away.
-                let fine = if k > 0.02 { value_noise(p.x * self.inv_a, p.y * self.inv_a, seed) } else { 0.0 };
+                let fine = if k > 0.02 {
+                    value_noise(p.x * self.inv_a, p.y * self.inv_a, seed)
+                } else {
+                    0.0
+                };
                 let coarse = value_noise(p.x * self.inv_b, p.y * self.inv_b, seed ^ 0xAA);
                 a * (1.0 + *contrast as f32 * 2.4 * k * fine + *mottle as f32 * 2.4 * coarse)
             }
-            FloorPattern::Linoleum { mottle, speckle, .. } => {
+            FloorPattern::Linoleum {
+                mottle, speckle, ..
+            } => {
                 let coarse = value_noise(p.x * self.inv_a, p.y * self.inv_a, seed);
-                let fine = hash2(fast_floor(p.x * (1.0 / 0.003)), fast_floor(p.y * (1.0 / 0.003)), seed ^ 0x33);
-                a * (1.0 + *mottle as f32 * 2.4 * coarse + *speckle as f32 * detail(0.003, fp) * fine)
+                let fine = hash2(
+                    fast_floor(p.x * (1.0 / 0.003)),
+                    fast_floor(p.y * (1.0 / 0.003)),
+                    seed ^ 0x33,
+                );
+                a * (1.0
+                    + *mottle as f32 * 2.4 * coarse
+                    + *speckle as f32 * detail(0.003, fp) * fine)
             }
-            FloorPattern::Tiles { tile_m, grout_m, grout_albedo, variation } => {
+            FloorPattern::Tiles {
+                tile_m,
+                grout_m,
+                grout_albedo,
+                variation,
+            } => {
                 let (tx, ty) = (p.x * self.inv_a, p.y * self.inv_a);
                 let (ix, iy) = (fast_floor(tx), fast_floor(ty));
                 let tile = a * (1.0 + *variation as f32 * hash2(ix, iy, seed));
-                let speck = 0.03 * detail(0.004, fp) * value_noise(p.x * 250.0, p.y * 250.0, seed ^ 7);
+                let speck =
+                    0.03 * detail(0.004, fp) * value_noise(p.x * 250.0, p.y * 250.0, seed ^ 7);
                 // Distance to the nearest grout line in each direction [m].
                 let dx = (tx - ix as f64 - 0.5).abs() * tile_m;
                 let dy = (ty - iy as f64 - 0.5).abs() * tile_m;
                 let half = tile_m / 2.0;
-                let g = line_coverage(half - dx, *grout_m, fp).max(line_coverage(half - dy, *grout_m, fp)) as f32;
+                let g = line_coverage(half - dx, *grout_m, fp).max(line_coverage(
+                    half - dy,
+                    *grout_m,
+                    fp,
+                )) as f32;
                 (tile * (1.0 + speck)) * (1.0 - g) + *grout_albedo as f32 * g
             }
-            FloorPattern::Paper => a * (1.0 + 0.02 * detail(0.002, fp) * value_noise(p.x * 500.0, p.y * 500.0, seed)),
-            FloorPattern::Checkerboard { origin, across, away, square_m, corners, dark_albedo, margin_m } => {
+            FloorPattern::Paper => {
+                a * (1.0 + 0.02 * detail(0.002, fp) * value_noise(p.x * 500.0, p.y * 500.0, seed))
+            }
+            FloorPattern::Checkerboard {
+                origin,
+                across,
+                away,
+                square_m,
+                corners,
+                dark_albedo,
+                margin_m,
+            } => {
                 let q = Point2::new(p.x - origin.x, p.y - origin.y);
                 let i = (q.x * across.x + q.y * across.y) / square_m;
                 let j = (q.x * away.x + q.y * away.y) / square_m;
@@ -182,10 +239,23 @@ impl PreparedCovering {
                 let dj = (j - j.round()).abs() * square_m;
                 let near_edge = di.min(dj);
                 let w = ((near_edge * fp.inv) + 0.5).clamp(0.5, 1.0) as f32;
-                let (own, other) = if parity { (*dark_albedo as f32, a) } else { (a, *dark_albedo as f32) };
+                let (own, other) = if parity {
+                    (*dark_albedo as f32, a)
+                } else {
+                    (a, *dark_albedo as f32)
+                };
                 own * w + other * (1.0 - w)
             }
-            FloorPattern::Lines { origin, across, away, spacing_m, lines, width_m, line_albedo, overhang_m } => {
+            FloorPattern::Lines {
+                origin,
+                across,
+                away,
+                spacing_m,
+                lines,
+                width_m,
+                line_albedo,
+                overhang_m,
+            } => {
                 let q = Point2::new(p.x - origin.x, p.y - origin.y);
                 let s_across = q.x * across.x + q.y * across.y;
                 let s_away = q.x * away.x + q.y * away.y;
@@ -194,11 +264,15 @@ impl PreparedCovering {
                 let mut cover: f64 = 0.0;
                 // Lines running away: constant across-offset, within the away extent.
                 if s_away >= -overhang_m && s_away <= extent_away + overhang_m {
-                    let k = (s_across / spacing_m).round().clamp(0.0, (lines[0].max(1) - 1) as f64);
+                    let k = (s_across / spacing_m)
+                        .round()
+                        .clamp(0.0, (lines[0].max(1) - 1) as f64);
                     cover = cover.max(line_coverage(s_across - k * spacing_m, *width_m, fp));
                 }
                 if s_across >= -overhang_m && s_across <= extent_across + overhang_m {
-                    let k = (s_away / spacing_m).round().clamp(0.0, (lines[1].max(1) - 1) as f64);
+                    let k = (s_away / spacing_m)
+                        .round()
+                        .clamp(0.0, (lines[1].max(1) - 1) as f64);
                     cover = cover.max(line_coverage(s_away - k * spacing_m, *width_m, fp));
                 }
                 // Tape on carpet: the background keeps a carpet's fine texture.
@@ -243,7 +317,11 @@ impl Appearance {
     /// Albedo of a horizontal face (table tops, undersides) at `p`.
     pub fn albedo_at_point(&self, p: Point2, fp: Footprint) -> f32 {
         let k = detail(self.texture_m, fp);
-        let n = value_noise(p.x / self.texture_m, p.y / (3.0 * self.texture_m), self.seed);
+        let n = value_noise(
+            p.x / self.texture_m,
+            p.y / (3.0 * self.texture_m),
+            self.seed,
+        );
         self.albedo as f32 * (1.0 + self.texture as f32 * 1.7 * k * n)
     }
 }
@@ -257,14 +335,24 @@ mod tests {
             name: "carpet".into(),
             class: CoveringClass::Carpet,
             albedo: 0.4,
-            pattern: FloorPattern::Carpet { contrast: 0.06, grain_m: 0.004, mottle: 0.03, mottle_m: 0.5 },
+            pattern: FloorPattern::Carpet {
+                contrast: 0.06,
+                grain_m: 0.004,
+                mottle: 0.03,
+                mottle_m: 0.5,
+            },
             seed: 11,
         }
     }
 
     fn std_along(c: &Covering, footprint: f64) -> f64 {
         let v: Vec<f64> = (0..4000)
-            .map(|i| c.albedo_at(Point2::new(i as f64 * 0.0137, 0.3 + i as f64 * 0.0071), footprint) as f64)
+            .map(|i| {
+                c.albedo_at(
+                    Point2::new(i as f64 * 0.0137, 0.3 + i as f64 * 0.0071),
+                    footprint,
+                ) as f64
+            })
             .collect();
         let m = v.iter().sum::<f64>() / v.len() as f64;
         (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / v.len() as f64).sqrt()
@@ -285,7 +373,12 @@ mod tests {
             name: "tiles".into(),
             class: CoveringClass::Other,
             albedo: 0.7,
-            pattern: FloorPattern::Tiles { tile_m: 0.3, grout_m: 0.01, grout_albedo: 0.2, variation: 0.0 },
+            pattern: FloorPattern::Tiles {
+                tile_m: 0.3,
+                grout_m: 0.01,
+                grout_albedo: 0.2,
+                variation: 0.0,
+            },
             seed: 1,
         };
         assert!((t.albedo_at(Point2::new(0.3, 0.15), 0.001) - 0.2).abs() < 1e-6);

@@ -143,7 +143,10 @@ impl Column<'_> {
         let d = if fv == v && v >= 0.0 && (v as usize) < h {
             self.rays.dirs[v as usize * w + self.u as usize]
         } else {
-            self.rays.camera.ray(self.u as f64, v).unwrap_or([f64::NAN; 3])
+            self.rays
+                .camera
+                .ray(self.u as f64, v)
+                .unwrap_or([f64::NAN; 3])
         };
         (!d[0].is_nan()).then_some(d)
     }
@@ -156,14 +159,22 @@ impl Column<'_> {
         // Pixel centres have their azimuth precomputed; other rows compute it.
         let (azimuth, horizontal) = if v.fract() == 0.0 && v >= 0.0 && (v as usize) < h {
             let k = v as usize * w + self.u as usize;
-            (self.rays.azimuth[k] + self.place.world_from_camera.yaw, self.rays.horizontal[k])
+            (
+                self.rays.azimuth[k] + self.place.world_from_camera.yaw,
+                self.rays.horizontal[k],
+            )
         } else {
             (dw[1].atan2(dw[0]), dw[0].hypot(dw[1]))
         };
         let free = self.clear.free_m[sector_of(azimuth)];
-        let hit = self.scene.trace_clear(self.place.origin, dw, free, horizontal);
+        let hit = self
+            .scene
+            .trace_clear(self.place.origin, dw, free, horizontal);
         let class = match hit.surface {
-            Surface::Floor => Class::Floor(self.scene.covering_at(Point2::new(hit.point[0], hit.point[1]))),
+            Surface::Floor => Class::Floor(
+                self.scene
+                    .covering_at(Point2::new(hit.point[0], hit.point[1])),
+            ),
             s if s.is_obstacle() => Class::Obstacle,
             _ => Class::Other,
         };
@@ -171,7 +182,12 @@ impl Column<'_> {
     }
 
     /// Bisects the edge between row `inside` (where `keep` holds) and row `outside` (above it).
-    fn bisect(&self, mut inside: f64, mut outside: f64, keep: impl Fn(Class) -> bool) -> (f64, f64) {
+    fn bisect(
+        &self,
+        mut inside: f64,
+        mut outside: f64,
+        keep: impl Fn(Class) -> bool,
+    ) -> (f64, f64) {
         for _ in 0..30 {
             let mid = 0.5 * (inside + outside);
             match self.classify(mid) {
@@ -189,14 +205,35 @@ impl Column<'_> {
 }
 
 /// The truth of one view (robot at `world_from_robot`).
-pub fn frame_truth(scene: &Scene, rays: &CameraRays, world_from_robot: Pose2, options: &TruthOptions) -> FrameTruth {
+pub fn frame_truth(
+    scene: &Scene,
+    rays: &CameraRays,
+    world_from_robot: Pose2,
+    options: &TruthOptions,
+) -> FrameTruth {
     let place = CameraPlacement::new(rays, world_from_robot);
     let home = scene.covering_at(place.world_from_camera.translation());
     let clear = Clearance::new(scene, place.world_from_camera.translation());
     let columns = (0..rays.camera.width as u32)
-        .map(|u| column_truth(&Column { scene, rays, place, clear: &clear, u }, home, options))
+        .map(|u| {
+            column_truth(
+                &Column {
+                    scene,
+                    rays,
+                    place,
+                    clear: &clear,
+                    u,
+                },
+                home,
+                options,
+            )
+        })
         .collect();
-    FrameTruth { pose: world_from_robot, world_from_camera: place.world_from_camera, columns }
+    FrameTruth {
+        pose: world_from_robot,
+        world_from_camera: place.world_from_camera,
+        columns,
+    }
 }
 
 fn column_truth(col: &Column, home: usize, options: &TruthOptions) -> ColumnTruth {
@@ -220,13 +257,16 @@ fn column_truth(col: &Column, home: usize, options: &TruthOptions) -> ColumnTrut
     let mut appearance_done = false;
     let mut last_floor: Option<usize> = None;
     for v in (0..=start).rev() {
-        let Some((class, _, _)) = col.classify(v as f64) else { break };
+        let Some((class, _, _)) = col.classify(v as f64) else {
+            break;
+        };
         if !appearance_done && class != Class::Floor(home) {
             appearance_done = true;
             // Every pixel below this one saw the home covering.
             match last_floor {
                 Some(below) => {
-                    let (inside, out) = col.bisect(below as f64, v as f64, |c| c == Class::Floor(home));
+                    let (inside, out) =
+                        col.bisect(below as f64, v as f64, |c| c == Class::Floor(home));
                     t.appearance_row = 0.5 * (inside + out);
                     if let Some((Class::Floor(_), _, d)) = col.classify(out) {
                         t.appearance_point = Some(col.ground_point(d));
@@ -241,7 +281,8 @@ fn column_truth(col: &Column, home: usize, options: &TruthOptions) -> ColumnTrut
                 status = Some(match last_floor {
                     None => ColumnStatus::TooClose,
                     Some(below) => {
-                        let (inside, outside) = col.bisect(below as f64, v as f64, |c| matches!(c, Class::Floor(_)));
+                        let (inside, outside) =
+                            col.bisect(below as f64, v as f64, |c| matches!(c, Class::Floor(_)));
                         let floor_d = col.ray_at(inside).expect("bisection stays between rays");
                         let p = col.ground_point(floor_d);
                         if p.norm() > options.max_range_m {
@@ -260,7 +301,11 @@ fn column_truth(col: &Column, home: usize, options: &TruthOptions) -> ColumnTrut
                 });
             }
             Class::Other => {
-                status = Some(if last_floor.is_some() { ColumnStatus::NoBoundary } else { ColumnStatus::Invalid });
+                status = Some(if last_floor.is_some() {
+                    ColumnStatus::NoBoundary
+                } else {
+                    ColumnStatus::Invalid
+                });
             }
         }
         // A settled status means a pixel that is not floor, so the appearance is settled too.
@@ -268,7 +313,11 @@ fn column_truth(col: &Column, home: usize, options: &TruthOptions) -> ColumnTrut
             break;
         }
     }
-    t.status = status.unwrap_or(if last_floor.is_some() { ColumnStatus::NoBoundary } else { ColumnStatus::Invalid });
+    t.status = status.unwrap_or(if last_floor.is_some() {
+        ColumnStatus::NoBoundary
+    } else {
+        ColumnStatus::Invalid
+    });
     t
 }
 
@@ -280,8 +329,15 @@ pub const COLUMNS_CSV_HEADER: &str = "timestamp,frame,column,status,row,x,y,worl
 /// are written as `nan`.
 pub fn write_columns_csv(frames: &[FrameTruth], timestamps_s: &[f64], out: &mut String) {
     use std::fmt::Write;
-    let f = |v: f64| if v.is_nan() { "nan".to_string() } else { format!("{v:.6}") };
-    let xy = |p: Option<Point2>| p.map_or(("nan".to_string(), "nan".to_string()), |p| (f(p.x), f(p.y)));
+    let f = |v: f64| {
+        if v.is_nan() {
+            "nan".to_string()
+        } else {
+            format!("{v:.6}")
+        }
+    };
+    let xy =
+        |p: Option<Point2>| p.map_or(("nan".to_string(), "nan".to_string()), |p| (f(p.x), f(p.y)));
     for (k, (frame, t)) in frames.iter().zip(timestamps_s).enumerate() {
         for c in &frame.columns {
             let (x, y) = xy(c.point);
@@ -319,8 +375,10 @@ mod tests {
     }
 
     fn camera_at_origin() -> (CameraRays, Pose2) {
-        let mut cam = Camera::default();
-        cam.imaging = Imaging::ideal();
+        let cam = Camera {
+            imaging: Imaging::ideal(),
+            ..Default::default()
+        };
         let pose = crate::calibration::robot_pose(&cam);
         (CameraRays::new(cam).unwrap(), pose)
     }
@@ -337,7 +395,11 @@ mod tests {
                 Some(p) if p[0] > u => lo = mid,
                 Some(_) => hi = mid,
                 None => {
-                    if mid > 0.0 { hi = mid } else { lo = mid }
+                    if mid > 0.0 {
+                        hi = mid
+                    } else {
+                        lo = mid
+                    }
                 }
             }
         }
@@ -361,10 +423,17 @@ mod tests {
                 let px = ground_to_pixel(&cam.lens, &cam.mount, p).unwrap();
                 assert!((px[0] - c.column as f64).abs() < 1e-6 && (px[1] - c.row).abs() < 1e-6);
                 let want = predicted_row(&cam, d, c.column as f64);
-                assert!((c.row - want).abs() < 1e-6, "d {d} column {}: row {} vs {want}", c.column, c.row);
+                assert!(
+                    (c.row - want).abs() < 1e-6,
+                    "d {d} column {}: row {} vs {want}",
+                    c.column,
+                    c.row
+                );
                 let o = c.obstacle_world.unwrap();
                 let pw = c.point_world.unwrap();
-                assert!((o.x - pw.x).abs() < 1e-6 && (o.y - pw.y).abs() < 1e-6 && c.obstacle_z_m < 1e-6);
+                assert!(
+                    (o.x - pw.x).abs() < 1e-6 && (o.y - pw.y).abs() < 1e-6 && c.obstacle_z_m < 1e-6
+                );
                 checked += 1;
             }
             // The wall spans the whole field of view near the robot.
@@ -372,16 +441,26 @@ mod tests {
             // Labels of an ideal render agree: floor below the boundary row, wall above.
             let mut buf = RenderBuffers::default();
             render_into(&scene, &rays, pose, 0, 0, &mut buf).unwrap();
-            for c in truth.columns.iter().filter(|c| c.status == ColumnStatus::Boundary) {
+            for c in truth
+                .columns
+                .iter()
+                .filter(|c| c.status == ColumnStatus::Boundary)
+            {
                 let above = c.row.floor() as usize;
-                assert_eq!(buf.labels[above * cam.width + c.column as usize], PixelLabel::Obstacle as u8);
+                assert_eq!(
+                    buf.labels[above * cam.width + c.column as usize],
+                    PixelLabel::Obstacle as u8
+                );
                 for v in 0..cam.height {
                     let label = buf.labels[v * cam.width + c.column as usize];
                     if (v as f64) > c.row + 1e-6 {
                         assert_eq!(label, PixelLabel::Carpet as u8);
                     } else if (v as f64) < c.row - 1e-6 {
                         // The wall, and above its top edge the ceiling.
-                        assert!(label == PixelLabel::Obstacle as u8 || label == PixelLabel::Ceiling as u8);
+                        assert!(
+                            label == PixelLabel::Obstacle as u8
+                                || label == PixelLabel::Ceiling as u8
+                        );
                     }
                 }
             }
@@ -396,7 +475,12 @@ mod tests {
         assert_eq!(mid.status, ColumnStatus::TooClose);
         let far = frame_truth(&wall_scene(12.0, ""), &rays, pose, &TruthOptions::default());
         assert_eq!(far.columns[160].status, ColumnStatus::NoBoundary);
-        let far_ok = frame_truth(&wall_scene(12.0, ""), &rays, pose, &TruthOptions { max_range_m: 20.0 });
+        let far_ok = frame_truth(
+            &wall_scene(12.0, ""),
+            &rays,
+            pose,
+            &TruthOptions { max_range_m: 20.0 },
+        );
         assert_eq!(far_ok.columns[160].status, ColumnStatus::Boundary);
     }
 
@@ -418,14 +502,20 @@ mod tests {
         let (p, o) = (c.point.unwrap(), c.obstacle_world.unwrap());
         let y_scale = 1.0 / p.x;
         assert!((p.x - 4.0 / 3.0).abs() < 1e-6, "{p:?}");
-        assert!((o.x - 1.0).abs() < 1e-6 && (o.y - p.y * y_scale).abs() < 1e-6, "{o:?}");
+        assert!(
+            (o.x - 1.0).abs() < 1e-6 && (o.y - p.y * y_scale).abs() < 1e-6,
+            "{o:?}"
+        );
         assert!((c.obstacle_z_m - 0.1).abs() < 1e-6);
     }
 
     #[test]
     fn paper_on_the_carpet_is_an_appearance_boundary_but_not_an_obstacle() {
         let (rays, pose) = camera_at_origin();
-        let scene = wall_scene(3.0, "[[regions]]\ncovering = \"paper\"\nrect = [1.0, -0.2, 1.3, 0.2]\n");
+        let scene = wall_scene(
+            3.0,
+            "[[regions]]\ncovering = \"paper\"\nrect = [1.0, -0.2, 1.3, 0.2]\n",
+        );
         let truth = frame_truth(&scene, &rays, pose, &TruthOptions::default());
         let c = truth.columns[160];
         assert_eq!(c.status, ColumnStatus::Boundary);

@@ -103,7 +103,10 @@ impl World {
     pub fn new(mut world: World) -> Result<World> {
         let name = world.name.clone();
         if !(world.ceiling_m > 0.0 && world.ceiling_m.is_finite()) {
-            return Err(bad(&name, format!("ceiling_m: must be > 0, got {}", world.ceiling_m)));
+            return Err(bad(
+                &name,
+                format!("ceiling_m: must be > 0, got {}", world.ceiling_m),
+            ));
         }
         if !world.start.is_finite() {
             return Err(bad(&name, "start: pose must be finite".into()));
@@ -117,18 +120,27 @@ impl World {
             if !(s.base_m >= 0.0 && s.top_m > s.base_m && s.top_m.is_finite()) {
                 return Err(bad(
                     &name,
-                    format!("solids[{i}] ({}): needs 0 <= base_m < top_m, got {} and {}", s.kind, s.base_m, s.top_m),
+                    format!(
+                        "solids[{i}] ({}): needs 0 <= base_m < top_m, got {} and {}",
+                        s.kind, s.base_m, s.top_m
+                    ),
                 ));
             }
             if s.appearance >= n_app {
-                return Err(bad(&name, format!("solids[{i}]: unknown appearance index {}", s.appearance)));
+                return Err(bad(
+                    &name,
+                    format!("solids[{i}]: unknown appearance index {}", s.appearance),
+                ));
             }
         }
         let n_cov = world.coverings.len();
         for (i, r) in world.regions.iter_mut().enumerate() {
             check_polygon(&name, &format!("regions[{i}]"), &mut r.polygon)?;
             if r.covering >= n_cov {
-                return Err(bad(&name, format!("regions[{i}]: unknown covering index {}", r.covering)));
+                return Err(bad(
+                    &name,
+                    format!("regions[{i}]: unknown covering index {}", r.covering),
+                ));
             }
         }
         if world.floor_covering >= n_cov {
@@ -136,30 +148,66 @@ impl World {
         }
         for c in &world.coverings {
             if !(c.albedo >= 0.0 && c.albedo <= 1.0) {
-                return Err(bad(&name, format!("coverings.{}.brightness: must be in [0, 1], got {}", c.name, c.albedo)));
+                return Err(bad(
+                    &name,
+                    format!(
+                        "coverings.{}.brightness: must be in [0, 1], got {}",
+                        c.name, c.albedo
+                    ),
+                ));
             }
         }
         for a in &world.appearances {
             if !(a.albedo >= 0.0 && a.albedo <= 1.0) {
-                return Err(bad(&name, format!("appearances.{}.brightness: must be in [0, 1], got {}", a.name, a.albedo)));
+                return Err(bad(
+                    &name,
+                    format!(
+                        "appearances.{}.brightness: must be in [0, 1], got {}",
+                        a.name, a.albedo
+                    ),
+                ));
             }
             if !(a.texture_m > 0.0 && a.texture_m.is_finite()) {
-                return Err(bad(&name, format!("appearances.{}.texture_m: must be > 0", a.name)));
+                return Err(bad(
+                    &name,
+                    format!("appearances.{}.texture_m: must be > 0", a.name),
+                ));
             }
         }
         let l = &world.lighting;
         if !(l.ambient >= 0.0 && l.ambient.is_finite()) {
-            return Err(bad(&name, format!("lighting.ambient: must be >= 0, got {}", l.ambient)));
+            return Err(bad(
+                &name,
+                format!("lighting.ambient: must be >= 0, got {}", l.ambient),
+            ));
         }
         if !(l.exposure > 0.0 && l.exposure.is_finite()) {
-            return Err(bad(&name, format!("lighting.exposure: must be > 0, got {}", l.exposure)));
+            return Err(bad(
+                &name,
+                format!("lighting.exposure: must be > 0, got {}", l.exposure),
+            ));
         }
         if !(l.exposure_jitter >= 0.0 && l.exposure_jitter <= 1.0) {
-            return Err(bad(&name, format!("lighting.exposure_jitter: must be in [0, 1], got {}", l.exposure_jitter)));
+            return Err(bad(
+                &name,
+                format!(
+                    "lighting.exposure_jitter: must be in [0, 1], got {}",
+                    l.exposure_jitter
+                ),
+            ));
         }
         for (i, light) in l.lights.iter().enumerate() {
-            if !(finite_point(light.position) && light.height_m > 0.0 && light.power >= 0.0 && light.power.is_finite()) {
-                return Err(bad(&name, format!("lighting.lights[{i}]: needs a finite position, height_m > 0, power >= 0")));
+            if !(finite_point(light.position)
+                && light.height_m > 0.0
+                && light.power >= 0.0
+                && light.power.is_finite())
+            {
+                return Err(bad(
+                    &name,
+                    format!(
+                        "lighting.lights[{i}]: needs a finite position, height_m > 0, power >= 0"
+                    ),
+                ));
             }
         }
         Ok(world)
@@ -190,9 +238,15 @@ impl World {
     }
 }
 
-fn check_polygon(world: &str, what: &str, polygon: &mut Vec<Point2>) -> Result<()> {
+fn check_polygon(world: &str, what: &str, polygon: &mut [Point2]) -> Result<()> {
     if polygon.len() < 3 {
-        return Err(bad(world, format!("{what}: a polygon needs at least 3 points, got {}", polygon.len())));
+        return Err(bad(
+            world,
+            format!(
+                "{what}: a polygon needs at least 3 points, got {}",
+                polygon.len()
+            ),
+        ));
     }
     if let Some(i) = polygon.iter().position(|p| !finite_point(*p)) {
         return Err(bad(world, format!("{what}: point {i} is not finite")));

@@ -67,7 +67,9 @@ struct FloorFile {
 
 impl Default for FloorFile {
     fn default() -> Self {
-        Self { covering: "carpet".into() }
+        Self {
+            covering: "carpet".into(),
+        }
     }
 }
 
@@ -352,7 +354,9 @@ struct LightGridFile {
 
 /// Stable 64-bit hash of a name (FNV-1a), for texture seeds.
 fn name_hash(name: &str) -> u64 {
-    name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+    name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
 }
 
 fn default_coverings() -> BTreeMap<String, CoveringFile> {
@@ -369,7 +373,12 @@ fn default_coverings() -> BTreeMap<String, CoveringFile> {
     );
     m.insert(
         "linoleum".into(),
-        CoveringFile::Linoleum { brightness: 0.55, mottle: 0.04, mottle_m: 0.25, speckle: d_speckle() },
+        CoveringFile::Linoleum {
+            brightness: 0.55,
+            mottle: 0.04,
+            mottle_m: 0.25,
+            speckle: d_speckle(),
+        },
     );
     m.insert(
         "tiles".into(),
@@ -404,8 +413,12 @@ fn default_appearances() -> BTreeMap<String, AppearanceFile> {
 
 /// Parses a world file. `source_name` (a path or a built-in name) prefixes the messages.
 pub fn parse_world(text: &str, source_name: &str) -> Result<World> {
-    let err = |reason: String| Error::InvalidWorld { source_name: source_name.to_string(), reason };
-    let file: WorldFile = toml::from_str(text).map_err(|e| err(e.to_string().trim_end().to_string()))?;
+    let err = |reason: String| Error::InvalidWorld {
+        source_name: source_name.to_string(),
+        reason,
+    };
+    let file: WorldFile =
+        toml::from_str(text).map_err(|e| err(e.to_string().trim_end().to_string()))?;
     let mut world = build(file, source_name)?;
     world.source = Some(text.to_string());
     Ok(world)
@@ -425,7 +438,12 @@ struct Shape<'a> {
 }
 
 fn shape_polygon(s: Shape, field: &str, err: &dyn Fn(String) -> Error) -> Result<Vec<Point2>> {
-    let given = [s.rect.is_some(), s.polygon.is_some(), s.size.is_some(), s.radius.is_some()];
+    let given = [
+        s.rect.is_some(),
+        s.polygon.is_some(),
+        s.size.is_some(),
+        s.radius.is_some(),
+    ];
     if given.iter().filter(|g| **g).count() != 1 {
         return Err(err(format!(
             "{field}: give exactly one of `rect`, `polygon`, `center` + `size`, `center` + `radius`"
@@ -433,14 +451,23 @@ fn shape_polygon(s: Shape, field: &str, err: &dyn Fn(String) -> Error) -> Result
     }
     if let Some(r) = s.rect {
         if !(r[2] > r[0] && r[3] > r[1]) {
-            return Err(err(format!("{field}.rect: needs xmin < xmax and ymin < ymax, got {r:?}")));
+            return Err(err(format!(
+                "{field}.rect: needs xmin < xmax and ymin < ymax, got {r:?}"
+            )));
         }
-        return Ok(vec![pt([r[0], r[1]]), pt([r[2], r[1]]), pt([r[2], r[3]]), pt([r[0], r[3]])]);
+        return Ok(vec![
+            pt([r[0], r[1]]),
+            pt([r[2], r[1]]),
+            pt([r[2], r[3]]),
+            pt([r[0], r[3]]),
+        ]);
     }
     if let Some(p) = s.polygon {
         return Ok(p.iter().copied().map(pt).collect());
     }
-    let center = s.center.ok_or_else(|| err(format!("{field}: `size` and `radius` need a `center`")))?;
+    let center = s
+        .center
+        .ok_or_else(|| err(format!("{field}: `size` and `radius` need a `center`")))?;
     if let Some(size) = s.size {
         if !(size[0] > 0.0 && size[1] > 0.0) {
             return Err(err(format!("{field}.size: must be > 0, got {size:?}")));
@@ -463,7 +490,10 @@ fn positive(v: f64, field: String, err: &dyn Fn(String) -> Error) -> Result<f64>
 }
 
 fn build(file: WorldFile, source_name: &str) -> Result<World> {
-    let err = |reason: String| Error::InvalidWorld { source_name: source_name.to_string(), reason };
+    let err = |reason: String| Error::InvalidWorld {
+        source_name: source_name.to_string(),
+        reason,
+    };
     let ceiling = positive(file.ceiling_m, "ceiling_m".into(), &err)?;
 
     // Coverings and appearances: the defaults, replaced or extended by the file's.
@@ -475,31 +505,80 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
         let seed = derive_seed(file.seed, name_hash(name));
         let field = format!("coverings.{name}");
         let (class, albedo, pattern) = match c.clone() {
-            CoveringFile::Carpet { brightness, contrast, grain_m, mottle, mottle_m } => {
+            CoveringFile::Carpet {
+                brightness,
+                contrast,
+                grain_m,
+                mottle,
+                mottle_m,
+            } => {
                 positive(grain_m, format!("{field}.grain_m"), &err)?;
                 positive(mottle_m, format!("{field}.mottle_m"), &err)?;
-                (CoveringClass::Carpet, brightness, FloorPattern::Carpet { contrast, grain_m, mottle, mottle_m })
+                (
+                    CoveringClass::Carpet,
+                    brightness,
+                    FloorPattern::Carpet {
+                        contrast,
+                        grain_m,
+                        mottle,
+                        mottle_m,
+                    },
+                )
             }
-            CoveringFile::Linoleum { brightness, mottle, mottle_m, speckle } => {
+            CoveringFile::Linoleum {
+                brightness,
+                mottle,
+                mottle_m,
+                speckle,
+            } => {
                 positive(mottle_m, format!("{field}.mottle_m"), &err)?;
-                (CoveringClass::Other, brightness, FloorPattern::Linoleum { mottle, mottle_m, speckle })
+                (
+                    CoveringClass::Other,
+                    brightness,
+                    FloorPattern::Linoleum {
+                        mottle,
+                        mottle_m,
+                        speckle,
+                    },
+                )
             }
-            CoveringFile::Tiles { brightness, tile_m, grout_m, grout_brightness, variation } => {
+            CoveringFile::Tiles {
+                brightness,
+                tile_m,
+                grout_m,
+                grout_brightness,
+                variation,
+            } => {
                 positive(tile_m, format!("{field}.tile_m"), &err)?;
                 positive(grout_m, format!("{field}.grout_m"), &err)?;
                 (
                     CoveringClass::Other,
                     brightness,
-                    FloorPattern::Tiles { tile_m, grout_m, grout_albedo: grout_brightness, variation },
+                    FloorPattern::Tiles {
+                        tile_m,
+                        grout_m,
+                        grout_albedo: grout_brightness,
+                        variation,
+                    },
                 )
             }
-            CoveringFile::Paper { brightness } => (CoveringClass::Paper, brightness, FloorPattern::Paper),
+            CoveringFile::Paper { brightness } => {
+                (CoveringClass::Paper, brightness, FloorPattern::Paper)
+            }
         };
         if !(0.0..=1.0).contains(&albedo) {
-            return Err(err(format!("{field}.brightness: must be in [0, 1], got {albedo}")));
+            return Err(err(format!(
+                "{field}.brightness: must be in [0, 1], got {albedo}"
+            )));
         }
         cov_index.insert(name.clone(), coverings.len());
-        coverings.push(Covering { name: name.clone(), class, albedo, pattern, seed });
+        coverings.push(Covering {
+            name: name.clone(),
+            class,
+            albedo,
+            pattern,
+            seed,
+        });
     }
     let mut app_files = default_appearances();
     app_files.extend(file.appearances.clone());
@@ -508,7 +587,10 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
     for (name, a) in &app_files {
         let field = format!("appearances.{name}");
         if !(0.0..=1.0).contains(&a.brightness) {
-            return Err(err(format!("{field}.brightness: must be in [0, 1], got {}", a.brightness)));
+            return Err(err(format!(
+                "{field}.brightness: must be in [0, 1], got {}",
+                a.brightness
+            )));
         }
         positive(a.texture_m, format!("{field}.texture_m"), &err)?;
         app_index.insert(name.clone(), appearances.len());
@@ -524,12 +606,18 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
     }
     let covering = |name: &str, field: String| -> Result<usize> {
         cov_index.get(name).copied().ok_or_else(|| {
-            err(format!("{field}: unknown covering {name:?} (known: {:?})", cov_index.keys().collect::<Vec<_>>()))
+            err(format!(
+                "{field}: unknown covering {name:?} (known: {:?})",
+                cov_index.keys().collect::<Vec<_>>()
+            ))
         })
     };
     let appearance = |name: &str, field: String| -> Result<usize> {
         app_index.get(name).copied().ok_or_else(|| {
-            err(format!("{field}: unknown appearance {name:?} (known: {:?})", app_index.keys().collect::<Vec<_>>()))
+            err(format!(
+                "{field}: unknown appearance {name:?} (known: {:?})",
+                app_index.keys().collect::<Vec<_>>()
+            ))
         })
     };
 
@@ -537,23 +625,39 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
     for (i, r) in file.regions.iter().enumerate() {
         let field = format!("regions[{i}]");
         let polygon = shape_polygon(
-            Shape { rect: r.rect, polygon: r.polygon.as_ref(), center: r.center, size: r.size, radius: r.radius, yaw: r.yaw },
+            Shape {
+                rect: r.rect,
+                polygon: r.polygon.as_ref(),
+                center: r.center,
+                size: r.size,
+                radius: r.radius,
+                yaw: r.yaw,
+            },
             &field,
             &err,
         )?;
-        regions.push(FloorRegion { polygon, covering: covering(&r.covering, format!("{field}.covering"))? });
+        regions.push(FloorRegion {
+            polygon,
+            covering: covering(&r.covering, format!("{field}.covering"))?,
+        });
     }
 
     let mut solids = Vec::new();
     for (i, w) in file.walls.iter().enumerate() {
         let field = format!("walls[{i}]");
-        let height = positive(w.height_m.unwrap_or(ceiling), format!("{field}.height_m"), &err)?;
+        let height = positive(
+            w.height_m.unwrap_or(ceiling),
+            format!("{field}.height_m"),
+            &err,
+        )?;
         let thickness = positive(w.thickness_m, format!("{field}.thickness_m"), &err)?;
         let app = appearance(&w.appearance, format!("{field}.appearance"))?;
         let (a, b) = (pt(w.from), pt(w.to));
         let length = (b.x - a.x).hypot(b.y - a.y);
         if !(length > 0.0 && length.is_finite()) {
-            return Err(err(format!("{field}: `from` and `to` must differ and be finite")));
+            return Err(err(format!(
+                "{field}: `from` and `to` must differ and be finite"
+            )));
         }
         // Pieces between the doors, as offsets along the wall.
         let mut pieces = Vec::new();
@@ -572,7 +676,11 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
         for (s0, s1) in pieces {
             // Extend the wall's outer ends by half its thickness, so corners close.
             let e0 = if s0 == 0.0 { -thickness / 2.0 } else { s0 };
-            let e1 = if s1 == length { length + thickness / 2.0 } else { s1 };
+            let e1 = if s1 == length {
+                length + thickness / 2.0
+            } else {
+                s1
+            };
             if e1 - e0 <= 1e-9 {
                 continue;
             }
@@ -590,13 +698,23 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
     for (i, bx) in file.boxes.iter().enumerate() {
         let field = format!("boxes[{i}]");
         let polygon = shape_polygon(
-            Shape { rect: bx.rect, polygon: bx.polygon.as_ref(), center: bx.center, size: bx.size, radius: bx.radius, yaw: bx.yaw },
+            Shape {
+                rect: bx.rect,
+                polygon: bx.polygon.as_ref(),
+                center: bx.center,
+                size: bx.size,
+                radius: bx.radius,
+                yaw: bx.yaw,
+            },
             &field,
             &err,
         )?;
         positive(bx.height_m, format!("{field}.height_m"), &err)?;
         if !(bx.base_m >= 0.0 && bx.base_m < bx.height_m) {
-            return Err(err(format!("{field}.base_m: must be in [0, height_m), got {}", bx.base_m)));
+            return Err(err(format!(
+                "{field}.base_m: must be in [0, height_m), got {}",
+                bx.base_m
+            )));
         }
         solids.push(Solid {
             polygon,
@@ -612,8 +730,13 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
         positive(t.height_m, format!("{field}.height_m"), &err)?;
         positive(t.top_m, format!("{field}.top_m"), &err)?;
         positive(t.leg_m, format!("{field}.leg_m"), &err)?;
-        if !(t.size[0] > 2.0 * t.leg_m + 0.1 && t.size[1] > 2.0 * t.leg_m + 0.1 && t.top_m < t.height_m) {
-            return Err(err(format!("{field}: size must exceed its legs, and top_m < height_m")));
+        if !(t.size[0] > 2.0 * t.leg_m + 0.1
+            && t.size[1] > 2.0 * t.leg_m + 0.1
+            && t.top_m < t.height_m)
+        {
+            return Err(err(format!(
+                "{field}: size must exceed its legs, and top_m < height_m"
+            )));
         }
         let c = pt(t.center);
         solids.push(Solid {
@@ -624,7 +747,10 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
             kind: "table".into(),
         });
         // Legs inset 5 cm from the corners: the top overhangs them.
-        let (hx, hy) = (t.size[0] / 2.0 - 0.05 - t.leg_m / 2.0, t.size[1] / 2.0 - 0.05 - t.leg_m / 2.0);
+        let (hx, hy) = (
+            t.size[0] / 2.0 - 0.05 - t.leg_m / 2.0,
+            t.size[1] / 2.0 - 0.05 - t.leg_m / 2.0,
+        );
         for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
             let leg = Pose2::new(c.x, c.y, t.yaw).transform_point(Point2::new(sx * hx, sy * hy));
             solids.push(Solid {
@@ -658,7 +784,11 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
         let h = ch.size / 2.0 - ch.leg_m / 2.0 - 0.01;
         for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
             solids.push(Solid {
-                polygon: rotated_rect(pose.transform_point(Point2::new(sx * h, sy * h)), [ch.leg_m, ch.leg_m], ch.yaw),
+                polygon: rotated_rect(
+                    pose.transform_point(Point2::new(sx * h, sy * h)),
+                    [ch.leg_m, ch.leg_m],
+                    ch.yaw,
+                ),
                 base_m: 0.0,
                 top_m: ch.seat_m - seat_t,
                 appearance: app,
@@ -681,8 +811,16 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
     let l = &file.lighting;
     let mut lights = Vec::new();
     for (i, lf) in l.lights.iter().enumerate() {
-        let h = positive(lf.height_m.unwrap_or(ceiling), format!("lighting.lights[{i}].height_m"), &err)?;
-        lights.push(Light { position: pt(lf.position), height_m: h, power: lf.power });
+        let h = positive(
+            lf.height_m.unwrap_or(ceiling),
+            format!("lighting.lights[{i}].height_m"),
+            &err,
+        )?;
+        lights.push(Light {
+            position: pt(lf.position),
+            height_m: h,
+            power: lf.power,
+        });
     }
     let mut world = World {
         name: file.name.clone(),
@@ -770,9 +908,16 @@ doors = [[1.0, 2.0]]
         assert!(m.contains("walls[0].height_m") && m.contains("-1"), "{m}");
         let m = message(&MINIMAL.replace("doors = [[1.0, 2.0]]", "doors = [[1.0, 5.0]]"));
         assert!(m.contains("walls[0].doors[0]"), "{m}");
-        let m = message(&format!("{MINIMAL}[[boxes]]\nrect = [0, 0, 1, 1]\nheight_m = 1\nappearance = \"gold\"\n"));
-        assert!(m.contains("boxes[0].appearance") && m.contains("gold"), "{m}");
-        let m = message(&format!("{MINIMAL}[[boxes]]\nrect = [0, 0, 1, 1]\nradius = 2\nheight_m = 1\n"));
+        let m = message(&format!(
+            "{MINIMAL}[[boxes]]\nrect = [0, 0, 1, 1]\nheight_m = 1\nappearance = \"gold\"\n"
+        ));
+        assert!(
+            m.contains("boxes[0].appearance") && m.contains("gold"),
+            "{m}"
+        );
+        let m = message(&format!(
+            "{MINIMAL}[[boxes]]\nrect = [0, 0, 1, 1]\nradius = 2\nheight_m = 1\n"
+        ));
         assert!(m.contains("boxes[0]") && m.contains("exactly one"), "{m}");
         let m = message("name = \"x\"\n[start]\nx = 1\ny = \"north\"\n");
         assert!(m.contains("line 4"), "{m}");

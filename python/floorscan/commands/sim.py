@@ -16,16 +16,28 @@ def register(sub) -> None:
         description="Simulates the robot driving the world's tour and writes a dataset folder "
         "(images, odometry, ground truth, rig, calibration scene, simulator truth).",
     )
-    p.add_argument("--world", default="corridor", help="built-in world (corridor, room, lab, tiles) or world file")
-    p.add_argument("--seconds", type=float, default=60.0, help="simulated robot time [s] (default 60)")
-    p.add_argument("--out", required=True, help="dataset folder to write (must not exist or be empty)")
+    p.add_argument(
+        "--world",
+        default="corridor",
+        help="built-in world (corridor, room, lab, tiles) or world file",
+    )
+    p.add_argument(
+        "--seconds", type=float, default=60.0, help="simulated robot time [s] (default 60)"
+    )
+    p.add_argument(
+        "--out", required=True, help="dataset folder to write (must not exist or be empty)"
+    )
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--width", type=int, default=320, help="image width [px] (default 320)")
     p.add_argument("--height", type=int, default=240, help="image height [px] (default 240)")
     p.add_argument("--speed", type=float, default=0.3, help="cruise speed [m/s] (default 0.3)")
     p.add_argument("--rate", type=float, default=10.0, help="frame rate [Hz] (default 10)")
-    p.add_argument("--calibration", choices=[*PATTERN_KINDS, "none"], default="checkerboard",
-                   help="calibration scene to render (default checkerboard)")
+    p.add_argument(
+        "--calibration",
+        choices=[*PATTERN_KINDS, "none"],
+        default="checkerboard",
+        help="calibration scene to render (default checkerboard)",
+    )
     p.add_argument("--ideal", action="store_true", help="no sensor noise, blur or vignetting")
     p.add_argument("--no-truth", action="store_true", help="leave out the truth/ folder")
     p.add_argument("--no-labels", action="store_true", help="leave out the per-pixel label images")
@@ -36,7 +48,9 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     world = World.resolve(args.world)
-    camera = Camera(width=args.width, height=args.height, imaging=Imaging.ideal() if args.ideal else None)
+    camera = Camera(
+        width=args.width, height=args.height, imaging=Imaging.ideal() if args.ideal else None
+    )
     robot = Robot(speed_mps=args.speed, frame_rate_hz=args.rate)
     t0 = time.perf_counter()
     sim = simulate_run(

@@ -15,7 +15,11 @@ def init_options(obj: Any, kind: str, given: Dict[str, Any]) -> None:
     the core to validate them as component ``kind``."""
     for f in dataclasses.fields(obj):
         value = given.get(f.name, f.default)
-        if isinstance(value, (int, float)) and not isinstance(value, bool) and f.type in ("float", float):
+        if (
+            isinstance(value, (int, float))
+            and not isinstance(value, bool)
+            and f.type in ("float", float)
+        ):
             value = float(value)
         object.__setattr__(obj, f.name, value)
     _native.sim_validate(kind, json.dumps(as_dict(obj)))

@@ -42,21 +42,25 @@ class CalibrationPattern:
 
     def __post_init__(self) -> None:
         if self.kind not in PATTERN_KINDS:
-            raise OptionError(f"invalid option `kind`: expected one of {PATTERN_KINDS}, got {self.kind!r}")
+            raise OptionError(
+                f"invalid option `kind`: expected one of {PATTERN_KINDS}, got {self.kind!r}"
+            )
         _native.sim_validate("pattern", self._json())
 
     @classmethod
-    def default_for(cls, camera: Camera, *, kind: str = "checkerboard") -> "CalibrationPattern":
+    def default_for(cls, camera: Camera, *, kind: str = "checkerboard") -> CalibrationPattern:
         """The default pattern of ``kind`` placed in front of ``camera``: a 9 x 7 inner-corner
         checkerboard of 10 cm squares, or 7 x 9 lines 2 cm wide at 20 cm; centred across the
         view, as near as it fits entirely in the image."""
         if kind not in PATTERN_KINDS:
-            raise OptionError(f"invalid option `kind`: expected one of {PATTERN_KINDS}, got {kind!r}")
+            raise OptionError(
+                f"invalid option `kind`: expected one of {PATTERN_KINDS}, got {kind!r}"
+            )
         d = json.loads(_native.sim_default_pattern(camera._native, kind))
         return cls._from_spec(d)
 
     @classmethod
-    def _from_spec(cls, d: dict) -> "CalibrationPattern":
+    def _from_spec(cls, d: dict) -> CalibrationPattern:
         return cls(
             kind=d["kind"],
             near_left=(d["near_left"]["x"], d["near_left"]["y"]),

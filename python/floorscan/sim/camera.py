@@ -46,9 +46,15 @@ class Imaging:
         init_options(self, "imaging", _known(self, options))
 
     @classmethod
-    def ideal(cls) -> "Imaging":
+    def ideal(cls) -> Imaging:
         """No noise, blur, vignetting or anti-aliasing: the scene's radiance, quantised."""
-        return cls(read_noise_dn=0.0, shot_noise_gain=0.0, blur_sigma_px=0.0, vignetting=0.0, antialias=False)
+        return cls(
+            read_noise_dn=0.0,
+            shot_noise_gain=0.0,
+            blur_sigma_px=0.0,
+            vignetting=0.0,
+            antialias=False,
+        )
 
 
 def _known(obj: Any, options: Dict[str, Any]) -> Dict[str, Any]:
@@ -57,7 +63,9 @@ def _known(obj: Any, options: Dict[str, Any]) -> Dict[str, Any]:
     names = {f for f in obj.__dataclass_fields__}
     unknown = sorted(set(options) - names)
     if unknown:
-        raise OptionError(f"unknown option(s) {unknown} for {type(obj).__name__} (known: {sorted(names)})")
+        raise OptionError(
+            f"unknown option(s) {unknown} for {type(obj).__name__} (known: {sorted(names)})"
+        )
     return options
 
 
@@ -103,7 +111,9 @@ class Camera:
             spec["lens"] = lens.to_dict()
         if mount is not None:
             if not isinstance(mount, CameraMount):
-                raise TypeError(f"mount must be a floorscan.CameraMount, got {type(mount).__name__}")
+                raise TypeError(
+                    f"mount must be a floorscan.CameraMount, got {type(mount).__name__}"
+                )
             spec["mount"] = json.loads(mount.to_json())
         spec["robot_from_camera"] = {"x": float(x_m), "y": float(y_m), "yaw": float(yaw_rad)}
         spec["imaging"] = as_dict(imaging if imaging is not None else Imaging())
@@ -137,11 +147,19 @@ class Camera:
     def imaging(self) -> Imaging:
         return Imaging(**self._spec["imaging"])
 
-    def with_imaging(self, imaging: Imaging) -> "Camera":
+    def with_imaging(self, imaging: Imaging) -> Camera:
         """The same camera with other imaging options."""
         x, y, yaw = self.robot_from_camera
-        return Camera(lens=self.lens, mount=self.mount, width=self.width, height=self.height,
-                      x_m=x, y_m=y, yaw_rad=yaw, imaging=imaging)
+        return Camera(
+            lens=self.lens,
+            mount=self.mount,
+            width=self.width,
+            height=self.height,
+            x_m=x,
+            y_m=y,
+            yaw_rad=yaw,
+            imaging=imaging,
+        )
 
     def rig(self) -> Dict[str, float]:
         """The ``[camera]`` table of a dataset's rig.toml: x, y, yaw, height."""
@@ -154,8 +172,12 @@ class Camera:
         lens model through floorscan-core's ``pixel_to_ground``. Scalars give ``(x, y)`` or
         None; arrays give two float64 arrays, NaN where there is no ground."""
         scalar = np.isscalar(u) and np.isscalar(v)
-        ub, vb = np.broadcast_arrays(np.asarray(u, dtype=np.float64), np.asarray(v, dtype=np.float64))
-        x, y = self._native.pixel_to_ground(ub.ravel().copy(), vb.ravel().copy(), float(max_range_m))
+        ub, vb = np.broadcast_arrays(
+            np.asarray(u, dtype=np.float64), np.asarray(v, dtype=np.float64)
+        )
+        x, y = self._native.pixel_to_ground(
+            ub.ravel().copy(), vb.ravel().copy(), float(max_range_m)
+        )
         if scalar:
             return None if np.isnan(x[0]) else (float(x[0]), float(y[0]))
         return x.reshape(ub.shape), y.reshape(ub.shape)
@@ -164,7 +186,9 @@ class Camera:
         """Pixel(s) (u, v) where ground point(s) [m] (camera ground frame) appear. Scalars
         give ``(u, v)`` or None; arrays give two arrays, NaN where not visible."""
         scalar = np.isscalar(x) and np.isscalar(y)
-        xb, yb = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+        xb, yb = np.broadcast_arrays(
+            np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+        )
         u, v = self._native.ground_to_pixel(xb.ravel().copy(), yb.ravel().copy())
         if scalar:
             return None if np.isnan(u[0]) else (float(u[0]), float(v[0]))
@@ -181,7 +205,7 @@ class Camera:
         return json.dumps(self._spec, indent=2)
 
     @classmethod
-    def from_json(cls, text: Union[str, bytes]) -> "Camera":
+    def from_json(cls, text: Union[str, bytes]) -> Camera:
         try:
             d = json.loads(text)
             rig = d["robot_from_camera"]
@@ -202,7 +226,7 @@ class Camera:
         return write_atomic(path, self.to_json())
 
     @classmethod
-    def load(cls, path: PathLike) -> "Camera":
+    def load(cls, path: PathLike) -> Camera:
         try:
             return cls.from_json(Path(path).read_text(encoding="utf-8"))
         except OSError as e:

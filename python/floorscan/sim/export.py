@@ -48,7 +48,9 @@ def rig_toml(rig: dict) -> str:
 def _save_png(path: Path, image: np.ndarray, compress_level: int) -> None:
     from PIL import Image
 
-    Image.fromarray(np.ascontiguousarray(image)).save(path, format="PNG", compress_level=compress_level)
+    Image.fromarray(np.ascontiguousarray(image)).save(
+        path, format="PNG", compress_level=compress_level
+    )
 
 
 def write_dataset(
@@ -70,7 +72,10 @@ def write_dataset(
     per-pixel label images). ``compress_level``: PNG compression, 0-9. Returns the folder.
     """
     if calibration is not None and calibration not in PATTERN_KINDS:
-        raise OptionError(f"invalid option `calibration`: expected one of {PATTERN_KINDS} or None, got {calibration!r}")
+        raise OptionError(
+            f"invalid option `calibration`: expected one of {PATTERN_KINDS} or None, "
+            f"got {calibration!r}"
+        )
     folder = Path(folder)
     if folder.exists() and not overwrite and (not folder.is_dir() or any(folder.iterdir())):
         raise DatasetError(f"{folder} exists and is not empty (pass overwrite=True to replace it)")
@@ -79,7 +84,9 @@ def write_dataset(
     try:
         _write(run, tmp, calibration, truth, labels, map_resolution_m, compress_level)
         if folder.exists():
-            trash = Path(tempfile.mkdtemp(prefix=f".{folder.name}.", suffix=".old", dir=folder.parent))
+            trash = Path(
+                tempfile.mkdtemp(prefix=f".{folder.name}.", suffix=".old", dir=folder.parent)
+            )
             os.replace(folder, trash / "old")
             os.replace(tmp, folder)
             shutil.rmtree(trash, ignore_errors=True)
@@ -91,7 +98,9 @@ def write_dataset(
     return folder
 
 
-def _write(run: Run, out: Path, calibration, truth, labels, map_resolution_m, compress_level) -> None:
+def _write(
+    run: Run, out: Path, calibration, truth, labels, map_resolution_m, compress_level
+) -> None:
     n = len(run)
     names = [f"images/{k:06d}.png" for k in range(n)]
     (out / "images").mkdir()
@@ -99,18 +108,26 @@ def _write(run: Run, out: Path, calibration, truth, labels, map_resolution_m, co
         _save_png(out / names[k], run.images[k], compress_level)
     header = [
         "# floorscan dataset (docs/dataset-format.md): <timestamp [s]> <image path>",
-        f"# simulated: world {run.world.name}, seed {run.seed}, {run.camera.width}x{run.camera.height}",
+        f"# simulated: world {run.world.name}, seed {run.seed}, "
+        f"{run.camera.width}x{run.camera.height}",
     ]
     (out / "images.txt").write_text(
-        "\n".join(header + [f"{t:.6f} {p}" for t, p in zip(run.timestamps, names)]) + "\n", encoding="utf-8"
+        "\n".join(header + [f"{t:.6f} {p}" for t, p in zip(run.timestamps, names)]) + "\n",
+        encoding="utf-8",
     )
     (out / "odometry.txt").write_text(
-        "\n".join(["# wheel odometry of the robot base (TUM format)", TUM_HEADER] + tum_lines(run.timestamps, run.odometry))
+        "\n".join(
+            ["# wheel odometry of the robot base (TUM format)", TUM_HEADER]
+            + tum_lines(run.timestamps, run.odometry)
+        )
         + "\n",
         encoding="utf-8",
     )
     (out / "groundtruth.txt").write_text(
-        "\n".join(["# true pose of the robot base (TUM format)", TUM_HEADER] + tum_lines(run.timestamps, run.poses))
+        "\n".join(
+            ["# true pose of the robot base (TUM format)", TUM_HEADER]
+            + tum_lines(run.timestamps, run.poses)
+        )
         + "\n",
         encoding="utf-8",
     )
@@ -124,7 +141,9 @@ def _write(run: Run, out: Path, calibration, truth, labels, map_resolution_m, co
         _write_truth(run, out / "truth", labels, map_resolution_m, compress_level)
 
 
-def _write_truth(run: Run, out: Path, labels: bool, map_resolution_m: float, compress_level: int) -> None:
+def _write_truth(
+    run: Run, out: Path, labels: bool, map_resolution_m: float, compress_level: int
+) -> None:
     out.mkdir()
     if run.truth is not None:
         (out / "columns.csv").write_text(run.truth.to_csv(run.timestamps), encoding="utf-8")

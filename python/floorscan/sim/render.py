@@ -56,7 +56,9 @@ class FrameTruth:
         return np.array(STATUS_NAMES, dtype=object)[self.status]
 
     @classmethod
-    def _from_arrays(cls, a: Dict[str, np.ndarray], k: int, labels: np.ndarray, exposure: float) -> "FrameTruth":
+    def _from_arrays(
+        cls, a: Dict[str, np.ndarray], k: int, labels: np.ndarray, exposure: float
+    ) -> FrameTruth:
         return cls(
             labels=labels,
             pose=a["pose"][k],
@@ -91,7 +93,9 @@ def render(
     >>> image.shape, image.dtype, truth.labels.shape
     ((240, 320), dtype('uint8'), (240, 320))
     """
-    image, labels, truth, exposure = _render_native(world, camera, pose, seed, frame, True, max_range_m)
+    image, labels, truth, exposure = _render_native(
+        world, camera, pose, seed, frame, True, max_range_m
+    )
     return image, FrameTruth._from_arrays(truth.arrays(), 0, labels, exposure)
 
 
@@ -102,11 +106,20 @@ def _render_native(world, camera, pose, seed, frame, truth, max_range_m):
         raise TypeError(f"camera must be a floorscan.sim.Camera, got {type(camera).__name__}")
     x, y, yaw = (float(c) for c in pose)
     return _native.sim_render(
-        world._native, camera._native, x, y, yaw, int(seed), int(frame), bool(truth), float(max_range_m)
+        world._native,
+        camera._native,
+        x,
+        y,
+        yaw,
+        int(seed),
+        int(frame),
+        bool(truth),
+        float(max_range_m),
     )
 
 
-def render_image(world: World, camera: Camera, pose: Sequence[float], *, seed: int = 0, frame: int = 0) -> np.ndarray:
+def render_image(
+    world: World, camera: Camera, pose: Sequence[float], *, seed: int = 0, frame: int = 0
+) -> np.ndarray:
     """Only the image of :func:`render` (no truth computed)."""
     return _render_native(world, camera, pose, seed, frame, False, 10.0)[0]
-

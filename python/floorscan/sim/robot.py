@@ -40,16 +40,23 @@ class OdometryNoise:
         init_options(self, "odometry", options)
 
     @classmethod
-    def none(cls) -> "OdometryNoise":
+    def none(cls) -> OdometryNoise:
         """No odometry error: odometry equals the true trajectory."""
-        return cls(wheel_sigma_per_sqrt_m=0.0, radius_scale_error=0.0, radius_difference=0.0, wheelbase_error=0.0)
+        return cls(
+            wheel_sigma_per_sqrt_m=0.0,
+            radius_scale_error=0.0,
+            radius_difference=0.0,
+            wheelbase_error=0.0,
+        )
 
 
 def _check_names(obj: Any, options: dict) -> None:
     names = set(obj.__dataclass_fields__)
     unknown = sorted(set(options) - names)
     if unknown:
-        raise OptionError(f"unknown option(s) {unknown} for {type(obj).__name__} (known: {sorted(names)})")
+        raise OptionError(
+            f"unknown option(s) {unknown} for {type(obj).__name__} (known: {sorted(names)})"
+        )
 
 
 @dataclass(frozen=True)
@@ -124,13 +131,28 @@ class Robot:
             raise OptionError("give exactly one of `waypoints` and `commands`")
         if waypoints is not None:
             pts = np.asarray(waypoints, dtype=np.float64).reshape(-1, 2)
-            motion = {"waypoints": {"points": [{"x": x, "y": y} for x, y in pts.tolist()], "repeat": bool(repeat)}}
+            motion = {
+                "waypoints": {
+                    "points": [{"x": x, "y": y} for x, y in pts.tolist()],
+                    "repeat": bool(repeat),
+                }
+            }
         else:
             cmds = np.asarray(commands, dtype=np.float64).reshape(-1, 3)
-            motion = {"commands": [{"duration_s": d, "v_mps": v, "omega_radps": w} for d, v, w in cmds.tolist()]}
+            motion = {
+                "commands": [
+                    {"duration_s": d, "v_mps": v, "omega_radps": w} for d, v, w in cmds.tolist()
+                ]
+            }
         x, y, yaw = (float(c) for c in start)
         t, truth, odo = _native.sim_drive(
-            x, y, yaw, json.dumps(motion), json.dumps(self._options()), json.dumps(as_dict(self.odometry)),
-            float(seconds), int(seed),
+            x,
+            y,
+            yaw,
+            json.dumps(motion),
+            json.dumps(self._options()),
+            json.dumps(as_dict(self.odometry)),
+            float(seconds),
+            int(seed),
         )
         return Trajectory(timestamps=t, poses=truth, odometry=odo)

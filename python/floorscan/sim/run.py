@@ -25,7 +25,7 @@ class RunTruth:
     ``appearance_rows`` (N, W), ``appearance_points`` (N, W, 2), ``pose``,
     ``world_from_camera`` (N, 3)."""
 
-    def __init__(self, native: "_native.SimTruth") -> None:
+    def __init__(self, native: _native.SimTruth) -> None:
         self._native = native
         self._arrays = native.arrays()
 
@@ -33,8 +33,12 @@ class RunTruth:
         return len(self._native)
 
     def __getattr__(self, name: str) -> np.ndarray:
-        aliases = {"rows": "row", "points": "point", "appearance_rows": "appearance_row",
-                   "appearance_points": "appearance_point"}
+        aliases = {
+            "rows": "row",
+            "points": "point",
+            "appearance_rows": "appearance_row",
+            "appearance_points": "appearance_point",
+        }
         key = aliases.get(name, name)
         arrays = self.__dict__.get("_arrays", {})
         if key in arrays:
@@ -126,8 +130,14 @@ def simulate_run(
         seed=seed,
     )
     images, label_images, native_truth, exposures = _native.sim_render_run(
-        world._native, camera._native, np.ascontiguousarray(traj.poses), int(seed), bool(labels), bool(truth),
-        float(max_range_m), int(threads),
+        world._native,
+        camera._native,
+        np.ascontiguousarray(traj.poses),
+        int(seed),
+        bool(labels),
+        bool(truth),
+        float(max_range_m),
+        int(threads),
     )
     return Run(
         world=world,

@@ -27,11 +27,11 @@ class World:
 
     __slots__ = ("_native",)
 
-    def __init__(self, native: "_native.SimWorld") -> None:
+    def __init__(self, native: _native.SimWorld) -> None:
         self._native = native
 
     @classmethod
-    def load(cls, path: PathLike) -> "World":
+    def load(cls, path: PathLike) -> World:
         """Reads a world file (TOML). Errors raise :class:`~floorscan.WorldError` naming the
         line (syntax, types) or the field (values)."""
         try:
@@ -41,12 +41,12 @@ class World:
         return cls(_native.SimWorld.from_toml(text, str(path)))
 
     @classmethod
-    def from_toml(cls, text: str, *, source_name: str = "<string>") -> "World":
+    def from_toml(cls, text: str, *, source_name: str = "<string>") -> World:
         """Parses world file text; ``source_name`` prefixes error messages."""
         return cls(_native.SimWorld.from_toml(text, source_name))
 
     @classmethod
-    def builtin(cls, name: str) -> "World":
+    def builtin(cls, name: str) -> World:
         """A built-in world: ``corridor``, ``room``, ``lab`` or ``tiles``."""
         return cls(_native.SimWorld.builtin(name))
 
@@ -55,7 +55,7 @@ class World:
         return list(_native.SimWorld.builtin_names())
 
     @classmethod
-    def resolve(cls, name_or_path: PathLike) -> "World":
+    def resolve(cls, name_or_path: PathLike) -> World:
         """A built-in world if ``name_or_path`` names one, else the world file at that path."""
         if str(name_or_path) in cls.builtin_names():
             return cls.builtin(str(name_or_path))
@@ -101,7 +101,11 @@ class World:
         reaches; the rest is unknown. ``margin_m`` [m] pads the world's bounds."""
         import json
 
-        opts = {"resolution_m": float(resolution_m), "robot_height_m": float(robot_height_m), "margin_m": float(margin_m)}
+        opts = {
+            "resolution_m": float(resolution_m),
+            "robot_height_m": float(robot_height_m),
+            "margin_m": float(margin_m),
+        }
         cells, ox, oy = self._native.occupancy(json.dumps(opts))
         return OccupancyRaster(cells=cells, origin=(ox, oy), resolution_m=float(resolution_m))
 
