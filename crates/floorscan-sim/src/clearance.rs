@@ -55,6 +55,19 @@ impl Clearance {
     }
 }
 
+impl Clearance {
+    /// The clearance of every azimuth within `spread_rad` of `azimuth` [rad] (the smallest of
+    /// their sectors'): for rays known only to lie near an azimuth.
+    pub fn free_within(&self, azimuth: f64, spread_rad: f64) -> f64 {
+        let k0 = crate::rng::fast_floor((azimuth - spread_rad) / SECTOR_RAD);
+        let k1 =
+            crate::rng::fast_floor((azimuth + spread_rad) / SECTOR_RAD).min(k0 + SECTORS as i64);
+        (k0..=k1)
+            .map(|k| self.free_m[k.rem_euclid(SECTORS as i64) as usize])
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
 /// Lowers the clearance of every sector the segment a-b (relative to the camera) reaches into
 /// to the segment's nearest distance within that sector.
 fn shade_segment(free: &mut [f64], a: Point2, b: Point2) {

@@ -6,6 +6,7 @@
 use floorscan_core::Point2;
 
 use crate::geometry::Aabb;
+use crate::rng::fast_floor;
 use crate::world::Lighting;
 
 /// Raster resolution of the light map [m].
@@ -16,7 +17,7 @@ pub struct LightMap {
     origin: Point2,
     nx: usize,
     ny: usize,
-    cell: f64,
+    inv_cell: f64,
     values: Vec<f32>,
     ambient: f32,
     /// Median illumination over the raster: the exposure reference.
@@ -62,7 +63,7 @@ impl LightMap {
             origin: bounds.min,
             nx,
             ny,
-            cell,
+            inv_cell: 1.0 / cell,
             values,
             ambient: lighting.ambient as f32,
             typical,
@@ -72,12 +73,13 @@ impl LightMap {
     /// Floor illuminance at `p` (ambient outside the raster).
     #[inline]
     pub fn at(&self, p: Point2) -> f32 {
-        let gx = (p.x - self.origin.x) / self.cell;
-        let gy = (p.y - self.origin.y) / self.cell;
+        let gx = (p.x - self.origin.x) * self.inv_cell;
+        let gy = (p.y - self.origin.y) * self.inv_cell;
         if !(gx >= 0.0 && gy >= 0.0 && gx < (self.nx - 1) as f64 && gy < (self.ny - 1) as f64) {
             return self.ambient;
         }
-        let (i, j) = (gx as usize, gy as usize);
+        // In range (checked above), so the fast floor is exact and non-negative.
+        let (i, j) = (fast_floor(gx) as usize, fast_floor(gy) as usize);
         let (fx, fy) = ((gx - i as f64) as f32, (gy - j as f64) as f32);
         let v = &self.values;
         let k = j * self.nx + i;
@@ -95,7 +97,8 @@ pub fn illuminance(lighting: &Lighting, p: Point2) -> f64 {
         .map(|l| {
             let d2 = (p.x - l.position.x).powi(2) + (p.y - l.position.y).powi(2);
             let h2 = l.height_m * l.height_m;
-            l.power * (h2 / (h2 + d2)).powf(1.5)
+            let r = h2 / (h2 + d2);
+            l.power * r * r.sqrt()
         })
         .sum()
 }

@@ -220,15 +220,12 @@ pub fn render_into(
     Ok(())
 }
 
-/// Rotated-grid offsets of the four anti-aliasing samples [px].
-const AA_OFFSETS: [(f64, f64); 4] = [
-    (-0.375, -0.125),
-    (0.125, -0.375),
-    (0.375, 0.125),
-    (-0.125, 0.375),
-];
+/// Offsets of the extra anti-aliasing samples [px]; with the pixel centre they sample four
+/// distinct rows and four distinct columns (a rotated grid).
+const AA_OFFSETS: [(f64, f64); 3] = [(-0.375, -0.125), (0.125, -0.375), (0.25, 0.25)];
 
-/// Re-renders pixels that differ in surface from a 4-neighbour with four samples each.
+/// Re-renders pixels that differ in surface from a 4-neighbour with four samples each (the
+/// centre and three more).
 fn antialias(
     scene: &Scene,
     rays: &CameraRays,
@@ -237,6 +234,7 @@ fn antialias(
     out: &mut RenderBuffers,
 ) {
     let (w, h) = (rays.camera.width, rays.camera.height);
+    let yaw = place.world_from_camera.yaw;
     let ids = &out.ids;
     for v in 0..h {
         for u in 0..w {
@@ -249,14 +247,17 @@ fn antialias(
             if !edge || rays.dirs[k][0].is_nan() {
                 continue;
             }
-            let mut sum = 0.0;
+            // Samples lie within 0.53 px of the pixel centre: their azimuths within 0.6 pixel
+            // angles of the centre's.
+            let free = clear.free_within(rays.azimuth[k] + yaw, 0.6 * rays.pixel_angle[k] as f64);
+            let mut sum = out.radiance[k];
             for (du, dv) in AA_OFFSETS {
                 let d = place.to_world(rays.interpolated(u as f64 + du, v as f64 + dv));
-                let free = clear.free_m[sector_of(d[1].atan2(d[0]))];
-                let hit = scene.trace_clear(place.origin, d, free, d[0].hypot(d[1]));
+                let hit =
+                    scene.trace_clear(place.origin, d, free, (d[0] * d[0] + d[1] * d[1]).sqrt());
                 sum += shade(scene, &hit, rays.pixel_angle[k], rays.floor_footprint[k]).radiance;
             }
-            out.radiance[k] = sum / AA_OFFSETS.len() as f32;
+            out.radiance[k] = sum / (AA_OFFSETS.len() + 1) as f32;
         }
     }
 }

@@ -96,7 +96,8 @@ fn seed32(seed: u64) -> u32 {
 
 #[inline(always)]
 fn to_unit(h: u32) -> f32 {
-    (h >> 8) as f32 * (2.0 / (1u32 << 24) as f32) - 1.0
+    // Through i32: a signed conversion is one instruction, an unsigned one is several.
+    ((h >> 8) as i32) as f32 * (2.0 / (1u32 << 24) as f32) - 1.0
 }
 
 /// A hash of a lattice point and a seed, mapped to [-1, 1].
@@ -110,11 +111,15 @@ pub fn hash2(ix: i64, iy: i64, seed: u64) -> f32 {
 }
 
 /// `x.floor()` as an integer, without a call into libm (x86-64's baseline has no rounding
-/// instruction). Exact for |x| < 2^52.
+/// instruction) nor a saturating conversion: adding 1.5 * 2^52 rounds to the nearest integer,
+/// which sits in the low mantissa bits. Exact for |x| < 2^31; wraps (without any undefined
+/// behaviour) beyond, which callers avoid (texture lattices, grid cells, sectors).
 #[inline(always)]
 pub fn fast_floor(x: f64) -> i64 {
-    let i = x as i64;
-    i - ((i as f64) > x) as i64
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    let t = x + MAGIC;
+    let nearest = t.to_bits() as i32 as i64;
+    nearest - ((t - MAGIC) > x) as i64
 }
 
 /// Smooth value noise in [-1, 1] at (x, y) in lattice units: hashed lattice values, blended with
@@ -190,8 +195,12 @@ mod tests {
             1.0,
             7.999,
             -7.999,
-            1e12 + 0.5,
-            -1e12 - 0.5,
+            0.5,
+            1.5,
+            -0.5,
+            -1e-9,
+            2e9 + 0.5,
+            -2e9 - 0.5,
         ] {
             assert_eq!(fast_floor(x), x.floor() as i64, "{x}");
         }

@@ -6,6 +6,7 @@ use floorscan_core::Point2;
 use crate::geometry::{point_in_polygon, ray_segment, Aabb};
 use crate::grid_index::{segment_cells, segment_meets_box, CellLists, CellWalk, GridShape};
 use crate::lightmap::LightMap;
+use crate::rng::fast_floor;
 use crate::rng::splitmix64;
 use crate::texture::PreparedCovering;
 use crate::world::World;
@@ -76,6 +77,8 @@ pub struct Scene {
     pub light: LightMap,
     /// Bounds of each solid's footprint.
     pub solid_bounds: Vec<Aabb>,
+    /// 1 / the grid's cell size [1/m].
+    inv_cell_m: f64,
     /// The world's coverings, prepared for shading (same indices).
     pub coverings: Vec<PreparedCovering>,
 }
@@ -149,14 +152,18 @@ impl Scene {
             light,
             solid_bounds,
             coverings: world.coverings.iter().map(|c| c.prepare()).collect(),
+            inv_cell_m: 1.0 / shape.cell_m,
             world,
         }
     }
 
     /// The floor covering (index into `world.coverings`) at a floor point.
     pub fn covering_at(&self, p: Point2) -> usize {
-        if let Some((i, j)) = self.shape.cell_of(p) {
-            let cell = j * self.shape.nx + i;
+        let gx = (p.x - self.shape.origin.x) * self.inv_cell_m;
+        let gy = (p.y - self.shape.origin.y) * self.inv_cell_m;
+        if gx >= 0.0 && gy >= 0.0 && gx < self.shape.nx as f64 && gy < self.shape.ny as f64 {
+            // In range (checked above): the fast floor is exact.
+            let cell = fast_floor(gy) as usize * self.shape.nx + fast_floor(gx) as usize;
             if let Ok(c) = usize::try_from(self.cell_covering[cell]) {
                 return c;
             }

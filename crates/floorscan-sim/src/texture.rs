@@ -90,6 +90,10 @@ pub struct Covering {
     pub seed: u64,
 }
 
+/// Standard deviations of [`value_noise`] and of [`hash2`] (uniform on [-1, 1]).
+const VALUE_NOISE_STD: f32 = 0.42;
+const HASH_STD: f32 = 0.577_350_3;
+
 /// A pixel's footprint on a surface [m], with its inverse (so texture code multiplies).
 #[derive(Debug, Clone, Copy)]
 pub struct Footprint {
@@ -166,9 +170,14 @@ impl PreparedCovering {
                 ..
             } => {
                 let k = detail(*grain_m, fp);
-                // Skip the fibres where averaging has smoothed them away.
-                let fine = if k > 0.02 {
-                    value_noise(p.x * self.inv_a, p.y * self.inv_a, seed)
+                // Fibres: smooth noise where a pixel resolves them; where it spans several,
+                // one hashed value per fibre cell (same spread, a quarter of the work); none
+                // where averaging has smoothed them away.
+                let (gx, gy) = (p.x * self.inv_a, p.y * self.inv_a);
+                let fine = if k >= 0.5 {
+                    value_noise(gx, gy, seed)
+                } else if k > 0.02 {
+                    VALUE_NOISE_STD / HASH_STD * hash2(fast_floor(gx), fast_floor(gy), seed)
                 } else {
                     0.0
                 };

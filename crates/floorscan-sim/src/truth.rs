@@ -164,7 +164,7 @@ impl Column<'_> {
                 self.rays.horizontal[k],
             )
         } else {
-            (dw[1].atan2(dw[0]), dw[0].hypot(dw[1]))
+            (dw[1].atan2(dw[0]), (dw[0] * dw[0] + dw[1] * dw[1]).sqrt())
         };
         let free = self.clear.free_m[sector_of(azimuth)];
         let hit = self
