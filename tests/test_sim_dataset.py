@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from floorscan import DatasetError
 from floorscan.cli import main
-from floorscan.dataset import read_images_txt, read_rig, read_trajectory
+from floorscan.dataset import read_images_txt
 from floorscan.image_io import read_grey
+from floorscan.rig import Rig, read_rig
 from floorscan.sim import (
     CalibrationPattern,
     Camera,
@@ -21,6 +22,7 @@ from floorscan.sim import (
     simulate_run,
     write_dataset,
 )
+from floorscan.trajectory import read_tum
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -46,10 +48,12 @@ def test_images_and_trajectories_read_back(dataset):
     for k in (0, 20):
         assert np.array_equal(read_grey(entries[k].path), run.images[k])
     for name, poses in (("groundtruth.txt", run.poses), ("odometry.txt", run.odometry)):
-        t, p = read_trajectory(folder / name)
-        assert np.allclose(t, run.timestamps)
-        assert np.allclose(p[:, :2], poses[:, :2], atol=1e-8)
-        assert np.allclose(np.angle(np.exp(1j * (p[:, 2] - poses[:, 2]))), 0, atol=1e-9)
+        traj = read_tum(folder / name)
+        assert np.allclose(traj.timestamps, run.timestamps)
+        assert np.allclose(traj.x, poses[:, 0], atol=1e-6) and np.allclose(
+            traj.y, poses[:, 1], atol=1e-6
+        )
+        assert np.allclose(np.angle(np.exp(1j * (traj.yaw - poses[:, 2]))), 0, atol=1e-8)
         # TUM lines: 8 numbers, z = 0, a unit quaternion about z.
         rows = [
             ln.split() for ln in (folder / name).read_text().splitlines() if not ln.startswith("#")
@@ -57,7 +61,7 @@ def test_images_and_trajectories_read_back(dataset):
         q = np.array(rows, dtype=float)
         assert q.shape == (21, 8) and np.all(q[:, 3:6] == 0)
         assert np.allclose(q[:, 6] ** 2 + q[:, 7] ** 2, 1.0)
-    assert read_rig(folder) == {"x": 0.12, "y": 0.0, "yaw": 0.0, "height": 0.4}
+    assert read_rig(folder / "rig.toml") == Rig(x=0.12, y=0.0, yaw=0.0, height=0.4)
 
 
 def test_truth_folder(dataset):

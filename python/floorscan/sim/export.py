@@ -13,36 +13,22 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
-from typing import List, Optional
+from typing import Optional
 
 import numpy as np
 
 from .._atomic import PathLike
 from ..errors import DatasetError, OptionError
+from ..rig import Rig
+from ..trajectory import Trajectory, tum_text
 from .calibration import PATTERN_KINDS, render_calibration
 from .run import Run
 
-TUM_HEADER = "# timestamp tx ty tz qx qy qz qw"
 
-
-def tum_lines(timestamps: np.ndarray, poses: np.ndarray) -> List[str]:
-    """TUM trajectory lines ``timestamp tx ty tz qx qy qz qw`` of planar poses (N, 3)."""
-    half = 0.5 * poses[:, 2]
-    return [
-        f"{t:.6f} {x:.9f} {y:.9f} 0.0 0.0 0.0 {qz:.12f} {qw:.12f}"
-        for t, x, y, qz, qw in zip(timestamps, poses[:, 0], poses[:, 1], np.sin(half), np.cos(half))
-    ]
-
-
-def rig_toml(rig: dict) -> str:
-    return (
-        "# Camera placement on the robot (floorscan dataset format, docs/dataset-format.md).\n"
-        "[camera]\n"
-        f"x = {rig['x']!r}   # m: camera ground frame origin in the robot base frame, forward\n"
-        f"y = {rig['y']!r}   # m: left\n"
-        f"yaw = {rig['yaw']!r}   # rad: heading of the camera ground frame on the robot (pan)\n"
-        f"height = {rig['height']!r}   # m: optical centre above the floor\n"
-    )
+def _trajectory_text(comment: str, timestamps: np.ndarray, poses: np.ndarray) -> str:
+    """A TUM trajectory file's text (floorscan.trajectory's writer) with a comment line."""
+    traj = Trajectory(timestamps, poses[:, 0], poses[:, 1], poses[:, 2])
+    return f"# {comment}\n" + tum_text(traj)
 
 
 def _save_png(path: Path, image: np.ndarray, compress_level: int) -> None:
@@ -116,22 +102,14 @@ def _write(
         encoding="utf-8",
     )
     (out / "odometry.txt").write_text(
-        "\n".join(
-            ["# wheel odometry of the robot base (TUM format)", TUM_HEADER]
-            + tum_lines(run.timestamps, run.odometry)
-        )
-        + "\n",
+        _trajectory_text("wheel odometry of the robot base", run.timestamps, run.odometry),
         encoding="utf-8",
     )
     (out / "groundtruth.txt").write_text(
-        "\n".join(
-            ["# true pose of the robot base (TUM format)", TUM_HEADER]
-            + tum_lines(run.timestamps, run.poses)
-        )
-        + "\n",
+        _trajectory_text("true pose of the robot base", run.timestamps, run.poses),
         encoding="utf-8",
     )
-    (out / "rig.toml").write_text(rig_toml(run.camera.rig()), encoding="utf-8")
+    (out / "rig.toml").write_text(Rig(**run.camera.rig()).to_toml(), encoding="utf-8")
     if calibration is not None:
         (out / "calibration").mkdir()
         image, pattern = render_calibration(run.camera, kind=calibration, seed=run.seed)
