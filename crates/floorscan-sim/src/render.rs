@@ -175,8 +175,8 @@ pub fn render_into(
             continue;
         }
         let d = place.to_world(d0);
-        let free = clear.free_m[sector_of(rays.azimuth[k] + yaw)];
-        let hit = scene.trace_clear(place.origin, d, free, rays.horizontal[k]);
+        let sector = clear.sector(sector_of(rays.azimuth[k] + yaw));
+        let hit = scene.trace_clear(place.origin, d, sector, rays.horizontal[k]);
         let sample = shade(scene, &hit, rays.pixel_angle[k], rays.floor_footprint[k]);
         out.ids[k] = sample.id;
         out.labels[k] = sample.label as u8;
@@ -249,12 +249,12 @@ fn antialias(
             }
             // Samples lie within 0.53 px of the pixel centre: their azimuths within 0.6 pixel
             // angles of the centre's.
-            let free = clear.free_within(rays.azimuth[k] + yaw, 0.6 * rays.pixel_angle[k] as f64);
+            let sector = clear.within(rays.azimuth[k] + yaw, 0.6 * rays.pixel_angle[k] as f64);
             let mut sum = out.radiance[k];
             for (du, dv) in AA_OFFSETS {
                 let d = place.to_world(rays.interpolated(u as f64 + du, v as f64 + dv));
                 let hit =
-                    scene.trace_clear(place.origin, d, free, (d[0] * d[0] + d[1] * d[1]).sqrt());
+                    scene.trace_clear(place.origin, d, sector, (d[0] * d[0] + d[1] * d[1]).sqrt());
                 sum += shade(scene, &hit, rays.pixel_angle[k], rays.floor_footprint[k]).radiance;
             }
             out.radiance[k] = sum / (AA_OFFSETS.len() + 1) as f32;

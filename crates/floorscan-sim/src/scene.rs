@@ -3,6 +3,7 @@
 
 use floorscan_core::Point2;
 
+use crate::clearance::{SectorClear, NO_SOLID};
 use crate::geometry::{point_in_polygon, ray_segment, Aabb};
 use crate::grid_index::{segment_cells, segment_meets_box, CellLists, CellWalk, GridShape};
 use crate::lightmap::LightMap;
@@ -77,6 +78,8 @@ pub struct Scene {
     pub light: LightMap,
     /// Bounds of each solid's footprint.
     pub solid_bounds: Vec<Aabb>,
+    /// Side faces of each solid (indices into `sides`).
+    solid_sides: Vec<std::ops::Range<u32>>,
     /// 1 / the grid's cell size [1/m].
     inv_cell_m: f64,
     /// The world's coverings, prepared for shading (same indices).
@@ -95,7 +98,9 @@ impl Scene {
         let mut sides = Vec::new();
         let mut face_pairs = Vec::new();
         let mut solid_bounds = Vec::new();
+        let mut solid_sides = Vec::with_capacity(world.solids.len());
         for (k, s) in world.solids.iter().enumerate() {
+            let first = sides.len() as u32;
             let n = s.polygon.len();
             for e in 0..n {
                 let (a, b) = (s.polygon[e], s.polygon[(e + 1) % n]);
@@ -117,6 +122,7 @@ impl Scene {
                     seed: splitmix64((k as u64) << 16 | e as u64),
                 });
             }
+            solid_sides.push(first..sides.len() as u32);
             let bb = Aabb::of_points(&s.polygon);
             solid_bounds.push(bb);
             // Caps that no camera below the ceiling can see (floor-standing solids reaching the
@@ -153,6 +159,7 @@ impl Scene {
             solid_bounds,
             coverings: world.coverings.iter().map(|c| c.prepare()).collect(),
             inv_cell_m: 1.0 / shape.cell_m,
+            solid_sides,
             world,
         }
     }
@@ -195,14 +202,35 @@ impl Scene {
     /// horizontal part of `d`. Rays ending on the floor or ceiling within that distance skip
     /// the grid walk; the result is the same.
     #[inline]
-    pub fn trace_clear(&self, o: [f64; 3], d: [f64; 3], free_m: f64, horizontal: f64) -> Hit {
+    pub fn trace_clear(
+        &self,
+        o: [f64; 3],
+        d: [f64; 3],
+        sector: SectorClear,
+        horizontal: f64,
+    ) -> Hit {
+        let free_m = sector.free_m;
         let (t, surface) = self.limit(o, d);
+        let at = |t: f64, surface| Hit {
+            t,
+            surface,
+            point: [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]],
+        };
         if t.is_finite() && t * horizontal < free_m {
-            return Hit {
-                t,
-                surface,
-                point: [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]],
+            return at(t, surface);
+        }
+        // Only the nearest solid reaches nearer than `second_m`: if the ray meets it (or the
+        // floor or ceiling) within that distance, that is the first surface.
+        if sector.nearest != NO_SOLID {
+            let (ts, surface_s) = self.trace_solid(o, d, sector.nearest as usize);
+            let (t, surface) = if ts < t {
+                (ts, surface_s)
+            } else {
+                (t, surface)
             };
+            if t.is_finite() && t * horizontal <= sector.second_m {
+                return at(t, surface);
+            }
         }
         // Nothing to meet before the clearance: start the grid walk there.
         let t0 = if horizontal > 1e-12 && free_m.is_finite() {
@@ -211,6 +239,50 @@ impl Scene {
             0.0
         };
         self.trace_after(o, d, t0)
+    }
+
+    /// The first face of solid `k` along the ray: (t, surface), t infinite if none.
+    fn trace_solid(&self, o: [f64; 3], d: [f64; 3], k: usize) -> (f64, Surface) {
+        let o2 = Point2::new(o[0], o[1]);
+        let d2 = Point2::new(d[0], d[1]);
+        let mut best = (f64::INFINITY, Surface::Nothing);
+        for id in self.solid_sides[k].clone() {
+            let f = &self.sides[id as usize];
+            if let Some((t, s)) = ray_segment(o2, d2, f.a, f.b) {
+                let z = o[2] + t * d[2];
+                if t < best.0 && z >= f.z0 && z <= f.z1 {
+                    best = (
+                        t,
+                        Surface::Side {
+                            face: id,
+                            s: s * f.length,
+                        },
+                    );
+                }
+            }
+        }
+        let s = &self.world.solids[k];
+        let (z, up) = if o[2] > s.top_m && d[2] < 0.0 {
+            (s.top_m, true)
+        } else if o[2] < s.base_m && s.base_m > 0.0 && d[2] > 0.0 {
+            (s.base_m, false)
+        } else {
+            return best;
+        };
+        let t = (z - o[2]) / d[2];
+        if t < best.0 {
+            let p = Point2::new(o[0] + t * d[0], o[1] + t * d[1]);
+            if point_in_polygon(p, &s.polygon) {
+                best = (
+                    t,
+                    Surface::Cap {
+                        solid: k as u32,
+                        up,
+                    },
+                );
+            }
+        }
+        best
     }
 
     /// The first surface along the ray from `o` in direction `d` (unit length; world frame).

@@ -166,10 +166,10 @@ impl Column<'_> {
         } else {
             (dw[1].atan2(dw[0]), (dw[0] * dw[0] + dw[1] * dw[1]).sqrt())
         };
-        let free = self.clear.free_m[sector_of(azimuth)];
+        let sector = self.clear.sector(sector_of(azimuth));
         let hit = self
             .scene
-            .trace_clear(self.place.origin, dw, free, horizontal);
+            .trace_clear(self.place.origin, dw, sector, horizontal);
         let class = match hit.surface {
             Surface::Floor => Class::Floor(
                 self.scene
