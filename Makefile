@@ -49,6 +49,7 @@ fmt: deps
 
 bench: dev
 	$(CARGO) bench -p floorscan-core
+	$(CARGO) bench -p floorscan-sim
 	$(PY) -m pytest -q -m benchmark -s
 
 clean:
