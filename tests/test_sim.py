@@ -297,3 +297,21 @@ def test_occupancy_raster_and_map_server_files(tmp_path):
     i = int((w.start[0] - ox) / 0.04)
     j = hpx - 1 - int((w.start[1] - oy) / 0.04)
     assert img[j, i] == 254
+
+
+def test_the_truth_map_reads_back_with_floorscans_map_server_reader(tmp_path):
+    from floorscan.map_server import load_map
+
+    w = World.builtin("corridor")
+    r = w.occupancy(resolution_m=0.05)
+    grid = load_map(r.write_map_server(tmp_path / "truth.yaml"))
+    x, y = w.start[:2]
+    assert grid.is_free(x, y) and not grid.is_occupied(x, y)
+    assert grid.is_occupied(10.0, 1.0)  # the corridor's north wall, between doors
+    # Every cell agrees with the raster.
+    rng = np.random.default_rng(0)
+    xmin, ymin, xmax, ymax = w.bounds
+    for px, py in zip(rng.uniform(xmin, xmax, 500), rng.uniform(ymin, ymax, 500)):
+        v = r.value_at(px, py)
+        assert grid.is_occupied(px, py) == (v == OCCUPIED)
+        assert grid.is_free(px, py) == (v == 0)
