@@ -17,7 +17,8 @@ def truth_and_scan(shift_m=0.0, flip=None):
     sx = pts[:, 0] + shift_m
     st = status.copy()
     if flip is not None:
-        st[flip] = 1
+        st[flip] = 1  # no boundary, though the columns scanned 1 m past the true boundary
+        sx[flip] += 1.0
     scan = Scan.from_arrays(
         timestamp=0, columns=cols, rows=np.full(w, 10.0), status=st, x=sx, y=pts[:, 1]
     )
@@ -67,3 +68,19 @@ def test_map_scores_count_a_flipped_cell():
     fine = np.kron(np.where(truth == 100, 2, 0), np.ones((2, 2), int)).astype(np.uint8)
     s = score_map(fine, (0.0, 0.0), 0.05, truth, (0.0, 0.0), 0.1)
     assert s.agreement == 1.0 and s.known_cells == 19 * 4
+
+
+def test_a_boundary_beyond_the_range_limit_is_not_a_miss():
+    # Truth: boundary at 3.5 m. The scan stopped at 3.0 m (no_boundary, farthest point 3.0 m).
+    truth_status = np.array([0, 0], np.uint8)
+    truth_pts = np.array([[3.5, 0.0], [2.0, 0.0]])
+    scan = Scan.from_arrays(
+        timestamp=0,
+        columns=[0, 1],
+        rows=[5.0, 5.0],
+        status=["no_boundary", "no_boundary"],
+        x=[3.0, 3.0],
+        y=[0.0, 0.0],
+    )
+    s = score_columns(scan, truth_status, truth_pts)
+    assert list(s.wrong) == [False, True]  # the second column missed a boundary at 2 m

@@ -39,7 +39,9 @@ class VisualRanger:
             [px]. Default 2.
         mask: optional (H, W) boolean array, True where the image shows floor the robot may
             see; each column starts at its lowest True pixel. Overrides ``bottom_margin``.
-        max_range_m: farthest ground range scanned [m]; default: as far as the table has ground.
+        max_range_m: farthest ground range scanned [m], default 3 (beyond it a 320x240
+            wide-angle camera sees more than 10 cm of floor per pixel row); ``None`` scans as
+            far as the table has ground.
 
     >>> from floorscan import GroundTable, Lens, CameraMount, VisualRanger
     >>> table = GroundTable.from_camera(Lens.equidistant(f=100, cx=159.5, cy=119.5),
@@ -65,7 +67,7 @@ class VisualRanger:
         refine: Union[str, bool] = "subpixel",
         bottom_margin: int = 2,
         mask: Optional[np.ndarray] = None,
-        max_range_m: Optional[float] = None,
+        max_range_m: Optional[float] = 3.0,
     ) -> None:
         if not isinstance(table, GroundTable):
             raise TypeError(f"table must be a floorscan.GroundTable, got {type(table).__name__}")

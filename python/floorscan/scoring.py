@@ -33,9 +33,10 @@ def score_columns(
     """Scores one scan against per-image-column truth: ``true_status`` (W,) status codes and
     ``true_points`` (W, 2) true boundary points in the camera ground frame [m].
 
-    A column is wrong when its status differs from the truth (``invalid`` columns that the truth
-    calls ``no_boundary`` are not counted wrong: the camera was not calibrated there), or when
-    both say boundary and the points are more than ``tolerance_m`` apart."""
+    A column is wrong when its status differs from the truth, or when both say boundary and the
+    points are more than ``tolerance_m`` apart. Not wrong: ``invalid`` where the truth has no
+    boundary (the camera was not calibrated there), and ``no_boundary`` where the true boundary
+    lies beyond the farthest point the column scanned (its range limit)."""
     cols = scan.columns.astype(np.intp)
     ts = np.asarray(true_status)[cols].astype(np.int64)
     tp = np.asarray(true_points, dtype=np.float64)[cols]
@@ -44,6 +45,15 @@ def score_columns(
     err = np.full(len(cols), np.nan)
     err[both] = np.hypot(scan.x[both] - tp[both, 0], scan.y[both] - tp[both, 1])
     status_wrong = (ss != ts) & ~((ss == INVALID) & (ts != BOUNDARY))
+    # "Free as far as the camera sees": a true boundary beyond the farthest point the column
+    # scanned (its range limit) is not a miss.
+    scanned_m = np.hypot(scan.x, scan.y)
+    beyond = (
+        (ss == NO_BOUNDARY)
+        & (ts == BOUNDARY)
+        & (np.hypot(tp[:, 0], tp[:, 1]) > scanned_m - tolerance_m)
+    )
+    status_wrong &= ~beyond
     wrong = status_wrong | (both & (err > tolerance_m))
     true_range = np.hypot(tp[:, 0], tp[:, 1])
     return ColumnScores(wrong, err, true_range, ss, ts)

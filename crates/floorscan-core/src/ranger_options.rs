@@ -45,6 +45,8 @@ pub struct RangerOptions {
     /// Start of each column's scan. Default: 2 px bottom margin (dead border rows are common).
     pub start: ColumnStart,
     /// Farthest ground range scanned [m]; `None` scans up to the highest row with ground.
+    /// Default 3 m: beyond it a typical 320x240 wide-angle camera images more than 10 cm of
+    /// floor per pixel row (ROS costmaps default to 2.5-3 m for the same reason).
     pub max_range_m: Option<f64>,
 }
 
@@ -56,7 +58,7 @@ impl Default for RangerOptions {
             refinement: Refinement::SubPixel,
             columns: ColumnSelection::Count(64),
             start: ColumnStart::BottomMargin(2),
-            max_range_m: None,
+            max_range_m: Some(3.0),
         }
     }
 }

@@ -1,50 +1,42 @@
-"""``floorscan demo``: the main job on built-in data, with no files needed."""
+"""``floorscan demo``: the main job on the built-in simulated office, with no files needed."""
 
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
-
-import numpy as np
-
-from ..ground_table import GroundTable
-from ..image_io import write_png
-from ..lens import CameraMount, Lens
-from ..overlay import draw_scan_overlay
-from ..ranger import VisualRanger
 
 
 def register(sub) -> None:
-    p = sub.add_parser("demo", help="run the pipeline on built-in data and write pictures")
+    p = sub.add_parser(
+        "demo", help="simulate the office corridor, calibrate, map, score; write pictures"
+    )
     p.add_argument("-o", "--output", default="demo-out", help="output folder (default demo-out)")
+    p.add_argument("--world", default="corridor", help="built-in world (default corridor)")
+    p.add_argument("--seconds", type=float, default=60.0, help="simulated seconds (default 60)")
+    p.add_argument("--seed", type=int, default=0)
     p.set_defaults(run=run)
 
 
-def synthetic_frame(table: GroundTable, wall_x_m: float = 1.6, seed: int = 0) -> np.ndarray:
-    """A carpet (low-contrast noise) with a wall at x = wall_x_m, seen through the table."""
-    rng = np.random.default_rng(seed)
-    h, w = table.image_height, table.image_width
-    v, u = np.mgrid[0:h, 0:w].astype(np.float64)
-    x, _ = table.lookup(u, v)
-    floor = np.isfinite(x) & (x < wall_x_m)
-    image = np.where(floor, 95.0, 185.0) + rng.normal(0, 3.0, size=(h, w))
-    return np.clip(np.rint(image), 0, 255).astype(np.uint8)
-
-
 def run(args: argparse.Namespace) -> int:
+    from ..demo import run_demo
+
     out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    lens = Lens.kannala_brandt(fx=160, fy=160, cx=319.5, cy=239.5, k1=-0.02, k2=0.003)
-    table = GroundTable.from_camera(
-        lens, CameraMount(height_m=0.45, tilt_rad=0.55), image_width=640, image_height=480
+    s = run_demo(out, world_name=args.world, seconds=args.seconds, seed=args.seed)
+    b, m, p = s["boundary"], s["map_agreement"], s["performance"]
+    print(
+        f"demo: {s['frames']} frames of the simulated {s['world']} in {s['wall_s']['total']:.1f} s"
     )
-    image = synthetic_frame(table)
-    ranger = VisualRanger(table, columns=48)
-    scan = ranger.scan(image)
-    overlay = out / "overlay.png"
-    write_png(overlay, draw_scan_overlay(image, scan))
-    table.save(out / "table.json")
-    print(f"demo: {scan.count()}", file=sys.stderr)
-    print(f"wrote {overlay} and {out / 'table.json'}")
+    print(
+        f"  boundary points more than 10 cm from the true obstacle: {100 * b['far_point_share']:.1f} %  (column error rate {100 * b['error_rate']:.1f} %)"
+    )
+    print(
+        f"  map agreement with the true occupancy: {100 * m['true_poses']['agreement']:.1f} % (true poses), {100 * m['odometry']['agreement']:.1f} % (odometry)"
+    )
+    print(
+        f"  ranging {p['ms_per_frame']:.3f} ms/frame, mapping {p['ms_per_point'] * 1e3:.2f} us/point"
+    )
+    print((out / "performance.md").read_text(), end="")
+    print(
+        f"outputs in {out}/: maps_side_by_side.png, run/ (map.yaml, map.png, scans.csv, bag/, overlay.gif, local/), calibration/, dataset/, demo_summary.json"
+    )
     return 0

@@ -27,7 +27,9 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--bottom-margin", type=int, default=2, help="rows skipped at the bottom [px] (default 2)"
     )
-    p.add_argument("--max-range", type=float, default=None, help="farthest range scanned [m]")
+    p.add_argument(
+        "--max-range", type=float, default=3.0, help="farthest range scanned [m] (default 3)"
+    )
 
 
 def ranger_from_args(args: argparse.Namespace) -> VisualRanger:
