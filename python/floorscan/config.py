@@ -38,7 +38,7 @@ class RangerConfig:
         "rows skipped at the bottom of each column (bumper, dead rows) [px]", 2
     )
     max_range_m: Optional[float] = doc(
-        "farthest range scanned [m]; unset: as far as the table has ground", None
+        "farthest range scanned [m]; inf: as far as the table has ground", 3.0
     )
 
 
@@ -213,7 +213,7 @@ def _check_value(value: Any, typ: Any, key: str, source: str) -> Any:
     if typ is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ConfigError(f"{source}: `{key}` must be a number, got {value!r}")
-        if not math.isfinite(value):
+        if math.isnan(value) or (math.isinf(value) and not optional):
             raise ConfigError(f"{source}: `{key}` must be finite, got {value!r}")
         return float(value)
     if typ is str:

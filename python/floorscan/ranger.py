@@ -183,6 +183,8 @@ def build_ranger_options(
                 f"invalid option `bottom_margin`: {bottom_margin} rows leaves nothing of a {image_height}-row image"
             )
         start = {"bottom_margin": int(bottom_margin)}
+    if max_range_m is not None and float(max_range_m) == math.inf:
+        max_range_m = None  # no limit
     if max_range_m is not None:
         max_range_m = float(max_range_m)
         if not (math.isfinite(max_range_m) and max_range_m > 0):
