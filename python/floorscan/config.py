@@ -84,6 +84,10 @@ class SensorsConfig:
         metadata={"doc": "sonar readings"},
     )
     too_close: str = doc("too_close columns: mark_near_edge | ignore", "mark_near_edge")
+    boundary_margin_rows: float = doc(
+        "floor left unobserved before a visual boundary, in pixel rows of its footprint (0: the paper's rule)",
+        0.5,
+    )
 
 
 @dataclass

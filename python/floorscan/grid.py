@@ -78,6 +78,9 @@ class OccupancyGrid(GridViews):
         visual, laser, sonar: :class:`~floorscan.Evidence` or ``(hit_nats, miss_nats)`` of
             each sensor. Defaults (0.85, -0.4) for visual scans and lasers (OctoMap's 0.7 /
             0.4), (0.4, -0.2) for sonar arcs.
+        boundary_margin_rows: floor left unobserved just before a visual boundary, in pixel
+            rows of the boundary's footprint (>= 0, default 0.5; 0 is the paper's rule): the
+            boundary row is uncertain by about half a row, several cells far away.
         too_close: ``"mark"`` (default: a ``too_close`` column marks the near edge of its
             field of view) or ``"ignore"``.
 
@@ -103,6 +106,7 @@ class OccupancyGrid(GridViews):
         laser: EvidenceLike = (0.85, -0.4),
         sonar: EvidenceLike = (0.4, -0.2),
         too_close: str = "mark",
+        boundary_margin_rows: float = 0.5,
     ) -> None:
         go = grid_options(
             cell_size_m=cell_size_m,
@@ -113,7 +117,13 @@ class OccupancyGrid(GridViews):
             occupied_threshold=occupied_threshold,
             free_threshold=free_threshold,
         )
-        io = inserter_options(visual=visual, laser=laser, sonar=sonar, too_close=too_close)
+        io = inserter_options(
+            visual=visual,
+            laser=laser,
+            sonar=sonar,
+            too_close=too_close,
+            boundary_margin_rows=boundary_margin_rows,
+        )
         self._native = _native.OccupancyGrid(json.dumps(go), json.dumps(io))
 
     @classmethod

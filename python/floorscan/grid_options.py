@@ -122,7 +122,12 @@ def grid_options(
 
 
 def inserter_options(
-    *, visual: EvidenceLike, laser: EvidenceLike, sonar: EvidenceLike, too_close: str
+    *,
+    visual: EvidenceLike,
+    laser: EvidenceLike,
+    sonar: EvidenceLike,
+    too_close: str,
+    boundary_margin_rows: float = 0.5,
 ) -> Dict[str, Any]:
     """The core's ``InserterOptions`` (see crates/floorscan-core/src/inserter.rs)."""
     if too_close not in TOO_CLOSE_POLICIES:
@@ -135,7 +140,22 @@ def inserter_options(
         "laser": as_evidence(laser, "laser").to_native("laser"),
         "sonar": as_evidence(sonar, "sonar").to_native("sonar"),
         "too_close": TOO_CLOSE_POLICIES[too_close],
+        "boundary_margin_rows": _margin(boundary_margin_rows),
     }
+
+
+def _margin(value: Any) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise OptionError(
+            f"invalid option `boundary_margin_rows`: must be a number, got {value!r}"
+        ) from None
+    if not (np.isfinite(v) and v >= 0):
+        raise OptionError(
+            f"invalid option `boundary_margin_rows`: must be finite and >= 0, got {v}"
+        )
+    return v
 
 
 Pose = Tuple[float, float, float]

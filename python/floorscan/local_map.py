@@ -58,6 +58,7 @@ class LocalMap(GridViews):
         laser: EvidenceLike = (0.85, -0.4),
         sonar: EvidenceLike = (0.4, -0.2),
         too_close: str = "mark",
+        boundary_margin_rows: float = 0.5,
     ) -> None:
         go = grid_options(
             cell_size_m=cell_size_m,
@@ -75,7 +76,13 @@ class LocalMap(GridViews):
                 f"invalid option `size_m`: must be a number, got {size_m!r}"
             ) from None
         options = {"size_m": size, "grid": go}
-        io = inserter_options(visual=visual, laser=laser, sonar=sonar, too_close=too_close)
+        io = inserter_options(
+            visual=visual,
+            laser=laser,
+            sonar=sonar,
+            too_close=too_close,
+            boundary_margin_rows=boundary_margin_rows,
+        )
         self._native = _native.LocalMap(json.dumps(options), json.dumps(io), as_pose(pose, "pose"))
 
     @property

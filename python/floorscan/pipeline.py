@@ -49,6 +49,7 @@ def grid_kwargs(cfg: Config) -> Dict[str, object]:
         laser=(s.laser.hit_nats, s.laser.miss_nats),
         sonar=(s.sonar.hit_nats, s.sonar.miss_nats),
         too_close=s.too_close,
+        boundary_margin_rows=s.boundary_margin_rows,
     )
 
 

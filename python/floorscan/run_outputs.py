@@ -27,6 +27,26 @@ from .overlay import draw_scan_overlay
 from .scan import SCAN_CSV_HEADER, Scan
 
 
+def _proc_status_mb(key: str) -> Optional[float]:
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith(key):
+                return round(int(line.split()[1]) / 1024, 1)
+    except OSError:
+        pass
+    return None
+
+
+def resident_mb() -> Optional[float]:
+    """Resident memory of this process [MB] (Linux; None elsewhere)."""
+    return _proc_status_mb("VmRSS:")
+
+
+def peak_resident_mb() -> Optional[float]:
+    """Peak resident memory of this process [MB] (Linux; None elsewhere)."""
+    return _proc_status_mb("VmHWM:")
+
+
 class RunOutputs:
     def __init__(self, out_dir, cfg: Config, *, expected_frames: Optional[int] = None) -> None:
         self.out = Path(out_dir)
@@ -37,7 +57,10 @@ class RunOutputs:
         _make_readable(self._csv_tmp)
         self._csv = os.fdopen(fd, "w", encoding="utf-8")
         self._csv.write(SCAN_CSV_HEADER + "\n")
-        self._overlay: List[np.ndarray] = []
+        # Overlay frames live in one buffer allocated (and touched) at the first frame, so memory
+        # stays flat over a run however long; frames wider than 480 px are halved.
+        self._overlay: Optional[np.ndarray] = None
+        self._overlay_n = 0
         self._overlay_every = (
             max(1, (expected_frames or 0) // max(o.overlay_max_frames, 1)) if expected_frames else 1
         )
@@ -47,6 +70,7 @@ class RunOutputs:
         self._bag = None
         self._laser_range: Optional[tuple] = None
         self.extra_summary: dict = {}
+        self.memory_samples: List[tuple] = []
         if o.bag:
             from .rosbag_io import Ros2BagWriter
 
@@ -73,9 +97,11 @@ class RunOutputs:
         if (
             o.overlay != "none"
             and self._frame_count % self._overlay_every == 0
-            and len(self._overlay) < o.overlay_max_frames
+            and self._overlay_n < o.overlay_max_frames
         ):
-            self._overlay.append(draw_scan_overlay(frame.image, scan))
+            self._keep_overlay(draw_scan_overlay(frame.image, scan))
+        if self._frame_count % 600 == 0:
+            self.memory_samples.append((self._frame_count, resident_mb()))
         self._frame_count += 1
         period = o.local_snapshot_period_s
         if period > 0:
@@ -86,6 +112,15 @@ class RunOutputs:
                 self._next_snapshot += period * max(
                     1, math.floor((scan.timestamp - self._next_snapshot) / period) + 1
                 )
+
+    def _keep_overlay(self, rgb: np.ndarray) -> None:
+        while rgb.shape[1] > 480:
+            rgb = rgb[::2, ::2]
+        if self._overlay is None:
+            shape = (self.cfg.outputs.overlay_max_frames,) + rgb.shape
+            self._overlay = np.full(shape, 0, dtype=np.uint8)
+        self._overlay[self._overlay_n] = rgb
+        self._overlay_n += 1
 
     def snapshot_local(self, mapper, t: float) -> Path:
         path = self.out / "local" / f"local_{t:010.2f}.png"
@@ -120,22 +155,23 @@ class RunOutputs:
 
     def _write_overlay(self) -> None:
         o = self.cfg.outputs
-        if o.overlay == "none" or not self._overlay:
+        if o.overlay == "none" or self._overlay is None or self._overlay_n == 0:
             return
+        kept = self._overlay[: self._overlay_n]
         if o.overlay == "mp4":
             import cv2
 
-            h, w = self._overlay[0].shape[:2]
+            h, w = kept[0].shape[:2]
             tmp = self.out / ".overlay.tmp.mp4"
             vw = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), 10.0, (w, h))
-            for f in self._overlay:
-                vw.write(f[..., ::-1])
+            for f in kept:
+                vw.write(np.ascontiguousarray(f[..., ::-1]))
             vw.release()
             os.replace(tmp, self.out / "overlay.mp4")
             return
         from PIL import Image
 
-        frames = [Image.fromarray(f) for f in self._overlay]
+        frames = [Image.fromarray(f) for f in kept]
         tmp = self.out / ".overlay.tmp.gif"
         frames[0].save(
             tmp, save_all=True, append_images=frames[1:], duration=100, loop=0, optimize=False
@@ -154,6 +190,7 @@ class RunOutputs:
                 "decode": 1e3 * t.decode_s / max(stats.frames_in, 1),
             },
             "points_per_frame": mapper.points / n,
+            "memory_mb": {"resident_by_frame": self.memory_samples, "peak": peak_resident_mb()},
             "outputs": sorted(
                 str(p.relative_to(self.out))
                 for p in self.out.rglob("*")

@@ -56,6 +56,8 @@ class Scan:
     bearings = property(lambda self: self._native.bearings)
     near_x = property(lambda self: self._native.near_x)
     near_y = property(lambda self: self._native.near_y)
+    footprints = property(lambda self: self._native.footprints)
+    """Floor length one pixel row covers at each boundary [m]: the reading's range resolution."""
 
     @property
     def status(self) -> np.ndarray:

@@ -147,6 +147,7 @@ fn bench_visual(c: &mut Criterion) {
                         outcome: ColumnOutcome::Boundary {
                             row: 200.0,
                             point: Point2::new(r.max(0.3) * c, r.max(0.3) * s),
+                            footprint_m: 0.0,
                         },
                     }
                 })

@@ -48,6 +48,12 @@ pub struct InserterOptions {
     pub sonar: Evidence,
     /// Visual `too_close` columns. Default: mark the near edge.
     pub too_close: TooClosePolicy,
+    /// Floor left unobserved just before a visual boundary, in pixel rows of the boundary's
+    /// footprint (beyond the paper), >= 0. The boundary row is uncertain by about half a pixel
+    /// row, which far away is several cells of floor: clearing right up to the point clears
+    /// the obstacle's own cells whenever the point lands beyond its face. Default 0.5; 0 gives
+    /// the paper's rule (free right up to the boundary cell).
+    pub boundary_margin_rows: f64,
 }
 
 impl Default for InserterOptions {
@@ -66,12 +72,19 @@ impl Default for InserterOptions {
                 miss_nats: -0.2,
             },
             too_close: TooClosePolicy::MarkNearEdge,
+            boundary_margin_rows: 0.5,
         }
     }
 }
 
 impl InserterOptions {
     pub fn validate(&self) -> Result<()> {
+        if !(self.boundary_margin_rows.is_finite() && self.boundary_margin_rows >= 0.0) {
+            return Err(crate::error::invalid_option(
+                "boundary_margin_rows",
+                format!("must be finite and >= 0, got {}", self.boundary_margin_rows),
+            ));
+        }
         self.visual.validate("visual")?;
         self.laser.validate("laser")?;
         self.sonar.validate("sonar")
@@ -135,12 +148,37 @@ impl Inserter {
             };
             let near = r.near.map(to_world).transpose()?;
             match r.outcome {
-                ColumnOutcome::Boundary { point, .. } => {
-                    self.rays.push(Ray {
-                        from: near.unwrap_or(origin),
-                        to: to_world(point)?,
-                        hit: true,
-                    });
+                ColumnOutcome::Boundary {
+                    point, footprint_m, ..
+                } => {
+                    let from = near.unwrap_or(origin);
+                    let to = to_world(point)?;
+                    let margin_m = self.options.boundary_margin_rows * footprint_m.max(0.0);
+                    if margin_m > 0.0 {
+                        // Free up to `margin_m` short of the boundary, then the hit alone.
+                        let (dx, dy) = (to.x - from.x, to.y - from.y);
+                        let len = dx.hypot(dy);
+                        if len > margin_m {
+                            let s = (len - margin_m) / len;
+                            let clear_to = Point2::new(from.x + s * dx, from.y + s * dy);
+                            self.rays.push(Ray {
+                                from,
+                                to: clear_to,
+                                hit: false,
+                            });
+                        }
+                        self.rays.push(Ray {
+                            from: to,
+                            to,
+                            hit: true,
+                        });
+                    } else {
+                        self.rays.push(Ray {
+                            from,
+                            to,
+                            hit: true,
+                        });
+                    }
                 }
                 ColumnOutcome::NoBoundary { farthest, .. } => {
                     self.rays.push(Ray {

@@ -368,7 +368,21 @@ impl VisualRanger {
         });
         let row = (height - 1) as f64 - peak.k;
         match self.table.lookup(c as f64, row) {
-            Some(point) => ColumnOutcome::Boundary { row, point },
+            Some(point) => {
+                // Floor covered by one pixel row at the boundary: the reading's range resolution.
+                let footprint_m = match (
+                    self.table.lookup(c as f64, row - 0.5),
+                    self.table.lookup(c as f64, row + 0.5),
+                ) {
+                    (Some(a), Some(b)) => (a.x - b.x).hypot(a.y - b.y),
+                    _ => 0.0,
+                };
+                ColumnOutcome::Boundary {
+                    row,
+                    point,
+                    footprint_m,
+                }
+            }
             None => ColumnOutcome::Invalid { row: Some(row) },
         }
     }

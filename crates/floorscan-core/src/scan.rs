@@ -56,8 +56,13 @@ impl ColumnStatus {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum ColumnOutcome {
     /// `row`: image row of the boundary [px, float, v = 0 at the top]; `point`: its ground
-    /// point in the camera ground frame [m].
-    Boundary { row: f64, point: Point2 },
+    /// point in the camera ground frame [m]; `footprint_m`: the length of floor one pixel row
+    /// covers there [m] (the range resolution of the reading; 0 if unknown).
+    Boundary {
+        row: f64,
+        point: Point2,
+        footprint_m: f64,
+    },
     /// Scanned up to `top_row` [px] without an edge; `farthest` is the ground point there [m].
     NoBoundary { top_row: f64, farthest: Point2 },
     /// The first window at the bottom already holds an edge.
@@ -294,6 +299,7 @@ mod tests {
             ColumnOutcome::Boundary {
                 row: 100.0,
                 point: Point2::new(x, y),
+                footprint_m: 0.0,
             },
         )
     }

@@ -49,6 +49,7 @@ fn boundary(near: (f64, f64), x: f64, y: f64) -> ColumnReading {
         ColumnOutcome::Boundary {
             row: 50.0,
             point: Point2::new(x, y),
+            footprint_m: 0.0,
         },
     )
 }
@@ -83,12 +84,53 @@ fn without_a_near_point_free_space_starts_at_the_camera() {
         ColumnOutcome::Boundary {
             row: 50.0,
             point: Point2::new(3.0, 0.0),
+            footprint_m: 0.0,
         },
     )]);
     inserter()
         .insert_scan(&mut g, &s, &ROBOT, &Pose2::IDENTITY)
         .unwrap();
     assert_eq!(row(&g, 0, 5), vec![MISS, MISS, MISS, HIT, 0]);
+}
+
+#[test]
+fn the_floor_just_before_an_uncertain_boundary_is_left_unobserved() {
+    // Boundary at x = 5.5 with a footprint of 1.2 cells: with a margin of one pixel row, free
+    // space ends at x = 4.3 (cell 4), cell 5 gets the hit, nothing in between.
+    let one_row = || {
+        Inserter::new(InserterOptions {
+            boundary_margin_rows: 1.0,
+            ..Default::default()
+        })
+        .unwrap()
+    };
+    let mut g = unit_grid();
+    let s = scan(vec![reading(
+        Some((0.5, 0.5)),
+        ColumnOutcome::Boundary {
+            row: 50.0,
+            point: Point2::new(5.5, 0.5),
+            footprint_m: 1.2,
+        },
+    )]);
+    one_row()
+        .insert_scan(&mut g, &s, &Pose2::IDENTITY, &Pose2::IDENTITY)
+        .unwrap();
+    assert_eq!(row(&g, 0, 7), vec![MISS, MISS, MISS, MISS, MISS, HIT, 0]);
+    // A footprint of 2.6 cells leaves cells 3 and 4 unobserved: free space ends at x = 2.9.
+    let mut g = unit_grid();
+    let s = scan(vec![reading(
+        Some((0.5, 0.5)),
+        ColumnOutcome::Boundary {
+            row: 50.0,
+            point: Point2::new(5.5, 0.5),
+            footprint_m: 2.6,
+        },
+    )]);
+    one_row()
+        .insert_scan(&mut g, &s, &Pose2::IDENTITY, &Pose2::IDENTITY)
+        .unwrap();
+    assert_eq!(row(&g, 0, 7), vec![MISS, MISS, MISS, 0, 0, HIT, 0]);
 }
 
 #[test]

@@ -31,6 +31,7 @@ fn visual_scan(rng: &mut Rng) -> Scan {
                 ColumnOutcome::Boundary {
                     row: 100.0,
                     point: Point2::new(r * c, r * s),
+                    footprint_m: 0.0,
                 }
             } else {
                 ColumnOutcome::NoBoundary {

@@ -76,6 +76,7 @@ impl PyScan {
                 ColumnStatus::Boundary => ColumnOutcome::Boundary {
                     row: r[i],
                     point: p.ok_or_else(missing)?,
+                    footprint_m: 0.0, // not part of the CSV: no free-space margin
                 },
                 ColumnStatus::NoBoundary => ColumnOutcome::NoBoundary {
                     top_row: r[i],
@@ -145,6 +146,14 @@ impl PyScan {
     #[getter]
     fn bearings<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.column_of(py, |r| r.bearing_rad())
+    }
+    /// Floor length one pixel row covers at each boundary [m] (0 where not a boundary).
+    #[getter]
+    fn footprints<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.column_of(py, |r| match r.outcome {
+            ColumnOutcome::Boundary { footprint_m, .. } => footprint_m,
+            _ => 0.0,
+        })
     }
     #[getter]
     fn start_rows<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
