@@ -1,0 +1,235 @@
+"""The evaluation suite: simulated scenarios, each a world under one lighting, sensor noise,
+lens and odometry setting, with a seed.
+
+The full suite varies one factor at a time around the default on the carpet world (the
+``corridor``) and runs every built-in world at the defaults; worlds that break an assumption
+of the paper (an overhanging table, paper scraps and linoleum doorways, tiles) are tagged so the
+report lists them separately. ``quick_suite`` is a small subset that runs in seconds.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import asdict, dataclass, replace
+from typing import Dict, List, Optional, Tuple
+
+from ..errors import OptionError
+
+# What each built-in world tests; anything but "carpet" breaks an assumption of the paper.
+WORLD_GROUPS: Dict[str, str] = {
+    "corridor": "carpet",
+    "room": "overhanging table",
+    "lab": "paper scraps, linoleum doorways",
+    "tiles": "tiled floor",
+}
+CARPET = "carpet"
+
+# Lighting: (exposure, exposure jitter) written into the world's [lighting] table.
+LIGHTING: Dict[str, Tuple[float, float]] = {
+    "dim": (0.45, 0.08),
+    "normal": (1.0, 0.03),
+    "bright": (1.5, 0.08),
+}
+# Sensor noise: (read noise [DN], shot noise gain [DN]).
+NOISE: Dict[str, Tuple[float, float]] = {
+    "low": (0.5, 0.02),
+    "default": (1.5, 0.06),
+    "high": (4.0, 0.25),
+}
+LENSES = ("fisheye", "wide")
+# Odometry: OdometryNoise fields (wheel sigma, scale error, radius difference, wheelbase error).
+ODOMETRY: Dict[str, Tuple[float, float, float, float]] = {
+    "perfect": (0.0, 0.0, 0.0, 0.0),
+    "default": (0.01, 0.01, 0.004, 0.02),
+    "drifting": (0.03, 0.03, 0.012, 0.06),
+}
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """One simulated run to evaluate.
+
+    - ``world``: built-in world name.
+    - ``lighting``: key of :data:`LIGHTING` (dim, normal, bright).
+    - ``noise``: key of :data:`NOISE` (low, default, high).
+    - ``lens``: ``fisheye`` (the simulator's default Kannala-Brandt, ~136 degrees) or ``wide``
+      (a plumb-bob pinhole of ~100 degrees with barrel distortion).
+    - ``odometry``: key of :data:`ODOMETRY` (perfect, default, drifting).
+    - ``seed``: simulation seed.
+    - ``seconds``: simulated time [s] (frames at 10 Hz).
+    """
+
+    world: str
+    lighting: str = "normal"
+    noise: str = "default"
+    lens: str = "fisheye"
+    odometry: str = "default"
+    seed: int = 0
+    seconds: float = 30.0
+
+    def __post_init__(self) -> None:
+        for value, table, what in (
+            (self.world, WORLD_GROUPS, "world"),
+            (self.lighting, LIGHTING, "lighting"),
+            (self.noise, NOISE, "noise"),
+            (self.lens, dict.fromkeys(LENSES), "lens"),
+            (self.odometry, ODOMETRY, "odometry"),
+        ):
+            if value not in table:
+                raise OptionError(f"invalid {what} {value!r}: expected one of {sorted(table)}")
+        if not self.seconds > 0:
+            raise OptionError(f"invalid seconds: must be > 0, got {self.seconds}")
+
+    @property
+    def name(self) -> str:
+        parts = [self.world]
+        for value, default in (
+            (self.lighting, "normal"),
+            (self.noise, "default"),
+            (self.lens, "fisheye"),
+            (self.odometry, "default"),
+        ):
+            if value != default:
+                parts.append(value)
+        return "-".join(parts) + f"-s{self.seed}"
+
+    @property
+    def group(self) -> str:
+        return WORLD_GROUPS[self.world]
+
+    @property
+    def breaks_assumption(self) -> bool:
+        return self.group != CARPET
+
+    def as_dict(self) -> Dict[str, object]:
+        d = asdict(self)
+        d.update(name=self.name, group=self.group)
+        return d
+
+    # --- simulator objects ------------------------------------------------------------
+    def build_world(self):
+        from ..sim import World
+
+        world = World.builtin(self.world)
+        if self.lighting == "normal":
+            return world
+        exposure, jitter = LIGHTING[self.lighting]
+        return World.from_toml(
+            with_lighting(builtin_world_text(self.world), exposure, jitter),
+            source_name=f"{self.world} ({self.lighting})",
+        )
+
+    def build_camera(self):
+        from ..lens import CameraMount, Lens
+        from ..sim import Camera, Imaging
+
+        read, shot = NOISE[self.noise]
+        imaging = Imaging(read_noise_dn=read, shot_noise_gain=shot)
+        if self.lens == "fisheye":
+            return Camera(imaging=imaging)
+        # ~100 degrees horizontally on 320 x 240, barrel distortion, looking down a little
+        # more than the fisheye so the floor in front of the robot is in view.
+        lens = Lens.pinhole_radial(
+            fx=150.0, fy=150.0, cx=159.5, cy=119.5, k1=-0.28, k2=0.07, p1=0.0, p2=0.0
+        )
+        return Camera(lens=lens, mount=CameraMount(height_m=0.4, tilt_rad=0.75), imaging=imaging)
+
+    def build_robot(self):
+        from ..sim import OdometryNoise, Robot
+
+        sigma, scale, diff, base = ODOMETRY[self.odometry]
+        return Robot(
+            odometry=OdometryNoise(
+                wheel_sigma_per_sqrt_m=sigma,
+                radius_scale_error=scale,
+                radius_difference=diff,
+                wheelbase_error=base,
+            )
+        )
+
+
+def builtin_world_text(name: str) -> str:
+    """The TOML text of a built-in world (its ``source``, else the crate's world file)."""
+    from pathlib import Path
+
+    from ..sim import World
+
+    text = World.builtin(name).source
+    if text:
+        return text
+    repo = Path(__file__).resolve().parents[3]
+    path = repo / "crates" / "floorscan-sim" / "worlds" / f"{name}.toml"
+    if not path.is_file():
+        raise OptionError(f"cannot vary the lighting of {name!r}: its world file is not available")
+    return path.read_text(encoding="utf-8")
+
+
+def with_lighting(text: str, exposure: float, jitter: float) -> str:
+    """World TOML with ``exposure`` and ``exposure_jitter`` set in its ``[lighting]`` table
+    (added when absent)."""
+    lines = text.splitlines()
+    out: List[str] = []
+    in_lighting = False
+    seen = set()
+
+    def flush() -> None:
+        for key, value in (("exposure", exposure), ("exposure_jitter", jitter)):
+            if key not in seen:
+                out.append(f"{key} = {value!r}")
+
+    for line in lines:
+        stripped = line.strip()
+        if stripped.startswith("["):
+            if in_lighting:
+                flush()
+            in_lighting = stripped == "[lighting]"
+            seen = set()
+        elif in_lighting:
+            m = re.match(r"(exposure|exposure_jitter)\s*=", stripped)
+            if m:
+                key = m.group(1)
+                seen.add(key)
+                line = f"{key} = {exposure if key == 'exposure' else jitter!r}"
+        out.append(line)
+    if in_lighting:
+        flush()
+    if "[lighting]" not in (s.strip() for s in lines):
+        out += ["[lighting]", f"exposure = {exposure!r}", f"exposure_jitter = {jitter!r}"]
+    return "\n".join(out) + "\n"
+
+
+def full_suite(*, seconds: float = 30.0, seeds: Tuple[int, ...] = (0, 1, 2)) -> List[Scenario]:
+    """Every built-in world at the defaults for each seed, plus one factor at a time varied on
+    the carpet world (corridor) for the first two seeds, and the second lens on every world."""
+    out: List[Scenario] = []
+    for world in WORLD_GROUPS:
+        for seed in seeds:
+            out.append(Scenario(world, seed=seed, seconds=seconds))
+    variations = [
+        {"lighting": "dim"},
+        {"lighting": "bright"},
+        {"noise": "low"},
+        {"noise": "high"},
+        {"lighting": "dim", "noise": "high"},
+        {"lens": "wide"},
+        {"odometry": "perfect"},
+        {"odometry": "drifting"},
+    ]
+    for change in variations:
+        for seed in seeds[:2]:
+            out.append(replace(Scenario("corridor", seed=seed, seconds=seconds), **change))
+    for world in WORLD_GROUPS:
+        if world != "corridor":
+            out.append(Scenario(world, lens="wide", seed=seeds[0], seconds=seconds))
+    return out
+
+
+def quick_suite(*, seconds: Optional[float] = None) -> List[Scenario]:
+    """A small suite (a few hundred frames): the carpet world at the defaults and in dim light
+    with high noise, and the room with its overhanging table."""
+    s = 10.0 if seconds is None else seconds
+    return [
+        Scenario("corridor", seconds=s),
+        Scenario("corridor", lighting="dim", noise="high", seed=1, seconds=s),
+        Scenario("room", seconds=s),
+    ]
