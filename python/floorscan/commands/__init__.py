@@ -8,4 +8,5 @@ COMMAND_MODULES = [
     "floorscan.commands.run",
     "floorscan.commands.map_log",
     "floorscan.commands.sim",
+    "floorscan.commands.eval",
 ]

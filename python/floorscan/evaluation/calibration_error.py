@@ -69,3 +69,41 @@ def calibrated_table(camera, *, spacing_px: int = 8, extrapolate: bool = False) 
         path.write_text(pattern.to_toml(), encoding="utf-8")
         table, _report = calibrate(image, path, spacing_px=spacing_px, extrapolate=extrapolate)
     return table, table_error(table, camera)
+
+
+def table_for_dataset(
+    dataset: Path, truth_dir: Path, *, spacing_px: int = 8, extrapolate: bool = False, table_path=None
+) -> Tuple[GroundTable, Dict[str, Any]]:
+    """The table to range a dataset with, and its calibration error when measurable: a given
+    table file; else calibrated from the dataset's ``calibration/`` scene (when calibration is
+    available); else the exact table of ``truth/camera.json``. The error is measured against
+    ``truth/camera.json`` when it exists."""
+    from ..errors import DatasetError
+    from ..sim import Camera
+
+    dataset, truth_dir = Path(dataset), Path(truth_dir)
+    camera = Camera.load(truth_dir / "camera.json") if (truth_dir / "camera.json").is_file() else None
+    if table_path is not None:
+        table = GroundTable.load(table_path)
+    elif calibration_available() and (dataset / "calibration" / "pattern.toml").is_file():
+        from ..calibration import calibrate
+        from ..image_io import read_grey
+
+        table, _ = calibrate(
+            read_grey(dataset / "calibration" / "pattern.png"),
+            dataset / "calibration" / "pattern.toml",
+            spacing_px=spacing_px,
+            extrapolate=extrapolate,
+        )
+    elif camera is not None:
+        return camera.ground_table(spacing_px=spacing_px), {
+            "status": NOT_AVAILABLE + "; ranged with the exact table of truth/camera.json"
+        }
+    else:
+        raise DatasetError(
+            f"no ground table for {dataset}: give --table, or a dataset with calibration/ "
+            "(and floorscan.calibration), or truth/camera.json"
+        )
+    if camera is None:
+        return table, {"status": "not measured (no truth/camera.json)"}
+    return table, table_error(table, camera)

@@ -26,6 +26,7 @@ class CaseResult:
     name: str
     metrics: Dict[str, Any]
     worst: List[Dict[str, Any]] = field(default_factory=list)
+    column_scores: List[ColumnScores] = field(default_factory=list)
 
 
 def _finite_median(values: Sequence[Optional[int]]) -> Optional[float]:
@@ -118,7 +119,7 @@ def evaluate_case(
                     "views_never_reliable": sum(1 for f in frames if f is None),
                     "max_frames_tried": reliable_max_frames,
                 }
-    return CaseResult(case.name, metrics, worst)
+    return CaseResult(case.name, metrics, worst, column_scores)
 
 
 def simulate_scenario(scenario: Scenario, cfg: Config, *, threads: int = 2):

@@ -1,0 +1,97 @@
+"""``floorscan eval``: the scenario suite (or one dataset with truth), scored against ground
+truth; a Markdown table, JSON and pictures of the worst frames."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "eval",
+        help="score ranging and mapping against ground truth: the simulated scenario suite, "
+        "or a dataset with truth",
+        description="Without DATASET: runs the simulated scenario suite (docs/evaluation.md). "
+        "With DATASET --truth DIR: scores that run against DIR/columns.csv and/or DIR/map.yaml.",
+    )
+    p.add_argument("dataset", nargs="?", help="dataset folder to score (default: the suite)")
+    p.add_argument("--truth", help="truth folder (columns.csv and/or map.yaml); default DATASET/truth")
+    p.add_argument("--table", help="ground table JSON to range DATASET with (default: calibrate)")
+    p.add_argument("--quick", action="store_true", help="a small suite (seconds, not minutes)")
+    p.add_argument("--seconds", type=float, help="simulated seconds per scenario")
+    p.add_argument("--only", help="run only scenarios whose name contains this text")
+    p.add_argument("--config", help="configuration TOML (ranger and map settings)")
+    p.add_argument("--threads", type=int, default=2, help="render threads (default 2)")
+    p.add_argument("-o", "--output", default="eval-out", help="output folder (default eval-out)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..config import Config
+    from ..errors import OptionError
+    from ..evaluation.report import write_report
+    from ..evaluation.runner import run_suite
+    from ..evaluation.scenarios import full_suite, quick_suite
+
+    cfg = Config.load(args.config) if args.config else Config()
+    command = "floorscan " + " ".join(sys.argv[1:]) if sys.argv[1:2] == ["eval"] else "floorscan eval"
+    out = Path(args.output)
+    t0 = time.perf_counter()
+    if args.dataset:
+        records = [_dataset_record(args, cfg)]
+    else:
+        if args.quick:
+            scenarios = quick_suite(seconds=args.seconds)
+        else:
+            scenarios = full_suite(**({"seconds": args.seconds} if args.seconds else {}))
+        if args.only:
+            scenarios = [s for s in scenarios if args.only in s.name]
+            if not scenarios:
+                raise OptionError(f"no scenario name contains {args.only!r}")
+
+        def progress(i, result) -> None:
+            b = result.metrics.get("boundary", {})
+            print(
+                f"[{i + 1}/{len(scenarios)}] {result.name}: boundary error "
+                f"{100 * b.get('error_rate', float('nan')):.1f} %",
+                file=sys.stderr,
+            )
+
+        records = run_suite(scenarios, cfg, threads=args.threads, on_result=progress)
+    write_report(out, records, command=command)
+    print((out / "report.md").read_text(), end="")
+    print(f"\n{len(records)} run(s) in {time.perf_counter() - t0:.1f} s; report.md, report.json, worst/ in {out}/")
+    return 0
+
+
+def _dataset_record(args: argparse.Namespace, cfg) -> dict:
+    from ..evaluation.calibration_error import table_for_dataset
+    from ..evaluation.case import case_from_dataset
+    from ..evaluation.runner import evaluate_case
+
+    dataset = Path(args.dataset)
+    truth = Path(args.truth) if args.truth else dataset / "truth"
+    table, cal = table_for_dataset(
+        dataset,
+        truth,
+        spacing_px=cfg.calibration.spacing_px,
+        extrapolate=cfg.calibration.extrapolate,
+        table_path=args.table,
+    )
+    case = case_from_dataset(dataset, truth, table)
+    case.calibration = cal
+    t0 = time.perf_counter()
+    result = evaluate_case(case, cfg)
+    for w in result.worst:
+        w["image"] = case.images[w["frame"]]
+        if case.true_rows is not None:
+            w["truth_rows"] = case.true_rows[w["frame"]]
+    return {
+        "scenario": {"name": case.name, "group": "dataset"},
+        "metrics": result.metrics,
+        "wall_s": {"evaluate": time.perf_counter() - t0},
+        "result": result,
+    }

@@ -1,0 +1,239 @@
+"""The evaluation report: a Markdown table per scenario, summaries per world group (carpet
+first; groups that break an assumption of the paper listed separately), the goals, JSON, and
+pictures of the worst frames (detected and true boundaries drawn)."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence
+
+import numpy as np
+
+from .._atomic import write_atomic
+from ..image_io import write_png
+from ..overlay import draw_scan_overlay
+from ..scoring import summarise_columns
+from .scenarios import CARPET
+
+COLUMNS = [
+    ("scenario", "scenario"),
+    ("frames", "frames"),
+    ("boundary error %", "error_pct"),
+    ("median / p90 cm", "point_error"),
+    ("calib. max / RMS cm", "calibration"),
+    ("map agr. odom / true %", "agreement"),
+    ("occ. prec / rec %", "occupied"),
+    ("free known %", "free_known"),
+    ("frames to reliable", "reliable"),
+    ("ranging / mapping ms", "speed"),
+]
+
+
+def _pct(x: Optional[float]) -> str:
+    return "-" if x is None or not math.isfinite(x) else f"{100 * x:.1f}"
+
+
+def _num(x: Optional[float], fmt: str = "{:.1f}") -> str:
+    return "-" if x is None or not math.isfinite(x) else fmt.format(x)
+
+
+def calibration_cell(cal: Dict[str, Any]) -> str:
+    if cal.get("status") == "measured":
+        return f"{cal['max_cm']:.2f} / {cal['rms_cm']:.2f}"
+    return str(cal.get("status", "-"))
+
+
+def row_cells(name: str, m: Dict[str, Any]) -> Dict[str, str]:
+    b = m.get("boundary", {})
+    maps = m.get("map", {})
+    true_map = maps.get("true_poses", {})
+    rel = m.get("reliable_local_map", {})
+    med = rel.get("median_frames")
+    never = rel.get("views_never_reliable", 0)
+    reliable = "-" if not rel else (f"{med:g}" if med is not None else f"> {rel['max_frames_tried']}")
+    if rel and never:
+        reliable += f" ({never} of {len(rel['frames_per_view'])} views > {rel['max_frames_tried']})"
+    return {
+        "scenario": name,
+        "frames": str(m.get("frames", "-")),
+        "error_pct": _pct(b.get("error_rate")),
+        "point_error": f"{_num(b.get('median_error_cm'))} / {_num(b.get('p90_error_cm'))}",
+        "calibration": calibration_cell(m.get("calibration", {})),
+        "agreement": f"{_pct(maps.get('odometry', {}).get('agreement'))} / {_pct(true_map.get('agreement'))}",
+        "occupied": f"{_pct(true_map.get('occupied_precision'))} / {_pct(true_map.get('occupied_recall'))}",
+        "free_known": _pct(m.get("free_known_share")),
+        "reliable": reliable,
+        "speed": f"{m['ranging_ms_per_frame']:.3f} / {m['mapping_ms_per_frame']:.3f}",
+    }
+
+
+def markdown_table(rows: Sequence[Dict[str, str]]) -> str:
+    head = "| " + " | ".join(t for t, _ in COLUMNS) + " |"
+    sep = "|" + "|".join("---" if k == "scenario" else "---:" for _, k in COLUMNS) + "|"
+    body = ["| " + " | ".join(r[k] for _, k in COLUMNS) + " |" for r in rows]
+    return "\n".join([head, sep, *body]) + "\n"
+
+
+def _mean(values: List[float]) -> Optional[float]:
+    v = [x for x in values if x is not None and math.isfinite(x)]
+    return float(np.mean(v)) if v else None
+
+
+def group_summary(records: Sequence[Dict[str, Any]]) -> Dict[str, Any]:
+    """Pooled figures over scenarios: boundary columns pooled (error rate, point errors by
+    range), other figures the mean over scenarios (map agreement, calibration max: the max)."""
+    scores = [s for r in records for s in r["result"].column_scores]
+    out: Dict[str, Any] = {"scenarios": len(records), "frames": sum(r["metrics"]["frames"] for r in records)}
+    if scores:
+        out["boundary"] = summarise_columns(scores).as_dict()
+    ms = [r["metrics"] for r in records]
+    cals = [m["calibration"] for m in ms if m.get("calibration", {}).get("status") == "measured"]
+    out["calibration"] = (
+        {
+            "status": "measured",
+            "max_cm": max(c["max_cm"] for c in cals),
+            "rms_cm": float(np.sqrt(np.mean([c["rms_cm"] ** 2 for c in cals]))),
+        }
+        if cals
+        else (ms[0].get("calibration", {}) if ms else {})
+    )
+    out["map"] = {
+        kind: {
+            key: _mean([m.get("map", {}).get(kind, {}).get(key) for m in ms])
+            for key in ("agreement", "occupied_precision", "occupied_recall")
+        }
+        for kind in ("odometry", "true_poses")
+    }
+    out["free_known_share"] = _mean([m.get("free_known_share") for m in ms])
+    frames = [
+        f for m in ms for f in m.get("reliable_local_map", {}).get("frames_per_view", [])
+    ]
+    out["reliable_local_map"] = {
+        "frames_per_view": frames,
+        "median_frames": float(np.median([f for f in frames if f is not None]))
+        if any(f is not None for f in frames)
+        else None,
+        "views_never_reliable": sum(1 for f in frames if f is None),
+        "max_frames_tried": max(
+            (m.get("reliable_local_map", {}).get("max_frames_tried", 0) for m in ms), default=0
+        ),
+    }
+    out["ranging_ms_per_frame"] = _mean([m["ranging_ms_per_frame"] for m in ms])
+    out["mapping_ms_per_frame"] = _mean([m["mapping_ms_per_frame"] for m in ms])
+    return out
+
+
+def groups(records: Sequence[Dict[str, Any]]) -> Dict[str, List[Dict[str, Any]]]:
+    out: Dict[str, List[Dict[str, Any]]] = {}
+    for r in records:
+        out.setdefault(r["scenario"].get("group", "dataset"), []).append(r)
+    return dict(sorted(out.items(), key=lambda kv: (kv[0] != CARPET, kv[0])))
+
+
+def range_table(summary: Dict[str, Any]) -> str:
+    b = summary.get("boundary")
+    if not b:
+        return ""
+    lines = ["| range | points | median cm | p90 cm |", "|---|---:|---:|---:|"]
+    for band, v in b["by_range"].items():
+        lines.append(f"| {band} | {v['points']} | {_num(v['median_cm'])} | {_num(v['p90_cm'])} |")
+    return "\n".join(lines) + "\n"
+
+
+def goals(carpet: Dict[str, Any], carpet_defaults: Optional[Dict[str, Any]]) -> str:
+    """Where we stand against the issue's goals (carpet worlds)."""
+    ref = carpet_defaults or carpet
+    err = ref.get("boundary", {}).get("error_rate")
+    cal = carpet.get("calibration", {})
+    agr = ref.get("map", {}).get("true_poses", {}).get("agreement")
+    rel = ref.get("reliable_local_map", {}).get("median_frames")
+
+    def verdict(ok: Optional[bool]) -> str:
+        return "n/a" if ok is None else ("met" if ok else "**missed**")
+
+    cal_text = calibration_cell(cal)
+    cal_ok = cal["max_cm"] <= 1.0 if cal.get("status") == "measured" else None
+    rows = [
+        ("boundary error rate, carpet, defaults", "<= 3 %", f"{_pct(err)} %", verdict(None if err is None else err <= 0.03)),
+        ("calibration max error within 3 m", "<= 1 cm", f"{cal_text} (max / RMS cm)", verdict(cal_ok)),
+        ("global map agreement, true poses, carpet defaults", ">= 97 %", f"{_pct(agr)} %", verdict(None if agr is None else agr >= 0.97)),
+        ("frames to a reliable local map (median)", "<= 2", "-" if rel is None else f"{rel:g}", verdict(None if rel is None else rel <= 2)),
+    ]
+    lines = ["| goal | target | measured | |", "|---|---|---|---|"]
+    lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
+    return "\n".join(lines) + "\n"
+
+
+def write_report(
+    out: Path, records: Sequence[Dict[str, Any]], *, command: str, worst_pictures: int = 4
+) -> Dict[str, Any]:
+    """Writes ``report.md``, ``report.json`` and ``worst/*.png`` into ``out``; returns the JSON
+    document."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    rows = [row_cells(r["scenario"]["name"], r["metrics"]) for r in records]
+    grouped = groups(records)
+    summaries = {g: group_summary(rs) for g, rs in grouped.items()}
+    carpet_defaults = [
+        r
+        for r in grouped.get(CARPET, [])
+        if all(
+            r["scenario"].get(k) == v
+            for k, v in (("lighting", "normal"), ("noise", "default"), ("lens", "fisheye"))
+        )
+    ]
+    default_summary = group_summary(carpet_defaults) if carpet_defaults else None
+    md = [f"Command: `{command}`\n", "## Per scenario\n", markdown_table(rows)]
+    md.append("\n## Per world group (carpet first; the others break an assumption of the paper)\n")
+    md.append(markdown_table([row_cells(g, s) for g, s in summaries.items()]))
+    if CARPET in summaries:
+        md.append("\n## Carpet worlds: point error by true range\n")
+        md.append(range_table(summaries[CARPET]))
+        md.append("\n## Goals (carpet; boundary, map and local map at default settings)\n")
+        md.append(goals(summaries[CARPET], default_summary))
+    pictures = write_worst(out / "worst", records, worst_pictures)
+    if pictures:
+        md.append("\n## Worst frames (circles: detected; white dashes: true boundary)\n")
+        md.append("".join(f"- `{p.relative_to(out)}`: {why}\n" for p, why in pictures))
+    text = "\n".join(md)
+    write_atomic(out / "report.md", text)
+    doc = {
+        "command": command,
+        "scenarios": [
+            {"scenario": r["scenario"], "metrics": r["metrics"], "wall_s": r.get("wall_s")}
+            for r in records
+        ],
+        "groups": summaries,
+        "carpet_defaults": default_summary,
+        "worst_pictures": [str(p.relative_to(out)) for p, _ in pictures],
+    }
+    write_atomic(out / "report.json", json.dumps(doc, indent=2, default=_json_default))
+    return doc
+
+
+def _json_default(x: Any) -> Any:
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, (np.floating,)):
+        return float(x)
+    raise TypeError(type(x).__name__)
+
+
+def write_worst(folder: Path, records: Sequence[Dict[str, Any]], count: int) -> List[tuple]:
+    candidates = [
+        (w["error_rate"], r["scenario"]["name"], w)
+        for r in records
+        for w in r["result"].worst
+        if "image" in w
+    ]
+    candidates.sort(key=lambda c: -c[0])
+    out = []
+    for rate, name, w in candidates[:count]:
+        scan = w["scan"]
+        truth_rows = np.asarray(w["truth_rows"], dtype=float)[scan.columns.astype(np.intp)]
+        picture = draw_scan_overlay(w["image"], scan, truth_rows=truth_rows)
+        path = write_png(folder / f"{name}-frame{w['frame']:05d}.png", picture)
+        out.append((path, f"{name}, frame {w['frame']}: {100 * rate:.1f} % of columns wrong"))
+    return out
