@@ -9,4 +9,5 @@ COMMAND_MODULES = [
     "floorscan.commands.map_log",
     "floorscan.commands.sim",
     "floorscan.commands.eval",
+    "floorscan.commands.tune",
 ]

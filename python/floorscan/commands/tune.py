@@ -1,0 +1,131 @@
+"""``floorscan tune``: filter half-width, threshold and refinement with the lowest boundary
+error rate on a dataset with truth; writes them into a config file, plots the curves, and
+measures the label-free automatic threshold against the optimum."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import List
+
+
+def _numbers(text: str) -> List[float]:
+    """``"1,2,4"`` or ``"2:40:2"`` (start:stop:step, stop included)."""
+    if ":" in text:
+        a, b, c = (float(x) for x in text.split(":"))
+        return [float(v) for v in __import__("numpy").arange(a, b + c / 2, c)]
+    return [float(x) for x in text.split(",") if x.strip()]
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "tune",
+        help="choose the ranger's half-width and threshold on a dataset with truth",
+        description="Grid search over half-width x threshold x refinement for the lowest "
+        "boundary error rate against the dataset's truth (truth/columns.csv) or hand labels "
+        "(CSV image,column,row; docs/evaluation.md). Writes the chosen values into a config "
+        "file, a plot of error rate against threshold per half-width, and the automatic "
+        "label-free threshold's error.",
+    )
+    p.add_argument("dataset", help="dataset folder (images.txt)")
+    p.add_argument("--truth", help="truth folder with columns.csv (default DATASET/truth)")
+    p.add_argument("--labels", help="hand-labelled boundary rows, CSV image,column,row")
+    p.add_argument("--table", help="ground table JSON (default: calibrate, or truth/camera.json)")
+    p.add_argument("--config", help="base configuration TOML (default: the defaults)")
+    p.add_argument("-o", "--output", default="tuned.toml", help="config file to write")
+    p.add_argument("--plot", help="plot PNG (default: beside the output, tune.png)")
+    p.add_argument("--frames", type=int, default=60, help="frames used, evenly spread (default 60)")
+    p.add_argument("--half-widths", default="1,2,3,4,6,8", help="half-widths [px] (default 1,2,3,4,6,8)")
+    p.add_argument("--thresholds", default="2:40:1", help="thresholds, list or start:stop:step")
+    p.add_argument("--refine", default="subpixel,peak,none", help="refinements to try")
+    p.add_argument("--auto-k", type=float, default=None, help="multiple of the texture noise (default 4)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from .._atomic import write_atomic
+    from ..config import Config
+    from ..dataset import read_images_txt
+    from ..errors import OptionError
+    from ..evaluation.calibration_error import table_for_dataset
+    from ..evaluation.case import read_truth_columns
+    from ..evaluation.plot import plot_curves
+    from ..evaluation.tune import AUTO_K, TuneSet, auto_threshold, error_rate, read_labels_csv, tune
+    from ..image_io import read_grey
+
+    cfg = Config.load(args.config) if args.config else Config()
+    dataset = Path(args.dataset)
+    truth = Path(args.truth) if args.truth else dataset / "truth"
+    table, _ = table_for_dataset(
+        dataset, truth, spacing_px=cfg.calibration.spacing_px, table_path=args.table
+    )
+    entries = read_images_txt(dataset)
+    names = [str(e.path.relative_to(dataset)) if e.path.is_absolute() else str(e.path) for e in entries]
+    if args.labels:
+        status, points, labelled = read_labels_csv(args.labels, names, table)
+    else:
+        if not (truth / "columns.csv").is_file():
+            raise OptionError(f"no truth: {truth}/columns.csv is missing; give --truth or --labels")
+        ts = [e.timestamp for e in entries]
+        status, points, _ = read_truth_columns(truth / "columns.csv", ts, table.image_width)
+        labelled = np.zeros(status.shape, bool)
+        labelled[:, np.linspace(0, table.image_width - 1, cfg.ranger.columns).round().astype(int)] = True
+    frames = np.nonzero(labelled.any(axis=1))[0]
+    if frames.size == 0:
+        raise OptionError("no labelled frames")
+    if frames.size > args.frames:
+        frames = frames[np.linspace(0, frames.size - 1, args.frames).round().astype(int)]
+    images = [read_grey(entries[k].path) for k in frames]
+    tset = TuneSet(images, status[frames], points[frames], labelled[frames], table)
+    half_widths = [int(v) for v in _numbers(args.half_widths)]
+    result = tune(
+        tset,
+        half_widths=half_widths,
+        thresholds=_numbers(args.thresholds),
+        refinements=[r.strip() for r in args.refine.split(",")],
+        bottom_margin=cfg.ranger.bottom_margin,
+        max_range_m=cfg.ranger.max_range_m,
+    )
+    k = AUTO_K if args.auto_k is None else args.auto_k
+    auto_t, noise = auto_threshold(
+        images, half_width=result.half_width, columns=tset.columns, k=k,
+        bottom_margin=cfg.ranger.bottom_margin,
+    )
+    auto_err = error_rate(
+        tset, half_width=result.half_width, threshold=auto_t, refine=result.refine,
+        bottom_margin=cfg.ranger.bottom_margin, max_range_m=cfg.ranger.max_range_m,
+    )
+    result.auto = {"k": k, "texture_noise": noise, "threshold": auto_t, "error_rate": auto_err}
+    out = Path(args.output)
+    tuned = cfg.with_overrides(
+        {
+            "ranger.half_width": result.half_width,
+            "ranger.threshold": result.threshold,
+            "ranger.refine": result.refine,
+        }
+    )
+    tuned.save(out)
+    plot = Path(args.plot) if args.plot else out.with_name("tune.png")
+    plot_curves(
+        plot,
+        result.thresholds,
+        {f"d = {d}": v for d, v in result.errors[result.refine].items()},
+        title=f"boundary error rate vs threshold (refine = {result.refine})",
+        x_label="threshold (intensity units)",
+        y_label="share of columns wrong",
+        marker=(result.threshold, result.error_rate, f"chosen d={result.half_width}"),
+        vline=(auto_t, f"auto ({k:g} x noise)"),
+    )
+    write_atomic(out.with_name("tune.json"), json.dumps(result.as_dict(), indent=2))
+    print(
+        f"tune: {len(images)} frames, {int(tset.labelled.sum())} labelled columns\n"
+        f"  chosen: half_width {result.half_width}, threshold {result.threshold:g}, "
+        f"refine {result.refine}: error rate {100 * result.error_rate:.2f} %\n"
+        f"  automatic (no labels): texture noise {noise:.2f}, threshold {auto_t:.2f} "
+        f"({k:g} x noise): error rate {100 * auto_err:.2f} %\n"
+        f"  wrote {out}, {plot}, {out.with_name('tune.json')}"
+    )
+    return 0
