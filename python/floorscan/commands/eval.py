@@ -18,7 +18,9 @@ def register(sub) -> None:
         "With DATASET --truth DIR: scores that run against DIR/columns.csv and/or DIR/map.yaml.",
     )
     p.add_argument("dataset", nargs="?", help="dataset folder to score (default: the suite)")
-    p.add_argument("--truth", help="truth folder (columns.csv and/or map.yaml); default DATASET/truth")
+    p.add_argument(
+        "--truth", help="truth folder (columns.csv and/or map.yaml); default DATASET/truth"
+    )
     p.add_argument("--table", help="ground table JSON to range DATASET with (default: calibrate)")
     p.add_argument("--quick", action="store_true", help="a small suite (seconds, not minutes)")
     p.add_argument("--seconds", type=float, help="simulated seconds per scenario")
@@ -37,7 +39,9 @@ def run(args: argparse.Namespace) -> int:
     from ..evaluation.scenarios import full_suite, quick_suite
 
     cfg = Config.load(args.config) if args.config else Config()
-    command = "floorscan " + " ".join(sys.argv[1:]) if sys.argv[1:2] == ["eval"] else "floorscan eval"
+    command = (
+        "floorscan " + " ".join(sys.argv[1:]) if sys.argv[1:2] == ["eval"] else "floorscan eval"
+    )
     out = Path(args.output)
     t0 = time.perf_counter()
     if args.dataset:
@@ -63,7 +67,9 @@ def run(args: argparse.Namespace) -> int:
         records = run_suite(scenarios, cfg, threads=args.threads, on_result=progress)
     write_report(out, records, command=command)
     print((out / "report.md").read_text(), end="")
-    print(f"\n{len(records)} run(s) in {time.perf_counter() - t0:.1f} s; report.md, report.json, worst/ in {out}/")
+    print(
+        f"\n{len(records)} run(s) in {time.perf_counter() - t0:.1f} s; report.md, report.json, worst/ in {out}/"
+    )
     return 0
 
 

@@ -36,10 +36,14 @@ def register(sub) -> None:
     p.add_argument("-o", "--output", default="tuned.toml", help="config file to write")
     p.add_argument("--plot", help="plot PNG (default: beside the output, tune.png)")
     p.add_argument("--frames", type=int, default=60, help="frames used, evenly spread (default 60)")
-    p.add_argument("--half-widths", default="1,2,3,4,6,8", help="half-widths [px] (default 1,2,3,4,6,8)")
+    p.add_argument(
+        "--half-widths", default="1,2,3,4,6,8", help="half-widths [px] (default 1,2,3,4,6,8)"
+    )
     p.add_argument("--thresholds", default="2:40:1", help="thresholds, list or start:stop:step")
     p.add_argument("--refine", default="subpixel,peak,none", help="refinements to try")
-    p.add_argument("--auto-k", type=float, default=None, help="multiple of the texture noise (default 4)")
+    p.add_argument(
+        "--auto-k", type=float, default=None, help="multiple of the texture noise (default 4)"
+    )
     p.set_defaults(run=run)
 
 
@@ -63,7 +67,9 @@ def run(args: argparse.Namespace) -> int:
         dataset, truth, spacing_px=cfg.calibration.spacing_px, table_path=args.table
     )
     entries = read_images_txt(dataset)
-    names = [str(e.path.relative_to(dataset)) if e.path.is_absolute() else str(e.path) for e in entries]
+    names = [
+        str(e.path.relative_to(dataset)) if e.path.is_absolute() else str(e.path) for e in entries
+    ]
     if args.labels:
         status, points, labelled = read_labels_csv(args.labels, names, table)
     else:
@@ -72,7 +78,9 @@ def run(args: argparse.Namespace) -> int:
         ts = [e.timestamp for e in entries]
         status, points, _ = read_truth_columns(truth / "columns.csv", ts, table.image_width)
         labelled = np.zeros(status.shape, bool)
-        labelled[:, np.linspace(0, table.image_width - 1, cfg.ranger.columns).round().astype(int)] = True
+        labelled[
+            :, np.linspace(0, table.image_width - 1, cfg.ranger.columns).round().astype(int)
+        ] = True
     frames = np.nonzero(labelled.any(axis=1))[0]
     if frames.size == 0:
         raise OptionError("no labelled frames")
@@ -91,12 +99,19 @@ def run(args: argparse.Namespace) -> int:
     )
     k = AUTO_K if args.auto_k is None else args.auto_k
     auto_t, noise = auto_threshold(
-        images, half_width=result.half_width, columns=tset.columns, k=k,
+        images,
+        half_width=result.half_width,
+        columns=tset.columns,
+        k=k,
         bottom_margin=cfg.ranger.bottom_margin,
     )
     auto_err = error_rate(
-        tset, half_width=result.half_width, threshold=auto_t, refine=result.refine,
-        bottom_margin=cfg.ranger.bottom_margin, max_range_m=cfg.ranger.max_range_m,
+        tset,
+        half_width=result.half_width,
+        threshold=auto_t,
+        refine=result.refine,
+        bottom_margin=cfg.ranger.bottom_margin,
+        max_range_m=cfg.ranger.max_range_m,
     )
     result.auto = {"k": k, "texture_noise": noise, "threshold": auto_t, "error_rate": auto_err}
     out = Path(args.output)

@@ -52,9 +52,9 @@ def table_error(
     }
 
 
-def calibrated_table(camera, *, spacing_px: int = 8, extrapolate: bool = False) -> Tuple[
-    GroundTable, Dict[str, Any]
-]:
+def calibrated_table(
+    camera, *, spacing_px: int = 8, extrapolate: bool = False
+) -> Tuple[GroundTable, Dict[str, Any]]:
     """The ground table ranging uses: calibrated from the simulated checkerboard scene when
     :mod:`floorscan.calibration` is available (with its error against the exact mapping), else
     the camera's exact table (error reported as not available)."""
@@ -72,7 +72,12 @@ def calibrated_table(camera, *, spacing_px: int = 8, extrapolate: bool = False) 
 
 
 def table_for_dataset(
-    dataset: Path, truth_dir: Path, *, spacing_px: int = 8, extrapolate: bool = False, table_path=None
+    dataset: Path,
+    truth_dir: Path,
+    *,
+    spacing_px: int = 8,
+    extrapolate: bool = False,
+    table_path=None,
 ) -> Tuple[GroundTable, Dict[str, Any]]:
     """The table to range a dataset with, and its calibration error when measurable: a given
     table file; else calibrated from the dataset's ``calibration/`` scene (when calibration is
@@ -82,7 +87,9 @@ def table_for_dataset(
     from ..sim import Camera
 
     dataset, truth_dir = Path(dataset), Path(truth_dir)
-    camera = Camera.load(truth_dir / "camera.json") if (truth_dir / "camera.json").is_file() else None
+    camera = (
+        Camera.load(truth_dir / "camera.json") if (truth_dir / "camera.json").is_file() else None
+    )
     if table_path is not None:
         table = GroundTable.load(table_path)
     elif calibration_available() and (dataset / "calibration" / "pattern.toml").is_file():

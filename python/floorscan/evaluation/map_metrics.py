@@ -105,9 +105,7 @@ def view_cells(
     c, s = np.cos(oyaw), np.sin(oyaw)
     wx, wy = ox + c * gx - s * gy, oy + s * gx + c * gy
     cells = np.unique(
-        np.stack([np.floor(wx / cell_size_m), np.floor(wy / cell_size_m)], axis=1).astype(
-            np.int64
-        ),
+        np.stack([np.floor(wx / cell_size_m), np.floor(wy / cell_size_m)], axis=1).astype(np.int64),
         axis=0,
     )
     cx = (cells[:, 0] + 0.5) * cell_size_m
@@ -162,7 +160,9 @@ def frames_to_reliable(
             k = k0 + n
             if k >= len(scans):
                 break
-            local.insert_scan(scans[k], pose=tuple(case.true_poses[k]), mount=case.robot_from_camera)
+            local.insert_scan(
+                scans[k], pose=tuple(case.true_poses[k]), mount=case.robot_from_camera
+            )
             if agreement_at(local, vx, vy, truth) > RELIABLE_AGREEMENT:
                 found = n + 1
                 break

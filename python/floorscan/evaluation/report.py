@@ -52,7 +52,9 @@ def row_cells(name: str, m: Dict[str, Any]) -> Dict[str, str]:
     rel = m.get("reliable_local_map", {})
     med = rel.get("median_frames")
     never = rel.get("views_never_reliable", 0)
-    reliable = "-" if not rel else (f"{med:g}" if med is not None else f"> {rel['max_frames_tried']}")
+    reliable = (
+        "-" if not rel else (f"{med:g}" if med is not None else f"> {rel['max_frames_tried']}")
+    )
     if rel and never:
         reliable += f" ({never} of {len(rel['frames_per_view'])} views > {rel['max_frames_tried']})"
     return {
@@ -85,7 +87,10 @@ def group_summary(records: Sequence[Dict[str, Any]]) -> Dict[str, Any]:
     """Pooled figures over scenarios: boundary columns pooled (error rate, point errors by
     range), other figures the mean over scenarios (map agreement, calibration max: the max)."""
     scores = [s for r in records for s in r["result"].column_scores]
-    out: Dict[str, Any] = {"scenarios": len(records), "frames": sum(r["metrics"]["frames"] for r in records)}
+    out: Dict[str, Any] = {
+        "scenarios": len(records),
+        "frames": sum(r["metrics"]["frames"] for r in records),
+    }
     if scores:
         out["boundary"] = summarise_columns(scores).as_dict()
     ms = [r["metrics"] for r in records]
@@ -107,9 +112,7 @@ def group_summary(records: Sequence[Dict[str, Any]]) -> Dict[str, Any]:
         for kind in ("odometry", "true_poses")
     }
     out["free_known_share"] = _mean([m.get("free_known_share") for m in ms])
-    frames = [
-        f for m in ms for f in m.get("reliable_local_map", {}).get("frames_per_view", [])
-    ]
+    frames = [f for m in ms for f in m.get("reliable_local_map", {}).get("frames_per_view", [])]
     out["reliable_local_map"] = {
         "frames_per_view": frames,
         "median_frames": float(np.median([f for f in frames if f is not None]))
@@ -156,10 +159,30 @@ def goals(carpet: Dict[str, Any], carpet_defaults: Optional[Dict[str, Any]]) -> 
     cal_text = calibration_cell(cal)
     cal_ok = cal["max_cm"] <= 1.0 if cal.get("status") == "measured" else None
     rows = [
-        ("boundary error rate, carpet, defaults", "<= 3 %", f"{_pct(err)} %", verdict(None if err is None else err <= 0.03)),
-        ("calibration max error within 3 m", "<= 1 cm", f"{cal_text} (max / RMS cm)", verdict(cal_ok)),
-        ("global map agreement, true poses, carpet defaults", ">= 97 %", f"{_pct(agr)} %", verdict(None if agr is None else agr >= 0.97)),
-        ("frames to a reliable local map (median)", "<= 2", "-" if rel is None else f"{rel:g}", verdict(None if rel is None else rel <= 2)),
+        (
+            "boundary error rate, carpet, defaults",
+            "<= 3 %",
+            f"{_pct(err)} %",
+            verdict(None if err is None else err <= 0.03),
+        ),
+        (
+            "calibration max error within 3 m",
+            "<= 1 cm",
+            f"{cal_text} (max / RMS cm)",
+            verdict(cal_ok),
+        ),
+        (
+            "global map agreement, true poses, carpet defaults",
+            ">= 97 %",
+            f"{_pct(agr)} %",
+            verdict(None if agr is None else agr >= 0.97),
+        ),
+        (
+            "frames to a reliable local map (median)",
+            "<= 2",
+            "-" if rel is None else f"{rel:g}",
+            verdict(None if rel is None else rel <= 2),
+        ),
     ]
     lines = ["| goal | target | measured | |", "|---|---|---|---|"]
     lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]

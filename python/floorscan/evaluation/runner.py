@@ -14,7 +14,7 @@ from ..errors import FloorscanError
 from ..pipeline import Mapper, grid_kwargs
 from ..scoring import ColumnScores, score_columns, score_map, summarise_columns
 from .case import EvalCase, case_from_run
-from .map_metrics import free_known_share, frames_to_reliable
+from .map_metrics import frames_to_reliable, free_known_share
 from .scenarios import Scenario
 
 

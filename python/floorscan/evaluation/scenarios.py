@@ -200,7 +200,9 @@ def with_lighting(text: str, exposure: float, jitter: float) -> str:
 
 def full_suite(*, seconds: float = 30.0, seeds: Tuple[int, ...] = (0, 1, 2)) -> List[Scenario]:
     """Every built-in world at the defaults for each seed, plus one factor at a time varied on
-    the carpet world (corridor) for the first two seeds, and the second lens on every world."""
+    the carpet world (corridor) with the first seed, and the second lens on every world. (The
+    tour is the same for every seed; seeds change the sensor noise, exposure jitter and
+    odometry errors.)"""
     out: List[Scenario] = []
     for world in WORLD_GROUPS:
         for seed in seeds:
@@ -216,8 +218,7 @@ def full_suite(*, seconds: float = 30.0, seeds: Tuple[int, ...] = (0, 1, 2)) -> 
         {"odometry": "drifting"},
     ]
     for change in variations:
-        for seed in seeds[:2]:
-            out.append(replace(Scenario("corridor", seed=seed, seconds=seconds), **change))
+        out.append(replace(Scenario("corridor", seed=seeds[0], seconds=seconds), **change))
     for world in WORLD_GROUPS:
         if world != "corridor":
             out.append(Scenario(world, lens="wide", seed=seeds[0], seconds=seconds))

@@ -20,7 +20,6 @@ from .._atomic import PathLike
 from ..errors import FileFormatError, OptionError
 from ..ground_table import GroundTable
 from ..ranger import VisualRanger
-from ..scan import STATUS_NAMES
 from ..scoring import score_columns
 
 BOUNDARY, NO_BOUNDARY, INVALID = 0, 1, 3
@@ -257,5 +256,7 @@ def auto_threshold(
     bottom_margin: int = 2,
 ) -> Tuple[float, float]:
     """(threshold, noise): ``k`` times :func:`texture_noise`."""
-    noise = texture_noise(images, half_width=half_width, columns=columns, bottom_margin=bottom_margin)
+    noise = texture_noise(
+        images, half_width=half_width, columns=columns, bottom_margin=bottom_margin
+    )
     return k * noise, noise
