@@ -42,7 +42,7 @@ def register(sub) -> None:
     p.add_argument("--thresholds", default="2:40:1", help="thresholds, list or start:stop:step")
     p.add_argument("--refine", default="subpixel,peak,none", help="refinements to try")
     p.add_argument(
-        "--auto-k", type=float, default=None, help="multiple of the texture noise (default 4)"
+        "--auto-k", type=float, default=None, help="multiple of the texture noise (default 5)"
     )
     p.set_defaults(run=run)
 

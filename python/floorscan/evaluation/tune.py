@@ -26,7 +26,7 @@ BOUNDARY, NO_BOUNDARY, INVALID = 0, 1, 3
 DEFAULT_HALF_WIDTHS = (1, 2, 3, 4, 6, 8)
 DEFAULT_THRESHOLDS = tuple(float(t) for t in range(2, 41))
 REFINEMENTS = ("subpixel", "peak", "none")
-AUTO_K = 4.0
+AUTO_K = 5.0
 """Default multiple of the robust texture-noise estimate for the label-free threshold."""
 
 
