@@ -15,6 +15,7 @@ from .._atomic import write_atomic
 from ..image_io import write_png
 from ..overlay import draw_scan_overlay
 from ..scoring import summarise_columns
+from .runner import median_frames
 from .scenarios import CARPET
 
 COLUMNS = [
@@ -115,9 +116,7 @@ def group_summary(records: Sequence[Dict[str, Any]]) -> Dict[str, Any]:
     frames = [f for m in ms for f in m.get("reliable_local_map", {}).get("frames_per_view", [])]
     out["reliable_local_map"] = {
         "frames_per_view": frames,
-        "median_frames": float(np.median([f for f in frames if f is not None]))
-        if any(f is not None for f in frames)
-        else None,
+        "median_frames": median_frames(frames),
         "views_never_reliable": sum(1 for f in frames if f is None),
         "max_frames_tried": max(
             (m.get("reliable_local_map", {}).get("max_frames_tried", 0) for m in ms), default=0
@@ -152,6 +151,7 @@ def goals(carpet: Dict[str, Any], carpet_defaults: Optional[Dict[str, Any]]) -> 
     cal = carpet.get("calibration", {})
     agr = ref.get("map", {}).get("true_poses", {}).get("agreement")
     rel = ref.get("reliable_local_map", {}).get("median_frames")
+    rel_text = "-" if rel is None else (f"{rel:g}" if math.isfinite(rel) else "> 10")
 
     def verdict(ok: Optional[bool]) -> str:
         return "n/a" if ok is None else ("met" if ok else "**missed**")
@@ -180,7 +180,7 @@ def goals(carpet: Dict[str, Any], carpet_defaults: Optional[Dict[str, Any]]) -> 
         (
             "frames to a reliable local map (median)",
             "<= 2",
-            "-" if rel is None else f"{rel:g}",
+            rel_text,
             verdict(None if rel is None else rel <= 2),
         ),
     ]
@@ -216,7 +216,7 @@ def write_report(
         md.append(range_table(summaries[CARPET]))
         md.append("\n## Goals (carpet; boundary, map and local map at default settings)\n")
         md.append(goals(summaries[CARPET], default_summary))
-    pictures = write_worst(out / "worst", records, worst_pictures)
+    pictures = write_worst(out / "worst", records, max(worst_pictures, len(summaries)))
     if pictures:
         md.append("\n## Worst frames (circles: detected; white dashes: true boundary)\n")
         md.append("".join(f"- `{p.relative_to(out)}`: {why}\n" for p, why in pictures))
@@ -246,14 +246,23 @@ def _json_default(x: Any) -> Any:
 
 def write_worst(folder: Path, records: Sequence[Dict[str, Any]], count: int) -> List[tuple]:
     candidates = [
-        (w["error_rate"], r["scenario"]["name"], w)
+        (w["error_rate"], r["scenario"]["name"], w, r["scenario"].get("group"))
         for r in records
         for w in r["result"].worst
         if "image" in w
     ]
     candidates.sort(key=lambda c: -c[0])
+    # The worst frame of every group first (so one failing group does not hide the others),
+    # then the worst of the rest.
+    chosen, seen = [], set()
+    for c in candidates:
+        if c[3] not in seen:
+            seen.add(c[3])
+            chosen.append(c)
+    taken = {id(c) for c in chosen}
+    chosen += [c for c in candidates if id(c) not in taken]
     out = []
-    for rate, name, w in candidates[:count]:
+    for rate, name, w, _ in chosen[:count]:
         scan = w["scan"]
         truth_rows = np.asarray(w["truth_rows"], dtype=float)[scan.columns.astype(np.intp)]
         picture = draw_scan_overlay(w["image"], scan, truth_rows=truth_rows)

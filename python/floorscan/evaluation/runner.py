@@ -29,8 +29,10 @@ class CaseResult:
     column_scores: List[ColumnScores] = field(default_factory=list)
 
 
-def _finite_median(values: Sequence[Optional[int]]) -> Optional[float]:
-    v = [x for x in values if x is not None]
+def median_frames(values: Sequence[Optional[int]]) -> Optional[float]:
+    """Median over views, a view never reliable counting as infinitely many frames (inf when
+    half or more are); None without views."""
+    v = [np.inf if x is None else x for x in values]
     return float(np.median(v)) if v else None
 
 
@@ -115,7 +117,7 @@ def evaluate_case(
                 )
                 metrics["reliable_local_map"] = {
                     "frames_per_view": frames,
-                    "median_frames": _finite_median(frames),
+                    "median_frames": median_frames(frames),
                     "views_never_reliable": sum(1 for f in frames if f is None),
                     "max_frames_tried": reliable_max_frames,
                 }
