@@ -53,9 +53,8 @@ def row_cells(name: str, m: Dict[str, Any]) -> Dict[str, str]:
     rel = m.get("reliable_local_map", {})
     med = rel.get("median_frames")
     never = rel.get("views_never_reliable", 0)
-    reliable = (
-        "-" if not rel else (f"{med:g}" if med is not None else f"> {rel['max_frames_tried']}")
-    )
+    finite = med is not None and math.isfinite(med)
+    reliable = "-" if not rel else (f"{med:g}" if finite else f"> {rel['max_frames_tried']}")
     if rel and never:
         reliable += f" ({never} of {len(rel['frames_per_view'])} views > {rel['max_frames_tried']})"
     return {
