@@ -1,0 +1,234 @@
+"""Finding the pattern's points in the image, and matching them to the pattern.
+
+Checkerboards: OpenCV (``findChessboardCornersSB``, falling back to ``findChessboardCorners`` +
+``cornerSubPix``). Line grids: :mod:`.lines`. Either gives a lattice of image points in an
+unknown orientation; :func:`label_lattice` matches it to the pattern's (i across, j away) from
+geometry alone: the pattern's away axis runs up the image and its across axis left to right
+(both turned by the pattern's yaw), so a detection that comes out flipped or rotated cannot mirror
+the table.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import List, Optional, Tuple
+
+import cv2
+import numpy as np
+
+from ..errors import CalibrationError
+from ..image_io import as_grey
+from .pattern import Pattern, PatternKind
+
+MIN_CONTRAST = 24
+"""Least spread of grey levels (1st to 99th percentile, 8-bit) worth searching for a pattern."""
+
+
+@dataclass(frozen=True)
+class Detection:
+    """Pattern points found in an image, matched to the pattern.
+
+    - ``image_points``: (M, 2) float64 [px], (u, v), v counted from the top.
+    - ``ground_points``: (M, 2) float64 [m], the same points on the floor (camera ground frame).
+    - ``indices``: (M, 2) int, the pattern coordinates (i across, j away) of each point.
+    - ``method``: which detector found them.
+    """
+
+    image_points: np.ndarray
+    ground_points: np.ndarray
+    indices: np.ndarray
+    method: str
+
+    @property
+    def count(self) -> int:
+        return len(self.image_points)
+
+
+def to_uint8(image: np.ndarray) -> np.ndarray:
+    """A (H, W) uint8 grey image (16-bit images scaled by their own range)."""
+    grey = as_grey(image)
+    if grey.dtype == np.uint16:
+        lo, hi = np.percentile(grey, [0.1, 99.9])
+        scale = 255.0 / max(hi - lo, 1.0)
+        grey = np.clip((grey.astype(np.float64) - lo) * scale, 0, 255).astype(np.uint8)
+    return np.ascontiguousarray(grey)
+
+
+def check_exposure(grey: np.ndarray) -> None:
+    """Raises CalibrationError for an image with too little contrast to find anything in."""
+    lo, hi = np.percentile(grey, [1, 99])
+    if hi - lo < MIN_CONTRAST:
+        what = "too dark" if hi < 64 else ("overexposed" if lo > 192 else "very low in contrast")
+        raise CalibrationError(
+            f"the calibration image is {what} (grey levels {lo:.0f}..{hi:.0f} from the 1st to the "
+            f"99th percentile): check the exposure and lighting, and that the lens cap is off"
+        )
+
+
+def detect(image: np.ndarray, pattern: Pattern) -> Detection:
+    """Finds ``pattern``'s inner corners (crossings) in ``image`` ((H, W) grey, uint8 or
+    uint16) and matches them to the pattern. Raises :class:`floorscan.CalibrationError` when
+    the pattern is not found (saying how many points were found and what to check)."""
+    grey = to_uint8(image)
+    check_exposure(grey)
+    if pattern.kind is PatternKind.CHECKERBOARD:
+        lattice, method = find_checkerboard(grey, pattern.counts)
+    else:
+        from .lines import find_line_crossings
+
+        lattice, method = find_line_crossings(grey, pattern)
+    return label_lattice(lattice, pattern, method)
+
+
+# --- checkerboards ----------------------------------------------------------------------
+def find_checkerboard(grey: np.ndarray, counts: Tuple[int, int]) -> Tuple[np.ndarray, str]:
+    """Inner corners of a checkerboard of ``counts`` (across, away): a (counts[1], counts[0],
+    2) lattice of (u, v) [px] in OpenCV's order (which corner comes first is arbitrary)."""
+    if min(counts) < 3:
+        raise CalibrationError(
+            f"a checkerboard needs at least 3 inner corners each way for OpenCV's detector, "
+            f"the pattern says {counts[0]} x {counts[1]}"
+        )
+    size = (int(counts[0]), int(counts[1]))
+    norm = cv2.CALIB_CB_NORMALIZE_IMAGE
+    for flags in (norm, norm | cv2.CALIB_CB_EXHAUSTIVE):
+        ok, corners = cv2.findChessboardCornersSB(grey, size, flags=flags)
+        if ok:
+            lattice = corners.reshape(size[1], size[0], 2).astype(np.float64)
+            return refine_corners(grey, lattice), "findChessboardCornersSB + cornerSubPix"
+    ok, corners = cv2.findChessboardCorners(
+        grey, size, flags=cv2.CALIB_CB_ADAPTIVE_THRESH | norm | cv2.CALIB_CB_FILTER_QUADS
+    )
+    if ok:
+        lattice = corners.reshape(size[1], size[0], 2).astype(np.float64)
+        return refine_corners(grey, lattice), "findChessboardCorners + cornerSubPix"
+    raise CalibrationError(_not_found_message(grey, size))
+
+
+def local_spacing(lattice: np.ndarray) -> np.ndarray:
+    """Distance [px] from each lattice point to its nearest lattice neighbour, (rows, cols)."""
+    rows, cols = lattice.shape[:2]
+    best = np.full((rows, cols), np.inf)
+    for axis in (0, 1):
+        d = np.linalg.norm(np.diff(lattice, axis=axis), axis=-1)
+        d = np.where(np.isfinite(d), d, np.inf)
+        if axis == 0:
+            best[1:] = np.minimum(best[1:], d)
+            best[:-1] = np.minimum(best[:-1], d)
+        else:
+            best[:, 1:] = np.minimum(best[:, 1:], d)
+            best[:, :-1] = np.minimum(best[:, :-1], d)
+    return best
+
+
+def refine_corners(grey: np.ndarray, lattice: np.ndarray, *, fraction: float = 0.3) -> np.ndarray:
+    """Sub-pixel saddle points (``cornerSubPix``) near each lattice point, each with a window
+    of ``fraction`` of its distance to the nearest neighbour (half-width 2..12 px), so windows
+    stay clear of the next corner where the board is foreshortened."""
+    out = lattice.copy()
+    spacing = local_spacing(lattice)
+    criteria = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 60, 0.001)
+    for r, c in zip(*np.nonzero(np.all(np.isfinite(lattice), axis=-1))):
+        gap = spacing[r, c]
+        half = int(np.clip(round(fraction * gap), 2, 12)) if np.isfinite(gap) else 3
+        pt = lattice[r, c].reshape(1, 1, 2).astype(np.float32)
+        cv2.cornerSubPix(grey, pt, (half, half), (-1, -1), criteria)
+        moved = float(np.hypot(*(pt.reshape(2) - lattice[r, c])))
+        if moved <= 0.5 * half + 1.0:  # a jump means the window saw something else
+            out[r, c] = pt.reshape(2)
+    return out
+
+
+def _not_found_message(grey: np.ndarray, size: Tuple[int, int]) -> str:
+    found, board = 0, None
+    try:
+        ok, corners, _meta = cv2.findChessboardCornersSBWithMeta(
+            grey, (3, 3), flags=cv2.CALIB_CB_NORMALIZE_IMAGE | cv2.CALIB_CB_LARGER
+        )
+        if ok and corners is not None:
+            found = len(corners.reshape(-1, 2))
+            if _meta is not None:
+                board = (_meta.shape[1], _meta.shape[0])
+    except cv2.error:  # pragma: no cover - older OpenCV without the SB detector's LARGER flag
+        pass
+    what = f"found a board of {board[0]} x {board[1]} inner corners ({found} corners)" if (
+        board and found == board[0] * board[1]
+    ) else f"found {found} corners of a board"
+    return (
+        f"checkerboard of {size[0]} x {size[1]} inner corners not found ({what}, expected "
+        f"{size[0] * size[1]}): check `inner_corners` in the pattern file (inner corners, one "
+        f"fewer than squares each way), that the whole board with a light border is in the "
+        f"image, and that the image is in focus and evenly lit"
+    )
+
+
+# --- matching to the pattern ------------------------------------------------------------
+def expected_image_axes(yaw: float) -> Tuple[np.ndarray, np.ndarray]:
+    """Rough image directions (du, dv) of the pattern's across and away axes for a camera
+    looking forward over the floor: ground +x runs up the image, ground +y to the left."""
+    across = np.array([math.cos(yaw), -math.sin(yaw)])
+    away = np.array([-math.sin(yaw), -math.cos(yaw)])
+    return across, away
+
+
+def _mean_direction(a: np.ndarray, axis: int) -> np.ndarray:
+    d = np.diff(a, axis=axis).reshape(-1, 2)
+    d = d[np.all(np.isfinite(d), axis=1)]
+    if len(d) == 0:
+        return np.zeros(2)
+    n = np.linalg.norm(d, axis=1, keepdims=True)
+    return np.mean(d / np.maximum(n, 1e-12), axis=0)
+
+
+def lattice_orientations(lattice: np.ndarray, counts: Tuple[int, int]) -> List[np.ndarray]:
+    """Every flip / rotation of ``lattice`` ((rows, cols, 2)) with the pattern's shape
+    (counts[1] rows away, counts[0] columns across)."""
+    out = []
+    for t in (False, True):
+        a = lattice.transpose(1, 0, 2) if t else lattice
+        if a.shape[:2] != (counts[1], counts[0]):
+            continue
+        for fr in (False, True):
+            for fc in (False, True):
+                b = a[::-1] if fr else a
+                b = b[:, ::-1] if fc else b
+                out.append(np.ascontiguousarray(b))
+    return out
+
+
+def label_lattice(lattice: np.ndarray, pattern: Pattern, method: str) -> Detection:
+    """Chooses the flip / rotation of a detected lattice (rows, cols, 2; NaN where a point is
+    missing) whose axes best agree with the pattern's expected image directions, and pairs
+    its points with their ground positions."""
+    candidates = lattice_orientations(lattice, pattern.counts)
+    if not candidates:
+        raise CalibrationError(
+            f"found a grid of {lattice.shape[1]} x {lattice.shape[0]} points, but the pattern "
+            f"has {pattern.counts[0]} x {pattern.counts[1]}: check the counts in the pattern file"
+        )
+    across, away = expected_image_axes(pattern.yaw)
+
+    def score(a: np.ndarray) -> float:
+        return float(_mean_direction(a, 1) @ across + _mean_direction(a, 0) @ away)
+
+    best = max(candidates, key=score)
+    j, i = np.mgrid[0 : pattern.counts[1], 0 : pattern.counts[0]]
+    pts = best.reshape(-1, 2)
+    keep = np.all(np.isfinite(pts), axis=1)
+    idx = np.column_stack([i.ravel(), j.ravel()])[keep]
+    return Detection(
+        image_points=pts[keep].copy(),
+        ground_points=pattern.ground_of(idx[:, 0], idx[:, 1]),
+        indices=idx,
+        method=method,
+    )
+
+
+def min_neighbour_distance(points: np.ndarray) -> Optional[float]:
+    """Smallest distance between two of ``points`` (N, 2), None for fewer than two."""
+    if len(points) < 2:
+        return None
+    d = np.linalg.norm(points[:, None] - points[None], axis=-1)
+    d[np.diag_indices(len(points))] = np.inf
+    return float(d.min())
