@@ -98,10 +98,8 @@ def calibrate(
         residual_m=residual,
         loo_m=loo,
         model=best.model,
-        candidates=[
-            (f"{f.model.name}{'+centre' if f.spec.free_centre else ''}", _rms(f.loo_px))
-            for f in fits
-        ],
+        model_name=best.spec.name,
+        candidates=[(f.spec.name, _rms(f.loo_px)) for f in fits],
         field_of_view=field_of_view(table),
         spacing_px=opts.spacing_px,
         extrapolate=opts.extrapolate,
@@ -148,7 +146,10 @@ def _refit_loo(
     out = np.empty(len(uv))
     for i in range(len(uv)):
         keep = np.arange(len(uv)) != i
-        f = fit_spec(uv[keep], g[keep], image_size, best.spec, best.model, max_iterations=20)
+        f = fit_spec(
+            uv[keep], g[keep], image_size, best.spec, best.model,
+            max_iterations=20, rounds=1, with_loo=False,
+        )
         x, y = f.model.ground(uv[i, 0], uv[i, 1])
         out[i] = float(np.hypot(x + offset[i, 0] - g[i, 0], y + offset[i, 1] - g[i, 1]))
     return np.where(np.isfinite(out), out, np.inf)

@@ -122,12 +122,19 @@ def local_spacing(lattice: np.ndarray) -> np.ndarray:
     return best
 
 
-def refine_corners(grey: np.ndarray, lattice: np.ndarray, *, fraction: float = 0.3) -> np.ndarray:
+def refine_corners(
+    grey: np.ndarray,
+    lattice: np.ndarray,
+    *,
+    fraction: float = 0.3,
+    spacing: Optional[np.ndarray] = None,
+) -> np.ndarray:
     """Sub-pixel saddle points (``cornerSubPix``) near each lattice point, each with a window
     of ``fraction`` of its distance to the nearest neighbour (half-width 2..12 px), so windows
     stay clear of the next corner where the board is foreshortened."""
     out = lattice.copy()
-    spacing = local_spacing(lattice)
+    if spacing is None:
+        spacing = local_spacing(lattice)
     criteria = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 60, 0.001)
     for r, c in zip(*np.nonzero(np.all(np.isfinite(lattice), axis=-1))):
         gap = spacing[r, c]

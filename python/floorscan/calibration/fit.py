@@ -31,6 +31,11 @@ class ModelSpec:
     free_centre: bool
 
     @property
+    def name(self) -> str:
+        """e.g. ``radial2`` (centre fixed at the image centre) or ``radial2+centre``."""
+        return f"radial{self.terms}" + ("+centre" if self.free_centre else "")
+
+    @property
     def parameter_count(self) -> int:
         return 8 + self.terms + (2 if self.free_centre else 0)
 
@@ -90,45 +95,82 @@ def _residuals(
     falls off the floor or the mapping is singular."""
     x, y = model.ground(uv[:, 0], uv[:, 1])
     e = np.column_stack([x, y]) - ground
-    jac = model.jacobian(uv[:, 0], uv[:, 1])
-    det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
-    good = np.all(np.isfinite(e), axis=1) & np.isfinite(det) & (np.abs(det) > 1e-18)
+    weights = _image_weights(model, uv)
+    good = np.all(np.isfinite(e), axis=1) & np.all(np.isfinite(weights), axis=(1, 2))
     r = np.full_like(e, 1e6)
-    if np.any(good):
-        r[good] = np.linalg.solve(jac[good], e[good][..., None])[..., 0]
+    r[good] = np.einsum("mij,mj->mi", weights[good], e[good])
     return r, np.where(good, np.hypot(e[:, 0], e[:, 1]), np.inf)
 
 
+def _image_weights(model: RadialPlaneModel, uv: np.ndarray) -> np.ndarray:
+    """(M, 2, 2) inverse Jacobians [px/m]: ground errors to image errors; NaN if singular."""
+    jac = model.jacobian(uv[:, 0], uv[:, 1])
+    det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
+    ok = np.isfinite(det) & (np.abs(det) > 1e-18)
+    out = np.full_like(jac, np.nan)
+    out[ok] = np.linalg.inv(jac[ok])
+    return out
+
+
+def _ground_and_jacobian(
+    pack: _Packing, p: np.ndarray, fixed_centre: Tuple[float, float], uv: np.ndarray
+) -> Tuple[np.ndarray, np.ndarray]:
+    """Model ground points (M, 2) [m] and their derivatives with respect to the packed
+    parameters (M, 2, P), analytically."""
+    model = pack.unpack(p, fixed_centre)
+    x, y = model.normalised(uv[:, 0], uv[:, 1])
+    rho2 = x * x + y * y
+    z = model.axial(rho2)
+    dz_drho2 = np.zeros_like(rho2)
+    power = np.ones_like(rho2)
+    columns = []
+    for n, k in enumerate(model.k, start=1):
+        dz_drho2 += n * k * power
+        power = power * rho2
+        columns.append(power)  # dz/dk_n = rho2^n
+    d = np.stack([x, y, z])  # (3, M)
+    hm = model.h
+    g = hm @ d  # (3, M)
+    dg = []  # each (3, M)
+    if pack.spec.free_centre:
+        dg.append(hm @ np.stack([-np.ones_like(x), np.zeros_like(x), -2 * x * dz_drho2]))
+        dg.append(hm @ np.stack([np.zeros_like(x), -np.ones_like(x), -2 * y * dz_drho2]))
+    for col in columns:
+        dg.append(hm[:, 2:3] * col[None])
+    for a in range(3):
+        for b in range(3):
+            e = np.zeros((3, len(x)))
+            e[a] = d[b]
+            dg.append(e)
+    dg = np.stack(dg, axis=-1)  # (3, M, P)
+    w = g[2]
+    ground = np.column_stack([g[0] / w, g[1] / w])
+    jac = np.stack(
+        [(dg[0] * w[:, None] - g[0][:, None] * dg[2]), (dg[1] * w[:, None] - g[1][:, None] * dg[2])],
+        axis=1,
+    ) / (w * w)[:, None, None]
+    return ground, jac
+
+
 def levenberg_marquardt(
-    fun: Callable[[np.ndarray], np.ndarray],
+    fun: Callable[[np.ndarray], Tuple[np.ndarray, np.ndarray]],
     p0: np.ndarray,
     *,
     max_iterations: int = 100,
-    step: float = 1e-6,
     tolerance: float = 1e-12,
 ) -> Tuple[np.ndarray, np.ndarray]:
-    """Minimises ``sum(fun(p)^2)`` from ``p0``; returns (p, Jacobian at p). Forward-difference
-    Jacobian, Marquardt's diagonal scaling."""
+    """Minimises ``sum(r^2)`` where ``fun(p) = (r, dr/dp)``, from ``p0``; returns (p, dr/dp
+    at p). Marquardt's diagonal scaling."""
     p = np.asarray(p0, float).copy()
-    r = fun(p)
+    r, jac = fun(p)
     cost = float(r @ r)
     lam = 1e-3
-
-    def jacobian(p: np.ndarray, r: np.ndarray) -> np.ndarray:
-        jac = np.empty((r.size, p.size))
-        for i in range(p.size):
-            q = p.copy()
-            h = step * max(1.0, abs(p[i]))
-            q[i] += h
-            jac[:, i] = (fun(q) - r) / h
-        return jac
-
-    jac = jacobian(p, r)
     for _ in range(max_iterations):
         a = jac.T @ jac
         g = jac.T @ r
         d = np.diag(a).copy()
         improved = False
+        previous = cost
         for _ in range(12):
             m = a + lam * np.diag(d + 1e-12 * (d.max() + 1.0))
             try:
@@ -136,19 +178,15 @@ def levenberg_marquardt(
             except np.linalg.LinAlgError:
                 lam *= 10
                 continue
-            r_new = fun(p + delta)
+            r_new, jac_new = fun(p + delta)
             cost_new = float(r_new @ r_new)
             if np.isfinite(cost_new) and cost_new < cost:
-                p, r_old_cost = p + delta, cost
-                r, cost = r_new, cost_new
+                p, r, jac, cost = p + delta, r_new, jac_new, cost_new
                 lam = max(lam / 3, 1e-12)
                 improved = True
                 break
             lam *= 4
-        if not improved:
-            break
-        jac = jacobian(p, r)
-        if r_old_cost - cost <= tolerance * max(r_old_cost, 1e-30):
+        if not improved or previous - cost <= tolerance * max(previous, 1e-30):
             break
     return p, jac
 
@@ -188,8 +226,12 @@ def fit_spec(
     start: Optional[RadialPlaneModel] = None,
     *,
     max_iterations: int = 100,
+    rounds: int = 3,
+    with_loo: bool = True,
 ) -> Fit:
-    """Fits one model form to points ``uv`` (M, 2) [px] seen at ``ground`` (M, 2) [m]."""
+    """Fits one model form to points ``uv`` (M, 2) [px] seen at ``ground`` (M, 2) [m].
+    ``rounds`` solves, each with the image weights of the previous one's result; the
+    linearised leave-one-out errors only ``with_loo``."""
     w, h = image_size
     centre0 = ((w - 1) / 2.0, (h - 1) / 2.0)
     scale = max(w, h) / 2.0
@@ -198,24 +240,45 @@ def fit_spec(
     pack = _Packing(spec, centre0, scale)
     fixed_centre = start.centre_px if not spec.free_centre else centre0
     prior_weight = NOISE_PX / CENTRE_PRIOR
+    p = pack.pack(start)
+    model = start
+    # Residuals are ground errors turned into image errors by each point's inverse Jacobian,
+    # held fixed within a solve and updated between solves.
+    for _round in range(rounds):
+        weights = _image_weights(model, uv)
+        if not np.all(np.isfinite(weights)):
+            break
 
-    def fun(p: np.ndarray) -> np.ndarray:
+        def fun(q: np.ndarray, weights=weights):
+            g, dg = _ground_and_jacobian(pack, q, fixed_centre, uv)
+            e = g - ground
+            r = np.einsum("mij,mj->mi", weights, e).ravel()
+            jr = np.einsum("mij,mjp->mip", weights, dg).reshape(r.size, -1)
+            bad = ~np.isfinite(r)
+            if np.any(bad):
+                r = np.where(bad, 1e6, r)
+                jr = np.where(np.isfinite(jr), jr, 0.0)
+            if spec.free_centre:
+                prior_j = np.zeros((2, q.size))
+                prior_j[0, 0] = prior_j[1, 1] = prior_weight
+                r = np.concatenate([r, prior_weight * q[:2]])
+                jr = np.vstack([jr, prior_j])
+            return r, jr
+
+        p_new, jac = levenberg_marquardt(fun, p, max_iterations=max_iterations)
+        step = np.max(np.abs(p_new - p))
+        p = p_new
         model = pack.unpack(p, fixed_centre)
-        r, _ = _residuals(model, uv, ground)
-        out = [r.ravel()]
-        if spec.free_centre:
-            out.append(prior_weight * p[:2])
-        return np.concatenate(out)
-
-    p, jac = levenberg_marquardt(fun, pack.pack(start), max_iterations=max_iterations)
-    model = pack.unpack(p, fixed_centre)
+        if step < 1e-9:
+            break
     d = np.stack(
         [*model.normalised(uv[:, 0], uv[:, 1])]
         + [model.axial(sum(c**2 for c in model.normalised(uv[:, 0], uv[:, 1])))]
     )
     model = RadialPlaneModel(model.centre_px, scale, model.k, normalise_h(model.h, d))
     r, err = _residuals(model, uv, ground)
-    return Fit(model, spec, r, err, _linearised_loo(jac, r))
+    loo = _linearised_loo(jac, r) if with_loo else np.full(len(uv), np.nan)
+    return Fit(model, spec, r, err, loo)
 
 
 def _linearised_loo(jac: np.ndarray, r: np.ndarray) -> np.ndarray:
@@ -240,8 +303,8 @@ def _linearised_loo(jac: np.ndarray, r: np.ndarray) -> np.ndarray:
 def fit_best(
     uv: np.ndarray, ground: np.ndarray, image_size: Tuple[int, int]
 ) -> Tuple[Fit, List[Fit]]:
-    """Fits every candidate form that the number of points supports and keeps the one with
-    the least leave-one-out RMS [px]. Returns (best, all fits)."""
+    """Fits every candidate form that the number of points supports and keeps the simplest
+    whose leave-one-out RMS [px] is within 2 % of the least. Returns (best, all fits)."""
     m = len(uv)
     fits: List[Fit] = []
     start: Optional[RadialPlaneModel] = None
@@ -264,5 +327,8 @@ def fit_best(
     def loo_rms(f: Fit) -> float:
         return float(np.sqrt(np.mean(f.loo_px**2)))
 
-    best = min(fits, key=loo_rms)
+    # The simplest form within 2 % of the best leave-one-out error: more terms that do not
+    # predict held-out points better only add freedom where there is no data.
+    least = min(loo_rms(f) for f in fits)
+    best = next(f for f in fits if loo_rms(f) <= 1.02 * least)
     return best, fits

@@ -98,10 +98,6 @@ class RadialPlaneModel:
         return float(max_radius_px if bad.size == 0 else rho[bad[0]] * s)
 
     # --- description --------------------------------------------------------------------
-    @property
-    def name(self) -> str:
-        return f"radial{len(self.k)}"
-
     def to_dict(self) -> Dict[str, Any]:
         return {
             "model": "central_radial_plane",

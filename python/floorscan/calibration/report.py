@@ -45,7 +45,8 @@ class CalibrationReport:
       at it.
 
     And: ``points_expected`` (the pattern's count), ``method`` (the detector), ``model`` (the
-    fitted :class:`RadialPlaneModel`), ``candidates`` (each model form tried and its
+    fitted :class:`RadialPlaneModel`), ``model_name`` (its form, e.g. ``radial2+centre``),
+    ``candidates`` (each model form tried and its
     leave-one-out RMS [px]), ``field_of_view`` (:class:`FieldOfView`), ``image_size`` (W, H),
     ``spacing_px``, ``extrapolate``, ``margin_m``, ``pattern``.
     """
@@ -60,6 +61,7 @@ class CalibrationReport:
     residual_m: np.ndarray
     loo_m: np.ndarray
     model: RadialPlaneModel
+    model_name: str
     candidates: List[Tuple[str, float]]
     field_of_view: FieldOfView
     spacing_px: int
@@ -97,7 +99,7 @@ class CalibrationReport:
             f"residual RMS {self.residual_rms_cm:.2f} cm, max {self.residual_max_cm:.2f} cm; "
             f"leave-one-out RMS {self.loo_rms_cm:.2f} cm, max {self.loo_max_cm:.2f} cm; "
             f"ground {near:.2f}..{far:.2f} m"
-            f"{' (extrapolated)' if self.extrapolate else ''}; model {self.model.name}"
+            f"{' (extrapolated)' if self.extrapolate else ''}; model {self.model_name}"
         )
 
     # --- files --------------------------------------------------------------------------
@@ -116,6 +118,7 @@ class CalibrationReport:
             "loo": self.loo_kind,
             "extrapolate": self.extrapolate,
             "margin_m": self.margin_m,
+            "model_name": self.model_name,
             "model": self.model.to_dict(),
             "field_of_view": self.field_of_view.to_dict(),
         }

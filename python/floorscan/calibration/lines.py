@@ -1,0 +1,426 @@
+"""Finding the crossings of a grid of dark lines on the floor (the paper's calibration pattern).
+
+1. Line pixels: dark, thin structures (black-hat transform), kept where they reach half of the
+   strongest line response nearby, so far lines that blur into low contrast are kept too.
+2. Cells: the light regions enclosed by lines, each a convex quadrilateral in the image (a wide
+   angle lens bends the lines, but not much over one cell).
+3. Topology: two cells are neighbours when an edge of one faces an edge of the other across a
+   line; walking from cell to cell gives each cell, and each of its corners, grid coordinates.
+4. Each crossing, first the mean of the cell corners around it, is refined to sub-pixel
+   accuracy where the two lines' centres cross (``cornerSubPix``, whose condition, that image
+   gradients are perpendicular to the lines through the point, holds at the crossing of the
+   lines' centre lines by symmetry).
+
+The result is a lattice in an arbitrary orientation, matched to the pattern by
+:func:`floorscan.calibration.detect.label_lattice`.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Tuple
+
+import cv2
+import numpy as np
+
+from ..errors import CalibrationError
+from .pattern import Pattern
+
+# Lattice directions faced by a cell's four edges, in rotational order.
+_DIRS = [(0, -1), (1, 0), (0, 1), (-1, 0)]
+
+
+@dataclass
+class _Cell:
+    quad: np.ndarray  # (4, 2) corners, consistently oriented
+    label: Optional[Tuple[int, int]] = None
+    facing: int = 0  # edge k faces _DIRS[(facing + k) % 4]
+
+
+@dataclass
+class LineResponse:
+    """The black-hat response [grey levels] (how much darker a pixel is than the light
+    surface around it, for structures narrower than an eighth of the image), its threshold
+    for plain floor ``low``, and the line pixels."""
+
+    hat: np.ndarray
+    low: float
+    mask: np.ndarray
+
+
+def line_response(grey: np.ndarray) -> LineResponse:
+    """Pixels on dark lines, by hysteresis: connected pixels above a low threshold (a few
+    times the response of plain floor) that include one above twice that, so a line blurred
+    to low contrast in the distance stays connected to the strong lines it crosses, while
+    specks on the floor go."""
+    h, w = grey.shape
+    k = int(max(15, min(h, w) // 8)) | 1
+    img = cv2.GaussianBlur(grey, (0, 0), 0.8)
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
+    hat = cv2.morphologyEx(img, cv2.MORPH_BLACKHAT, kernel)
+    low = max(5.0, 3.0 * float(np.median(hat)))
+    weak = (hat >= low).astype(np.uint8)
+    n, labels = cv2.connectedComponents(weak, connectivity=8)
+    strong = np.zeros(n, bool)
+    strong[np.unique(labels[hat >= 2 * low])] = True
+    strong[0] = False
+    return LineResponse(hat.astype(np.float32), low, strong[labels])
+
+
+def find_cells(mask: np.ndarray) -> List[_Cell]:
+    """Light regions enclosed by lines that are convex quadrilaterals (corners oriented the
+    same way round)."""
+    h, w = mask.shape
+    light = (~mask).astype(np.uint8)
+    n, labels, stats, _ = cv2.connectedComponentsWithStats(light, connectivity=4)
+    cells = []
+    for i in range(1, n):
+        x, y, bw, bh, area = stats[i]
+        if area < 12 or area > 0.25 * h * w or x == 0 or y == 0 or x + bw >= w or y + bh >= h:
+            continue
+        comp = (labels[y : y + bh, x : x + bw] == i).astype(np.uint8)
+        contours, _ = cv2.findContours(comp, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+        c = max(contours, key=len)
+        peri = cv2.arcLength(c, True)
+        quad = None
+        for eps in (0.03, 0.05, 0.08):
+            approx = cv2.approxPolyDP(c, eps * peri, True)
+            if len(approx) == 4:
+                quad = approx.reshape(4, 2).astype(np.float64)
+                break
+        if quad is None or not cv2.isContourConvex(quad.astype(np.float32)):
+            continue
+        quad_area = abs(cv2.contourArea(quad.astype(np.float32)))
+        if quad_area <= 0 or not 0.75 <= area / quad_area <= 1.3:
+            continue
+        quad += (x, y)
+        # Orient every quad the same way (positive signed area in image coordinates).
+        sx = quad[:, 0] * np.roll(quad[:, 1], -1) - np.roll(quad[:, 0], -1) * quad[:, 1]
+        if sx.sum() < 0:
+            quad = quad[::-1]
+        cells.append(_Cell(quad))
+    return cells
+
+
+def _edges(cells: List[_Cell]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Per edge (cell * 4 + k): midpoint, unit direction, length, and the cell's depth behind
+    it (the mean length of the two edges beside it) [px]."""
+    a = np.stack([c.quad for c in cells])  # (N, 4, 2)
+    vec = np.roll(a, -1, axis=1) - a
+    mid = a + vec / 2
+    length = np.linalg.norm(vec, axis=-1)
+    depth = (np.roll(length, 1, axis=1) + np.roll(length, -1, axis=1)) / 2
+    unit = vec / np.maximum(length, 1e-9)[..., None]
+    return mid.reshape(-1, 2), unit.reshape(-1, 2), length.ravel(), depth.ravel()
+
+
+def match_edges(cells: List[_Cell]) -> Dict[int, int]:
+    """Edge index (cell * 4 + k) -> facing edge of a neighbouring cell, mutual best matches:
+    anti-parallel, of similar length, side by side along the edge (offset under a third of
+    its length) and closer across it than half the depth of either cell (the line between
+    two cells is much thinner than the cells)."""
+    mid, unit, length, depth = _edges(cells)
+    delta = mid[None] - mid[:, None]  # (E, E, 2)
+    along = np.abs(np.sum(delta * unit[:, None], axis=-1))
+    across = np.abs(unit[:, None, 0] * delta[..., 1] - unit[:, None, 1] * delta[..., 0])
+    cos = unit @ unit.T
+    short = np.minimum(length[:, None], length[None])
+    ratio = short / np.maximum(length[:, None], length[None])
+    same_cell = (np.arange(len(mid))[:, None] // 4) == (np.arange(len(mid))[None] // 4)
+    ok = (cos < -0.8) & (ratio > 0.5) & ~same_cell
+    ok &= (along < short / 3) & (across < np.maximum(depth[:, None], depth[None]))
+    cost = np.where(ok, np.hypot(along, across), np.inf)
+    best = np.argmin(cost, axis=1)
+    out = {}
+    for e, f in enumerate(best):
+        if np.isfinite(cost[e, f]) and best[f] == e:
+            out[e] = int(f)
+    return out
+
+
+def _walk(
+    cells: List[_Cell], matches: Dict[int, int], seed: int, banned: set
+) -> Tuple[Dict[int, Tuple[Tuple[int, int], int]], Dict[int, int]]:
+    """Breadth-first labelling from ``seed``: cell -> (grid coordinates, facing), and the
+    number of contradictions each cell took part in."""
+    state = {seed: ((0, 0), 0)}
+    conflicts: Dict[int, int] = {}
+    queue = deque([seed])
+    while queue:
+        a = queue.popleft()
+        (li, lj), fa = state[a]
+        for k in range(4):
+            f = matches.get(a * 4 + k)
+            if f is None or f // 4 in banned:
+                continue
+            b, m = divmod(f, 4)
+            di, dj = _DIRS[(fa + k) % 4]
+            want = ((li + di, lj + dj), (fa + k + 2 - m) % 4)
+            if b in state:
+                if state[b] != want:
+                    conflicts[a] = conflicts.get(a, 0) + 1
+                    conflicts[b] = conflicts.get(b, 0) + 1
+                continue
+            state[b] = want
+            queue.append(b)
+    seen: Dict[Tuple[int, int], int] = {}
+    for c, (label, _f) in state.items():
+        if label in seen:
+            conflicts[c] = conflicts.get(c, 0) + 1
+            conflicts[seen[label]] = conflicts.get(seen[label], 0) + 1
+        seen[label] = c
+    return state, conflicts
+
+
+def label_cells(cells: List[_Cell], matches: Dict[int, int]) -> List[_Cell]:
+    """Grid coordinates of the largest group of cells connected by matched edges. Cells whose
+    neighbours contradict each other (two paths giving different coordinates) are dropped, the
+    worst first, until the group is consistent."""
+    best: Dict[int, Tuple[Tuple[int, int], int]] = {}
+    done: set = set()
+    for seed in range(len(cells)):
+        if seed in done:
+            continue
+        banned: set = set()
+        start = seed
+        while True:
+            state, conflicts = _walk(cells, matches, start, banned)
+            if not conflicts:
+                break
+            worst = max(conflicts, key=lambda c: conflicts[c])
+            banned.add(worst)
+            done.add(worst)
+            if worst == start:
+                rest = [c for c in state if c not in banned]
+                if not rest:
+                    state = {}
+                    break
+                start = rest[0]
+        done.update(state)
+        if len(state) > len(best):
+            best = state
+    out = []
+    for c, (label, facing) in best.items():
+        cells[c].label, cells[c].facing = label, facing
+        out.append(cells[c])
+    return out
+
+
+def crossings_of(cells: List[_Cell]) -> Dict[Tuple[int, int], np.ndarray]:
+    """Crossing grid coordinates -> mean of the cell corners at it [px]."""
+    acc: Dict[Tuple[int, int], List[np.ndarray]] = {}
+    for c in cells:
+        for k in range(4):
+            # Corner k lies between edge k - 1 and edge k.
+            faces = {_DIRS[(c.facing + k - 1) % 4], _DIRS[(c.facing + k) % 4]}
+            ci = c.label[0] + (1 if (1, 0) in faces else 0)
+            cj = c.label[1] + (1 if (0, 1) in faces else 0)
+            acc.setdefault((ci, cj), []).append(c.quad[k])
+    return {key: np.mean(v, axis=0) for key, v in acc.items()}
+
+
+def _sample(img: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """Bilinear samples of ``img`` at (N, 2) points (u, v); 0 outside."""
+    m = pts.astype(np.float32).reshape(-1, 1, 2)
+    return cv2.remap(img, m[..., 0], m[..., 1], cv2.INTER_LINEAR, borderValue=0).ravel()
+
+
+def crossing_strength(hat: np.ndarray, p: np.ndarray, a1: np.ndarray, a2: np.ndarray) -> float:
+    """How clearly two lines cross at ``p`` with neighbouring crossings ``p + a1`` and
+    ``p + a2`` [px]: the weakest of the four arms' mean line response (each sampled from 0.25
+    to 0.4 of the way to the next crossing, clear of the crossing itself and of the overhang
+    that ends half a step past the outermost line)."""
+    t = np.array([0.25, 0.32, 0.4])
+    arms = []
+    for a in (a1, -a1, a2, -a2):
+        arms.append(float(np.mean(_sample(hat, p[None] + t[:, None] * a[None]))))
+    return min(arms)
+
+
+def _axes_at(
+    xs: Dict[Tuple[int, int], np.ndarray], k: Tuple[int, int]
+) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+    """Vectors [px] to the next crossing along each lattice axis at ``k`` (from the neighbour
+    on either side), None without neighbours along both axes."""
+    axes = []
+    for d in ((1, 0), (0, 1)):
+        fwd, back = (k[0] + d[0], k[1] + d[1]), (k[0] - d[0], k[1] - d[1])
+        if fwd in xs:
+            axes.append(xs[fwd] - xs[k])
+        elif back in xs:
+            axes.append(xs[k] - xs[back])
+        else:
+            return None
+    return axes[0], axes[1]
+
+
+def _ridge_curve(
+    hat: np.ndarray, p: np.ndarray, along: np.ndarray, other: np.ndarray, low: float
+) -> Optional[np.ndarray]:
+    """The centre line of the line through ``p`` running along ``along`` (the next crossing on
+    it at ``p + along``; the next parallel line at ``p + other``), in the lattice's oblique
+    frame: coefficients of ``b(a) = c0 + c1 a + c2 a^2``, the point ``p + a * unit(along) +
+    b * unit(other)`` [px]. Each profile runs parallel to the other line, so it never meets
+    it; its darkness centroid is a point of the centre line. Profiles at 0.19 to 0.4 of the
+    way to the neighbouring crossings on both sides; None if fewer than five see the line."""
+    length = float(np.linalg.norm(along))
+    reach = 0.4 * float(np.linalg.norm(other))
+    if length < 3 or reach < 1.0:
+        return None
+    unit = along / length
+    across = other / np.linalg.norm(other)
+    offsets = np.arange(-reach, reach + 1e-9, 0.25)
+    ss, cs = [], []
+    for frac in (-0.4, -0.33, -0.26, -0.19, 0.19, 0.26, 0.33, 0.4):
+        c = p + frac * along
+        prof = _sample(hat, c[None] + offsets[:, None] * across[None])
+        peak = float(prof.max())
+        if peak < low:
+            continue
+        w = np.clip(prof - 0.5 * peak, 0, None)
+        ss.append(frac * length)
+        cs.append(float(np.sum(w * offsets) / w.sum()))
+    if len(ss) < 5:
+        return None
+    return np.polyfit(np.array(ss), np.array(cs), 2)
+
+
+def refine_crossing(
+    hat: np.ndarray, p: np.ndarray, a1: np.ndarray, a2: np.ndarray, low: float
+) -> Optional[np.ndarray]:
+    """Where the centre lines of the two lines through ``p`` (next crossings at ``p + a1``
+    and ``p + a2``) cross [px]: both fitted (:func:`_ridge_curve`) and intersected, twice
+    (from the new point). None if a line is not seen or the point runs away."""
+    u1 = a1 / np.linalg.norm(a1)
+    u2 = a2 / np.linalg.norm(a2)
+    limit = 0.3 * min(np.linalg.norm(a1), np.linalg.norm(a2))
+    start = p
+    for _ in range(2):
+        c1 = _ridge_curve(hat, p, a1, a2, low)  # line 1: beta = c1(alpha)
+        c2 = _ridge_curve(hat, p, a2, a1, low)  # line 2: alpha = c2(beta)
+        if c1 is None or c2 is None:
+            return None
+        alpha = beta = 0.0
+        for _ in range(10):
+            beta = float(np.polyval(c1, alpha))
+            alpha = float(np.polyval(c2, beta))
+        p = p + alpha * u1 + beta * u2
+        if not np.all(np.isfinite(p)) or np.linalg.norm(p - start) > limit:
+            return None
+    return p
+
+
+def _refine_all(
+    response: LineResponse, xs: Dict[Tuple[int, int], np.ndarray], need: float
+) -> Dict[Tuple[int, int], np.ndarray]:
+    """Every crossing refined and kept if two lines clearly cross there."""
+    out = {}
+    for k, p in xs.items():
+        axes = _axes_at(xs, k)
+        if axes is None:
+            continue
+        q = refine_crossing(response.hat, p, *axes, response.low)
+        if q is not None and crossing_strength(response.hat, q, *axes) >= need:
+            out[k] = q
+    return out
+
+
+def grow_lattice(
+    response: LineResponse,
+    xs: Dict[Tuple[int, int], np.ndarray],
+    limits: Tuple[int, int],
+) -> Dict[Tuple[int, int], np.ndarray]:
+    """Refines the known crossings and adds the ones next to them where the lattice,
+    extrapolated (quadratically when it can, for the perspective), predicts one and two
+    lines are found crossing there (the far rows of a pattern, whose cells are too thin to be
+    found as cells). The lattice does not grow past ``limits`` (columns, rows)."""
+    hat = response.hat
+    h, w = hat.shape
+    strengths = [
+        crossing_strength(hat, xs[k], *axes)
+        for k in xs
+        if (axes := _axes_at(xs, k)) is not None
+    ]
+    need = max(response.low, 0.2 * float(np.median(strengths))) if strengths else 2 * response.low
+    xs = _refine_all(response, xs, need)
+    if not xs:
+        return xs
+    changed = True
+    while changed:
+        changed = False
+        keys = np.array(list(xs))
+        lo, hi = keys.min(axis=0), keys.max(axis=0)
+        for (i, j) in list(xs):
+            for d in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                new = (i + d[0], j + d[1])
+                back = (i - d[0], j - d[1])
+                if new in xs or back not in xs:
+                    continue
+                span = np.maximum(hi, new) - np.minimum(lo, new) + 1
+                if span[0] > limits[0] or span[1] > limits[1]:
+                    continue
+                q, qb = xs[(i, j)], xs[back]
+                back2 = (i - 2 * d[0], j - 2 * d[1])
+                p = 3 * q - 3 * qb + xs[back2] if back2 in xs else 2 * q - qb
+                if not (2 <= p[0] < w - 2 and 2 <= p[1] < h - 2):
+                    continue
+                side = next(
+                    (
+                        xs[s] - q if s[0] + s[1] > i + j else q - xs[s]
+                        for s in ((i + d[1], j + d[0]), (i - d[1], j - d[0]))
+                        if s in xs
+                    ),
+                    None,
+                )
+                if side is None:
+                    continue
+                along = p - q
+                r = refine_crossing(hat, p, along, side, response.low)
+                if r is not None and crossing_strength(hat, r, along, side) >= need:
+                    xs[new] = r
+                    lo, hi = np.minimum(lo, new), np.maximum(hi, new)
+                    changed = True
+    return xs
+
+
+def find_line_crossings(grey: np.ndarray, pattern: Pattern) -> Tuple[np.ndarray, str]:
+    """Crossings of the pattern's line grid: a (rows, cols, 2) lattice [px] in an arbitrary
+    orientation, NaN where a crossing was not found."""
+    response = line_response(grey)
+    found = find_cells(response.mask)
+    cells = label_cells(found, match_edges(found)) if found else []
+    expected = pattern.counts
+    if not cells:
+        raise CalibrationError(_not_found(0, expected, "no cells enclosed by lines"))
+    xs = crossings_of(cells)
+    keys = np.array(list(xs))
+    shape = keys.max(axis=0) - keys.min(axis=0) + 1  # (cols, rows)
+    # Grow towards the pattern's size, in the orientation that the core fits.
+    if shape[0] <= expected[0] and shape[1] <= expected[1]:
+        limits = expected if (shape[0] > expected[1] or shape[1] > expected[0]) else (max(expected),) * 2
+    else:
+        limits = (expected[1], expected[0])
+    xs = grow_lattice(response, xs, limits)
+    keys = np.array(list(xs))
+    lo = keys.min(axis=0)
+    shape = keys.max(axis=0) - lo + 1
+    if sorted(shape.tolist()) != sorted(expected):
+        raise CalibrationError(
+            _not_found(
+                len(xs), expected, f"the lines found form a grid of {shape[0]} x {shape[1]} crossings"
+            )
+        )
+    lattice = np.full((shape[1], shape[0], 2), np.nan)
+    for (ci, cj), p in xs.items():
+        lattice[cj - lo[1], ci - lo[0]] = p
+    return lattice, "line grid (cells, line centres)"
+
+
+def _not_found(found: int, expected: Tuple[int, int], detail: str) -> str:
+    return (
+        f"grid of {expected[0]} x {expected[1]} lines not found ({detail}; {found} of "
+        f"{expected[0] * expected[1]} crossings): check `lines` in the pattern file, that every "
+        f"line is in the image and darker than the floor around it, and that the image is in "
+        f"focus and evenly lit"
+    )
