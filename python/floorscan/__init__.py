@@ -61,4 +61,18 @@ __all__ = [
     "read_scans_csv",
     "write_scans_csv",
     "WorldError",
+    "calibrate",
+    "CalibrationReport",
+    "Pattern",
 ]
+
+# Calibration needs OpenCV, which takes a second to import: loaded on first use.
+_CALIBRATION_NAMES = {"calibrate", "CalibrationReport", "Pattern"}
+
+
+def __getattr__(name: str):
+    if name in _CALIBRATION_NAMES:
+        from . import calibration
+
+        return getattr(calibration, name)
+    raise AttributeError(f"module 'floorscan' has no attribute {name!r}")

@@ -12,7 +12,7 @@ from .._atomic import PathLike
 from ..errors import CalibrationError
 from ..ground_table import GroundTable
 from .detect import Detection, detect, to_uint8
-from .fit import Fit, fit_best, fit_spec
+from .fit import Fit, fit_robust, fit_spec
 from .options import CalibrationOptions
 from .pattern import Pattern
 from .region import convex_hull, field_of_view, model_nodes, near_region, node_grid
@@ -63,9 +63,9 @@ def calibrate(
     grey = to_uint8(image)
     h, w = grey.shape
     det = detect(grey, pattern)
-    best, fits = fit_best(det.image_points, det.ground_points, (w, h))
+    best, fits, used = fit_robust(det.image_points, det.ground_points, (w, h))
     chirality = _check_chirality(best, det)
-    margin = pattern.step_m if opts.margin_m is None else float(opts.margin_m)
+    margin = pattern.extent_m if opts.margin_m is None else float(opts.margin_m)
     u, v = node_grid((w, h), opts.spacing_px)
     x, y = model_nodes(
         best.model, u, v, image_size=(w, h), chirality=chirality, max_range_m=opts.max_range_m
@@ -83,9 +83,10 @@ def calibrate(
     mx, my = best.model.ground(det.image_points[:, 0], det.image_points[:, 1])
     interpolation = np.column_stack([np.nan_to_num(tx - mx), np.nan_to_num(ty - my)])
     if opts.leave_one_out:
-        loo, loo_kind = _refit_loo(best, det, (w, h), interpolation), "refit"
+        loo, loo_kind = _refit_loo(best, det, used, (w, h), interpolation), "refit"
     else:
-        loo = best.loo_px * _metres_per_px(best, det)
+        loo = residual.copy()
+        loo[used] = best.loo_px * _metres_per_px(best, det)[used]
         loo_kind = "linearised"
     report = CalibrationReport(
         pattern=pattern,
@@ -97,6 +98,7 @@ def calibrate(
         indices=det.indices,
         residual_m=residual,
         loo_m=loo,
+        used=used,
         model=best.model,
         model_name=best.spec.name,
         candidates=[(f.spec.name, _rms(f.loo_px)) for f in fits],
@@ -105,6 +107,10 @@ def calibrate(
         extrapolate=opts.extrapolate,
         margin_m=margin,
         loo_kind=loo_kind,
+        notes=[
+            f"point (i={i}, j={j}) left out of the fit as an outlier"
+            for i, j in det.indices[~used]
+        ],
     )
     meta = dict(table.metadata)
     meta["source"] = "floorscan calibrate"
@@ -138,14 +144,19 @@ def _metres_per_px(fit: Fit, det: Detection) -> np.ndarray:
 
 
 def _refit_loo(
-    best: Fit, det: Detection, image_size: Tuple[int, int], offset: np.ndarray
+    best: Fit, det: Detection, used: np.ndarray, image_size: Tuple[int, int], offset: np.ndarray
 ) -> np.ndarray:
     """Ground error [m] at each point of the model refitted without it (plus ``offset``
-    (M, 2) [m], the table's interpolation error there)."""
+    (M, 2) [m], the table's interpolation error there); points left out of the fit as
+    outliers get the fitted model's error."""
     uv, g = det.image_points, det.ground_points
     out = np.empty(len(uv))
     for i in range(len(uv)):
-        keep = np.arange(len(uv)) != i
+        if not used[i]:
+            x, y = best.model.ground(uv[i, 0], uv[i, 1])
+            out[i] = float(np.hypot(x + offset[i, 0] - g[i, 0], y + offset[i, 1] - g[i, 1]))
+            continue
+        keep = used & (np.arange(len(uv)) != i)
         f = fit_spec(
             uv[keep], g[keep], image_size, best.spec, best.model,
             max_iterations=20, rounds=1, with_loo=False,

@@ -21,6 +21,9 @@ from ..errors import CalibrationError
 from ..image_io import as_grey
 from .pattern import Pattern, PatternKind
 
+MIN_AXIS_AGREEMENT = 0.3
+"""Least mean cosine between a detected lattice axis and its expected image direction (the
+pattern's axes may turn by up to about 70 degrees in the image before the match is refused)."""
 MIN_CONTRAST = 24
 """Least spread of grey levels (1st to 99th percentile, 8-bit) worth searching for a pattern."""
 
@@ -74,11 +77,10 @@ def detect(image: np.ndarray, pattern: Pattern) -> Detection:
     check_exposure(grey)
     if pattern.kind is PatternKind.CHECKERBOARD:
         lattice, method = find_checkerboard(grey, pattern.counts)
-    else:
-        from .lines import find_line_crossings
+        return label_lattice(lattice, pattern, method)
+    from .lines import find_line_crossings
 
-        lattice, method = find_line_crossings(grey, pattern)
-    return label_lattice(lattice, pattern, method)
+    return find_line_crossings(grey, pattern)
 
 
 # --- checkerboards ----------------------------------------------------------------------
@@ -92,18 +94,51 @@ def find_checkerboard(grey: np.ndarray, counts: Tuple[int, int]) -> Tuple[np.nda
         )
     size = (int(counts[0]), int(counts[1]))
     norm = cv2.CALIB_CB_NORMALIZE_IMAGE
+    lattice, method = None, ""
     for flags in (norm, norm | cv2.CALIB_CB_EXHAUSTIVE):
         ok, corners = cv2.findChessboardCornersSB(grey, size, flags=flags)
         if ok:
             lattice = corners.reshape(size[1], size[0], 2).astype(np.float64)
-            return refine_corners(grey, lattice), "findChessboardCornersSB + cornerSubPix"
-    ok, corners = cv2.findChessboardCorners(
-        grey, size, flags=cv2.CALIB_CB_ADAPTIVE_THRESH | norm | cv2.CALIB_CB_FILTER_QUADS
-    )
-    if ok:
+            method = "findChessboardCornersSB + cornerSubPix"
+            break
+    if lattice is None:
+        ok, corners = cv2.findChessboardCorners(
+            grey, size, flags=cv2.CALIB_CB_ADAPTIVE_THRESH | norm | cv2.CALIB_CB_FILTER_QUADS
+        )
+        if not ok:
+            raise CalibrationError(_not_found_message(grey, size))
         lattice = corners.reshape(size[1], size[0], 2).astype(np.float64)
-        return refine_corners(grey, lattice), "findChessboardCorners + cornerSubPix"
-    raise CalibrationError(_not_found_message(grey, size))
+        method = "findChessboardCorners + cornerSubPix"
+    board = _largest_board(grey)
+    if board is not None and board[0] * board[1] > size[0] * size[1]:
+        raise CalibrationError(
+            f"the image shows a checkerboard of {board[0]} x {board[1]} inner corners, the "
+            f"pattern file says {size[0]} x {size[1]}: check `inner_corners` (inner corners, one "
+            f"fewer than squares each way)"
+        )
+    return refine_corners(grey, lattice), method
+
+
+def _largest_board(grey: np.ndarray) -> Optional[Tuple[int, int]]:
+    """(columns, rows) of inner corners of the largest board OpenCV finds, None if none."""
+    try:
+        ok, corners, meta = cv2.findChessboardCornersSBWithMeta(
+            grey, (3, 3), flags=cv2.CALIB_CB_NORMALIZE_IMAGE | cv2.CALIB_CB_LARGER
+        )
+    except cv2.error:  # pragma: no cover - OpenCV without the LARGER flag
+        return None
+    if not ok or corners is None or meta is None:
+        return None
+    n = len(corners.reshape(-1, 2))
+    rows = int(np.count_nonzero(np.any(meta > 0, axis=1)))
+    cols = int(np.count_nonzero(np.any(meta > 0, axis=0)))
+    # The meta grid counts squares around the corners; report the corners' own grid.
+    if rows * cols == n:
+        return cols, rows
+    for c in range(1, n + 1):
+        if n % c == 0 and abs(c - cols) <= 1 and abs(n // c - rows) <= 1:
+            return c, n // c
+    return None
 
 
 def local_spacing(lattice: np.ndarray) -> np.ndarray:
@@ -148,24 +183,15 @@ def refine_corners(
 
 
 def _not_found_message(grey: np.ndarray, size: Tuple[int, int]) -> str:
-    found, board = 0, None
-    try:
-        ok, corners, _meta = cv2.findChessboardCornersSBWithMeta(
-            grey, (3, 3), flags=cv2.CALIB_CB_NORMALIZE_IMAGE | cv2.CALIB_CB_LARGER
-        )
-        if ok and corners is not None:
-            found = len(corners.reshape(-1, 2))
-            if _meta is not None:
-                board = (_meta.shape[1], _meta.shape[0])
-    except cv2.error:  # pragma: no cover - older OpenCV without the SB detector's LARGER flag
-        pass
-    what = f"found a board of {board[0]} x {board[1]} inner corners ({found} corners)" if (
-        board and found == board[0] * board[1]
-    ) else f"found {found} corners of a board"
+    board = _largest_board(grey)
+    if board is None:
+        what = "no checkerboard corners found"
+    else:
+        what = f"found a board of {board[0]} x {board[1]} inner corners"
     return (
-        f"checkerboard of {size[0]} x {size[1]} inner corners not found ({what}, expected "
-        f"{size[0] * size[1]}): check `inner_corners` in the pattern file (inner corners, one "
-        f"fewer than squares each way), that the whole board with a light border is in the "
+        f"checkerboard of {size[0]} x {size[1]} inner corners not found ({what}; expected "
+        f"{size[0] * size[1]} corners): check `inner_corners` in the pattern file (inner corners, "
+        f"one fewer than squares each way), that the whole board with a light border is in the "
         f"image, and that the image is in focus and evenly lit"
     )
 
@@ -188,27 +214,38 @@ def _mean_direction(a: np.ndarray, axis: int) -> np.ndarray:
     return np.mean(d / np.maximum(n, 1e-12), axis=0)
 
 
-def lattice_orientations(lattice: np.ndarray, counts: Tuple[int, int]) -> List[np.ndarray]:
+def lattice_orientations(
+    lattice: np.ndarray, counts: Tuple[int, int], *, partial_away: bool = False
+) -> List[np.ndarray]:
     """Every flip / rotation of ``lattice`` ((rows, cols, 2)) with the pattern's shape
-    (counts[1] rows away, counts[0] columns across)."""
+    (counts[1] rows away, counts[0] columns across). With ``partial_away``, also those with
+    every column but fewer rows, padded with NaN rows on the far side."""
     out = []
     for t in (False, True):
         a = lattice.transpose(1, 0, 2) if t else lattice
-        if a.shape[:2] != (counts[1], counts[0]):
+        rows, cols = a.shape[:2]
+        if cols != counts[0] or not (rows == counts[1] or (partial_away and rows < counts[1])):
             continue
         for fr in (False, True):
             for fc in (False, True):
                 b = a[::-1] if fr else a
                 b = b[:, ::-1] if fc else b
+                if rows < counts[1]:
+                    pad = np.full((counts[1] - rows, cols, 2), np.nan)
+                    b = np.concatenate([b, pad], axis=0)
                 out.append(np.ascontiguousarray(b))
     return out
 
 
-def label_lattice(lattice: np.ndarray, pattern: Pattern, method: str) -> Detection:
+def label_lattice(
+    lattice: np.ndarray, pattern: Pattern, method: str, *, partial_away: bool = False
+) -> Detection:
     """Chooses the flip / rotation of a detected lattice (rows, cols, 2; NaN where a point is
     missing) whose axes best agree with the pattern's expected image directions, and pairs
-    its points with their ground positions."""
-    candidates = lattice_orientations(lattice, pattern.counts)
+    its points with their ground positions. ``partial_away`` accepts a lattice missing rows,
+    taken as the farthest ones (the caller has checked that the nearest row is the
+    pattern's)."""
+    candidates = lattice_orientations(lattice, pattern.counts, partial_away=partial_away)
     if not candidates:
         raise CalibrationError(
             f"found a grid of {lattice.shape[1]} x {lattice.shape[0]} points, but the pattern "
@@ -220,6 +257,15 @@ def label_lattice(lattice: np.ndarray, pattern: Pattern, method: str) -> Detecti
         return float(_mean_direction(a, 1) @ across + _mean_direction(a, 0) @ away)
 
     best = max(candidates, key=score)
+    along_across = float(_mean_direction(best, 1) @ across)
+    along_away = float(_mean_direction(best, 0) @ away)
+    if min(along_across, along_away) < MIN_AXIS_AGREEMENT:
+        raise CalibrationError(
+            f"the grid of points found does not run as the pattern file says: its "
+            f"{pattern.counts[0]}-point rows should run left to right in the image and its "
+            f"{pattern.counts[1]}-point columns away from the camera (turned by `yaw` = "
+            f"{pattern.yaw:g} rad); check the order of the counts and `yaw`"
+        )
     j, i = np.mgrid[0 : pattern.counts[1], 0 : pattern.counts[0]]
     pts = best.reshape(-1, 2)
     keep = np.all(np.isfinite(pts), axis=1)

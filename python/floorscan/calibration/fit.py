@@ -332,3 +332,24 @@ def fit_best(
     least = min(loo_rms(f) for f in fits)
     best = next(f for f in fits if loo_rms(f) <= 1.02 * least)
     return best, fits
+
+
+OUTLIER_PX = 1.0
+"""Residuals below this [px] are never outliers (detector noise on real images)."""
+
+
+def fit_robust(
+    uv: np.ndarray, ground: np.ndarray, image_size: Tuple[int, int]
+) -> Tuple[Fit, List[Fit], np.ndarray]:
+    """:func:`fit_best`, then once more without the points whose residual exceeds both
+    ``OUTLIER_PX`` and five robust standard deviations (a corner the detector misplaced), if
+    they are at most a tenth of the points. Returns (best, all fits, used-point mask)."""
+    best, fits = fit_best(uv, ground, image_size)
+    r = np.hypot(best.residual_px[:, 0], best.residual_px[:, 1])
+    scale = 1.4826 * float(np.median(r))
+    bad = r > max(OUTLIER_PX, 5 * scale)
+    used = np.ones(len(uv), bool)
+    if np.any(bad) and bad.sum() <= max(1, len(uv) // 10):
+        used = ~bad
+        best, fits = fit_best(uv[used], ground[used], image_size)
+    return best, fits, used

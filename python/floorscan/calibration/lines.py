@@ -25,6 +25,7 @@ import cv2
 import numpy as np
 
 from ..errors import CalibrationError
+from .detect import Detection
 from .pattern import Pattern
 
 # Lattice directions faced by a cell's four edges, in rotational order.
@@ -384,9 +385,17 @@ def grow_lattice(
     return xs
 
 
-def find_line_crossings(grey: np.ndarray, pattern: Pattern) -> Tuple[np.ndarray, str]:
-    """Crossings of the pattern's line grid: a (rows, cols, 2) lattice [px] in an arbitrary
-    orientation, NaN where a crossing was not found."""
+MIN_ROWS = 3
+"""Fewest rows of crossings (counted away from the camera) accepted when far rows are lost."""
+
+
+def find_line_crossings(grey: np.ndarray, pattern: Pattern) -> Detection:
+    """Finds the crossings of the pattern's line grid and matches them to the pattern. The
+    farthest rows may be missing (lines too fine to resolve in the distance) if every line
+    running away was found, at least ``MIN_ROWS`` rows were, and the nearest row found is
+    the pattern's nearest: one step nearer, inside the image, no line crosses."""
+    from .detect import label_lattice
+
     response = line_response(grey)
     found = find_cells(response.mask)
     cells = label_cells(found, match_edges(found)) if found else []
@@ -402,19 +411,60 @@ def find_line_crossings(grey: np.ndarray, pattern: Pattern) -> Tuple[np.ndarray,
     else:
         limits = (expected[1], expected[0])
     xs = grow_lattice(response, xs, limits)
+    if not xs:
+        raise CalibrationError(_not_found(0, expected, "no line crossings confirmed"))
     keys = np.array(list(xs))
     lo = keys.min(axis=0)
     shape = keys.max(axis=0) - lo + 1
-    if sorted(shape.tolist()) != sorted(expected):
-        raise CalibrationError(
-            _not_found(
-                len(xs), expected, f"the lines found form a grid of {shape[0]} x {shape[1]} crossings"
-            )
-        )
     lattice = np.full((shape[1], shape[0], 2), np.nan)
     for (ci, cj), p in xs.items():
         lattice[cj - lo[1], ci - lo[0]] = p
-    return lattice, "line grid (cells, line centres)"
+    method = "line grid (cells, line centres)"
+    if sorted(shape.tolist()) == sorted(expected):
+        return label_lattice(lattice, pattern, method)
+    detail = f"the lines found form a grid of {shape[0]} x {shape[1]} crossings"
+    if expected[0] not in shape.tolist() or min(shape) < MIN_ROWS and max(shape) == expected[0]:
+        raise CalibrationError(_not_found(len(xs), expected, detail))
+    try:
+        det = label_lattice(lattice, pattern, method, partial_away=True)
+    except CalibrationError:
+        raise CalibrationError(_not_found(len(xs), expected, detail)) from None
+    rows = int(det.indices[:, 1].max()) + 1
+    if rows < MIN_ROWS or not _nearest_row_is_first(response, det):
+        raise CalibrationError(
+            _not_found(
+                len(xs),
+                expected,
+                detail + ", and the nearest row cannot be told apart from a missing one",
+            )
+        )
+    return Detection(
+        det.image_points,
+        det.ground_points,
+        det.indices,
+        f"{method}; {rows} of {expected[1]} rows (the farthest too fine to resolve)",
+    )
+
+
+def _nearest_row_is_first(response: LineResponse, det: Detection) -> bool:
+    """True if, one step nearer than the nearest row found, most predicted crossings are
+    inside the image and none of them shows two lines crossing."""
+    pts = {tuple(k): p for k, p in zip(det.indices.tolist(), det.image_points)}
+    h, w = response.hat.shape
+    inside = crossing = total = 0
+    for (i, j), p0 in pts.items():
+        if j != 0 or (i, 1) not in pts:
+            continue
+        total += 1
+        p1 = pts[(i, 1)]
+        q = 3 * p0 - 3 * p1 + pts[(i, 2)] if (i, 2) in pts else 2 * p0 - p1
+        side = next((pts[s] - p0 for s in ((i + 1, 0), (i - 1, 0)) if s in pts), None)
+        if side is None or not (3 <= q[0] < w - 3 and 3 <= q[1] < h - 3):
+            continue
+        inside += 1
+        if crossing_strength(response.hat, q, p0 - q, side) >= 2 * response.low:
+            crossing += 1
+    return total > 0 and inside >= max(2, (total + 1) // 2) and crossing == 0
 
 
 def _not_found(found: int, expected: Tuple[int, int], detail: str) -> str:

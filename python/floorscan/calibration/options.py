@@ -19,8 +19,9 @@ class CalibrationOptions:
       below the horizon, where the model is valid and within ``max_range_m``). Default False:
       the table says "no ground" outside the calibrated region, as the paper does.
     - ``margin_m``: [m] how far beyond the detected points' outline the table still claims
-      ground without extrapolating, in [0, 10]. Default None: one pattern step (a square or the
-      line spacing).
+      ground without extrapolating, in [0, 10]. Default None: as far as the pattern itself
+      reaches (one square beyond a checkerboard's inner corners, half a spacing beyond the
+      outermost crossings of a line grid).
     - ``max_range_m``: [m] no ground beyond this distance from the camera, in (0, 1000].
       Default 10.
     - ``leave_one_out``: refit without each point in turn to report its prediction error

@@ -5,7 +5,7 @@ off the real one."""
 
 from __future__ import annotations
 
-from typing import Optional
+from typing import TYPE_CHECKING, Optional, Union
 
 import cv2
 import numpy as np
@@ -13,6 +13,9 @@ import numpy as np
 from ..ground_table import GroundTable
 from .detect import to_uint8
 from .pattern import Pattern, PatternKind
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .report import CalibrationReport
 
 LINE_COLOUR = (40, 255, 40)  # the estimated pattern
 POINT_COLOUR = (255, 40, 40)  # the detected points
@@ -22,14 +25,20 @@ NO_GROUND_TINT = np.array([40, 60, 160], float)  # where the table has no ground
 def draw_calibration_overlay(
     image: np.ndarray,
     table: GroundTable,
-    pattern: Pattern,
+    pattern: Union[Pattern, "CalibrationReport"],
     *,
     points: Optional[np.ndarray] = None,
     thickness_px: int = 1,
 ) -> np.ndarray:
-    """An RGB (H, W, 3) uint8 picture: ``image`` with the estimated ``pattern`` (its lines,
-    computed from ``table``) in green, ``points`` ((M, 2) [px], e.g. the detected corners) as
-    red circles, and the pixels where the table has no ground tinted blue."""
+    """An RGB (H, W, 3) uint8 picture: ``image`` with the estimated pattern (its lines,
+    computed from ``table``) in green, ``points`` ((M, 2) [px]; by default the detected points
+    when ``pattern`` is a :class:`CalibrationReport`) as red circles, and the pixels where the
+    table has no ground tinted blue. ``pattern``: a :class:`Pattern`, or the report of the
+    calibration that made ``table``."""
+    if not isinstance(pattern, Pattern):
+        if points is None:
+            points = pattern.image_points
+        pattern = pattern.pattern
     grey = to_uint8(image)
     h, w = grey.shape
     if (w, h) != (table.image_width, table.image_height):

@@ -208,6 +208,12 @@ class Pattern:
     def point_count(self) -> int:
         return self.counts[0] * self.counts[1]
 
+    @property
+    def extent_m(self) -> float:
+        """How far the pattern reaches beyond its outermost points [m]: a checkerboard's
+        outer squares (one square), a line grid's overhang (half a spacing)."""
+        return self.step_m if self.kind is PatternKind.CHECKERBOARD else 0.5 * self.step_m
+
     def axes(self) -> Tuple[np.ndarray, np.ndarray]:
         """(across, away) unit vectors in the ground frame."""
         s, c = math.sin(self.yaw), math.cos(self.yaw)

@@ -41,8 +41,10 @@ class CalibrationReport:
     - ``indices``: (M, 2) its pattern coordinates (i across, j away).
     - ``residual_m``: (M,) [m] distance between the table's ground point at ``image_points``
       (model plus bilinear interpolation) and ``ground_points``; NaN where the table has none.
-    - ``loo_m``: (M,) [m] leave-one-out error: the model fitted without the point, evaluated
-      at it.
+    - ``loo_m``: (M,) [m] leave-one-out error: the table's error at the point when fitted
+      without it (the model refitted without it, plus the table's interpolation error there).
+    - ``used``: (M,) bool, False for points left out of the fit as outliers (a misplaced
+      detection); the summary figures cover the used points.
 
     And: ``points_expected`` (the pattern's count), ``method`` (the detector), ``model`` (the
     fitted :class:`RadialPlaneModel`), ``model_name`` (its form, e.g. ``radial2+centre``),
@@ -60,6 +62,7 @@ class CalibrationReport:
     indices: np.ndarray
     residual_m: np.ndarray
     loo_m: np.ndarray
+    used: np.ndarray
     model: RadialPlaneModel
     model_name: str
     candidates: List[Tuple[str, float]]
@@ -76,26 +79,36 @@ class CalibrationReport:
         return len(self.image_points)
 
     @property
+    def points_used(self) -> int:
+        return int(np.sum(self.used))
+
+    @property
     def residual_rms_cm(self) -> float:
-        return 100 * _rms(self.residual_m)
+        return 100 * _rms(self.residual_m[self.used])
 
     @property
     def residual_max_cm(self) -> float:
-        return 100 * _max(self.residual_m)
+        return 100 * _max(self.residual_m[self.used])
 
     @property
     def loo_rms_cm(self) -> float:
-        return 100 * _rms(self.loo_m)
+        return 100 * _rms(self.loo_m[self.used])
 
     @property
     def loo_max_cm(self) -> float:
-        return 100 * _max(self.loo_m)
+        return 100 * _max(self.loo_m[self.used])
 
     def summary(self) -> str:
         """One line: points, residual and leave-one-out errors, ground range, model."""
         near, far = self.field_of_view.range_m
         return (
-            f"{self.points_found}/{self.points_expected} points ({self.method}); "
+            f"{self.points_found}/{self.points_expected} points ({self.method})"
+            + (
+                f", {self.points_found - self.points_used} left out as outliers"
+                if self.points_used < self.points_found
+                else ""
+            )
+            + "; "
             f"residual RMS {self.residual_rms_cm:.2f} cm, max {self.residual_max_cm:.2f} cm; "
             f"leave-one-out RMS {self.loo_rms_cm:.2f} cm, max {self.loo_max_cm:.2f} cm; "
             f"ground {near:.2f}..{far:.2f} m"
@@ -111,6 +124,7 @@ class CalibrationReport:
             "method": self.method,
             "points_found": self.points_found,
             "points_expected": self.points_expected,
+            "points_used": self.points_used,
             "residual_rms_cm": _json_number(self.residual_rms_cm),
             "residual_max_cm": _json_number(self.residual_max_cm),
             "loo_rms_cm": _json_number(self.loo_rms_cm),
@@ -123,7 +137,7 @@ class CalibrationReport:
             "field_of_view": self.field_of_view.to_dict(),
         }
 
-    def to_dict(self) -> Dict[str, Any]:
+    def as_dict(self) -> Dict[str, Any]:
         """Everything, JSON-ready (NaN as null)."""
 
         num = _json_number
@@ -142,16 +156,22 @@ class CalibrationReport:
                 "y_m": num(y),
                 "residual_cm": num(100 * r),
                 "loo_cm": num(100 * e),
+                "used": bool(ok),
             }
-            for (i, j), (u, v), (x, y), r, e in zip(
-                self.indices, self.image_points, self.ground_points, self.residual_m, self.loo_m
+            for (i, j), (u, v), (x, y), r, e, ok in zip(
+                self.indices,
+                self.image_points,
+                self.ground_points,
+                self.residual_m,
+                self.loo_m,
+                self.used,
             )
         ]
         return d
 
     def save(self, path: PathLike) -> Path:
-        """Writes :meth:`to_dict` as JSON, atomically."""
-        return write_atomic(path, json.dumps(self.to_dict(), indent=1) + "\n")
+        """Writes :meth:`as_dict` as JSON, atomically."""
+        return write_atomic(path, json.dumps(self.as_dict(), indent=1) + "\n")
 
     def __repr__(self) -> str:
         return f"CalibrationReport({self.summary()})"

@@ -7,6 +7,7 @@ COMMAND_MODULES = [
     "floorscan.commands.config",
     "floorscan.commands.run",
     "floorscan.commands.map_log",
+    "floorscan.commands.calibrate",
     "floorscan.commands.sim",
     "floorscan.commands.eval",
     "floorscan.commands.tune",
