@@ -116,7 +116,9 @@ def test_line_grid_too_fine_in_the_distance_keeps_its_near_rows(wide320):
         Pattern.checkerboard(inner_corners=(7, 5), square=0.08, near_left=(0.32, 0.42), yaw=0.35),
         Pattern.checkerboard(inner_corners=(6, 6), square=0.08, near_left=(0.30, -0.05), yaw=-0.3),
         Pattern.lines(lines=(5, 5), spacing=0.15, near_left=(0.25, 0.55), yaw=0.3),
-        Pattern.lines(lines=(6, 4), spacing=0.12, near_left=(0.22, -0.05), yaw=-0.4, line_width=0.015),
+        Pattern.lines(
+            lines=(6, 4), spacing=0.12, near_left=(0.22, -0.05), yaw=-0.4, line_width=0.015
+        ),
     ],
     ids=["board-turned-left", "square-board-right", "lines-turned", "lines-right"],
 )
@@ -139,10 +141,7 @@ def test_no_ground_outside_the_margin_around_the_pattern(checkerboard320):
     # Distance of each valid node's ground point from the pattern's outline of points.
     hull = cv2.convexHull(report.ground_points.astype(np.float32)).reshape(-1, 2)
     d = np.array(
-        [
-            -cv2.pointPolygonTest(hull, (float(a), float(b)), True)
-            for a, b in zip(x[ok], y[ok])
-        ]
+        [-cv2.pointPolygonTest(hull, (float(a), float(b)), True) for a, b in zip(x[ok], y[ok])]
     )
     # Within the margin (one square), or next to a node that is: the table keeps one node
     # around its region so that every pixel inside it interpolates. So the bound is the
@@ -181,7 +180,7 @@ def test_field_of_view_agrees_with_the_table(checkerboard320):
     _image, _pattern, table, report = checkerboard320
     fov = report.field_of_view
     x, y = table.nodes
-    for i, u in enumerate(fov.columns_px):
+    for i in range(len(fov.columns_px)):
         r = np.hypot(x[:, i], y[:, i])
         r = r[np.isfinite(r)]
         if r.size == 0:

@@ -41,23 +41,56 @@ def test_round_trip_and_geometry(tmp_path):
 @pytest.mark.parametrize(
     "text, field",
     [
-        ('inner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0.4, 0.4]', "kind"),
+        ("inner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0.4, 0.4]", "kind"),
         ('kind = "dots"\nnear_left = [0.4, 0.4]', "kind"),
         ('kind = "checkerboard"\nsquare = 0.1\nnear_left = [0.4, 0.4]', "inner_corners"),
         ('kind = "checkerboard"\ninner_corners = [9, 7]\nnear_left = [0.4, 0.4]', "square"),
         ('kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = 0.1', "near_left"),
-        ('kind = "checkerboard"\ninner_corners = [9.5, 7]\nsquare = 0.1\nnear_left = [0, 0]', "inner_corners"),
-        ('kind = "checkerboard"\ninner_corners = [9, 7, 3]\nsquare = 0.1\nnear_left = [0, 0]', "inner_corners"),
-        ('kind = "checkerboard"\ninner_corners = [1, 7]\nsquare = 0.1\nnear_left = [0, 0]', "inner_corners"),
-        ('kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = "10cm"\nnear_left = [0, 0]', "square"),
-        ('kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = -0.1\nnear_left = [0, 0]', "square"),
-        ('kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0, "a"]', "near_left"),
-        ('kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0, 0]\nyaw = true', "yaw"),
-        ('kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0, 0]\nspacing = 0.2', "spacing"),
-        ('kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0, 0]\ncolour = 1', "colour"),
+        (
+            'kind = "checkerboard"\ninner_corners = [9.5, 7]\nsquare = 0.1\nnear_left = [0, 0]',
+            "inner_corners",
+        ),
+        (
+            'kind = "checkerboard"\ninner_corners = [9, 7, 3]\nsquare = 0.1\nnear_left = [0, 0]',
+            "inner_corners",
+        ),
+        (
+            'kind = "checkerboard"\ninner_corners = [1, 7]\nsquare = 0.1\nnear_left = [0, 0]',
+            "inner_corners",
+        ),
+        (
+            'kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = "10cm"\nnear_left = [0, 0]',
+            "square",
+        ),
+        (
+            'kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = -0.1\nnear_left = [0, 0]',
+            "square",
+        ),
+        (
+            'kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0, "a"]',
+            "near_left",
+        ),
+        (
+            'kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0, 0]\nyaw = true',
+            "yaw",
+        ),
+        (
+            'kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0, 0]\nspacing = 0.2',
+            "spacing",
+        ),
+        (
+            'kind = "checkerboard"\ninner_corners = [9, 7]\nsquare = 0.1\nnear_left = [0, 0]\ncolour = 1',
+            "colour",
+        ),
         ('kind = "lines"\nlines = [7, 9]\nnear_left = [0, 0]', "spacing"),
-        ('kind = "lines"\nspacing = 0.2\nlines = [7, 9]\nnear_left = [0, 0]\nline_width = 0.5', "line_width"),
-        ('kind = "lines"\nspacing = 0.2\nlines = [7, 9]\nnear_left = [0, 0]\nsquare = 0.1', "square"),
+        (
+            'kind = "lines"\nspacing = 0.2\nlines = [7, 9]\nnear_left = [0, 0]\nline_width = 0.5',
+            "line_width",
+        ),
+        (
+            'kind = "lines"\nspacing = 0.2\nlines = [7, 9]\nnear_left = [0, 0]\nsquare = 0.1',
+            "square",
+        ),
     ],
 )
 def test_bad_fields_are_config_errors_naming_the_field(text, field):

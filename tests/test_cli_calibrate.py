@@ -48,7 +48,16 @@ def test_calibrate_writes_table_overlay_and_report(scene, tmp_path, capsys):
 def test_calibrate_errors_are_reported_not_raised(scene, tmp_path, capsys):
     bad = tmp_path / "bad.toml"
     bad.write_text('kind = "checkerboard"\ninner_corners = [9, 7]\nnear_left = [0.2, 0.4]\n')
-    code = main(["calibrate", str(scene / "pattern.png"), "--pattern", str(bad), "-o", str(tmp_path / "t.json")])
+    code = main(
+        [
+            "calibrate",
+            str(scene / "pattern.png"),
+            "--pattern",
+            str(bad),
+            "-o",
+            str(tmp_path / "t.json"),
+        ]
+    )
     assert code == 1
     assert "missing key `square`" in capsys.readouterr().err
     code = main(["calibrate", str(tmp_path / "none.png"), "-o", str(tmp_path / "t.json")])

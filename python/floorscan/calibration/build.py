@@ -4,7 +4,8 @@ it can be trusted, and measure the result."""
 
 from __future__ import annotations
 
-from typing import Optional, Tuple, Union
+import time
+from typing import Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -60,11 +61,14 @@ def calibrate(
         leave_one_out=leave_one_out,
     )
     pattern = Pattern.resolve(pattern)
+    clock = _Clock()
     grey = to_uint8(image)
     h, w = grey.shape
     det = detect(grey, pattern)
+    clock.lap("detect")
     best, fits, used = fit_robust(det.image_points, det.ground_points, (w, h))
     chirality = _check_chirality(best, det)
+    clock.lap("fit")
     margin = pattern.extent_m if opts.margin_m is None else float(opts.margin_m)
     u, v = node_grid((w, h), opts.spacing_px)
     x, y = model_nodes(
@@ -73,9 +77,8 @@ def calibrate(
     if not opts.extrapolate:
         keep = near_region(x, y, convex_hull(det.ground_points), margin)
         x, y = np.where(keep, x, np.nan), np.where(keep, y, np.nan)
-    table = GroundTable.from_arrays(
-        x, y, image_width=w, image_height=h, spacing_px=opts.spacing_px
-    )
+    table = GroundTable.from_arrays(x, y, image_width=w, image_height=h, spacing_px=opts.spacing_px)
+    clock.lap("table")
     tx, ty = table.lookup(det.image_points[:, 0], det.image_points[:, 1])
     residual = np.hypot(tx - det.ground_points[:, 0], ty - det.ground_points[:, 1])
     # The table's own interpolation error at each point, added to the leave-one-out
@@ -88,6 +91,9 @@ def calibrate(
         loo = residual.copy()
         loo[used] = best.loo_px * _metres_per_px(best, det)[used]
         loo_kind = "linearised"
+    clock.lap("leave_one_out")
+    fov = field_of_view(table)
+    clock.lap("report")
     report = CalibrationReport(
         pattern=pattern,
         method=det.method,
@@ -102,20 +108,33 @@ def calibrate(
         model=best.model,
         model_name=best.spec.name,
         candidates=[(f.spec.name, _rms(f.loo_px)) for f in fits],
-        field_of_view=field_of_view(table),
+        field_of_view=fov,
         spacing_px=opts.spacing_px,
         extrapolate=opts.extrapolate,
         margin_m=margin,
         loo_kind=loo_kind,
+        timings_s=clock.laps,
         notes=[
-            f"point (i={i}, j={j}) left out of the fit as an outlier"
-            for i, j in det.indices[~used]
+            f"point (i={i}, j={j}) left out of the fit as an outlier" for i, j in det.indices[~used]
         ],
     )
     meta = dict(table.metadata)
     meta["source"] = "floorscan calibrate"
     meta["calibration"] = report.metadata()
     return table.with_metadata(meta), report
+
+
+class _Clock:
+    """Seconds spent in each stage (``laps``), for the report and the benchmark."""
+
+    def __init__(self) -> None:
+        self.laps: Dict[str, float] = {}
+        self._t = time.perf_counter()
+
+    def lap(self, name: str) -> None:
+        now = time.perf_counter()
+        self.laps[name] = now - self._t
+        self._t = now
 
 
 def _rms(a: np.ndarray) -> float:
@@ -158,8 +177,14 @@ def _refit_loo(
             continue
         keep = used & (np.arange(len(uv)) != i)
         f = fit_spec(
-            uv[keep], g[keep], image_size, best.spec, best.model,
-            max_iterations=20, rounds=1, with_loo=False,
+            uv[keep],
+            g[keep],
+            image_size,
+            best.spec,
+            best.model,
+            max_iterations=20,
+            rounds=1,
+            with_loo=False,
         )
         x, y = f.model.ground(uv[i, 0], uv[i, 1])
         out[i] = float(np.hypot(x + offset[i, 0] - g[i, 0], y + offset[i, 1] - g[i, 1]))

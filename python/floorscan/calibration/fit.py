@@ -145,10 +145,16 @@ def _ground_and_jacobian(
     dg = np.stack(dg, axis=-1)  # (3, M, P)
     w = g[2]
     ground = np.column_stack([g[0] / w, g[1] / w])
-    jac = np.stack(
-        [(dg[0] * w[:, None] - g[0][:, None] * dg[2]), (dg[1] * w[:, None] - g[1][:, None] * dg[2])],
-        axis=1,
-    ) / (w * w)[:, None, None]
+    jac = (
+        np.stack(
+            [
+                (dg[0] * w[:, None] - g[0][:, None] * dg[2]),
+                (dg[1] * w[:, None] - g[1][:, None] * dg[2]),
+            ],
+            axis=1,
+        )
+        / (w * w)[:, None, None]
+    )
     return ground, jac
 
 

@@ -269,7 +269,6 @@ def _ridge_curve(
     reach = 0.4 * float(np.linalg.norm(other))
     if length < 3 or reach < 1.0:
         return None
-    unit = along / length
     across = other / np.linalg.norm(other)
     offsets = np.arange(-reach, reach + 1e-9, 0.25)
     ss, cs = [], []
@@ -339,9 +338,7 @@ def grow_lattice(
     hat = response.hat
     h, w = hat.shape
     strengths = [
-        crossing_strength(hat, xs[k], *axes)
-        for k in xs
-        if (axes := _axes_at(xs, k)) is not None
+        crossing_strength(hat, xs[k], *axes) for k in xs if (axes := _axes_at(xs, k)) is not None
     ]
     need = max(response.low, 0.2 * float(np.median(strengths))) if strengths else 2 * response.low
     xs = _refine_all(response, xs, need)
@@ -352,7 +349,7 @@ def grow_lattice(
         changed = False
         keys = np.array(list(xs))
         lo, hi = keys.min(axis=0), keys.max(axis=0)
-        for (i, j) in list(xs):
+        for i, j in list(xs):
             for d in ((1, 0), (-1, 0), (0, 1), (0, -1)):
                 new = (i + d[0], j + d[1])
                 back = (i - d[0], j - d[1])
@@ -407,7 +404,9 @@ def find_line_crossings(grey: np.ndarray, pattern: Pattern) -> Detection:
     shape = keys.max(axis=0) - keys.min(axis=0) + 1  # (cols, rows)
     # Grow towards the pattern's size, in the orientation that the core fits.
     if shape[0] <= expected[0] and shape[1] <= expected[1]:
-        limits = expected if (shape[0] > expected[1] or shape[1] > expected[0]) else (max(expected),) * 2
+        limits = (
+            expected if (shape[0] > expected[1] or shape[1] > expected[0]) else (max(expected),) * 2
+        )
     else:
         limits = (expected[1], expected[0])
     xs = grow_lattice(response, xs, limits)

@@ -37,15 +37,23 @@ class CalibrationOptions:
 
     def __post_init__(self) -> None:
         if isinstance(self.spacing_px, bool) or not isinstance(self.spacing_px, int):
-            raise OptionError(f"invalid option `spacing_px`: must be an integer, got {self.spacing_px!r}")
+            raise OptionError(
+                f"invalid option `spacing_px`: must be an integer, got {self.spacing_px!r}"
+            )
         if not 1 <= self.spacing_px <= 64:
-            raise OptionError(f"invalid option `spacing_px`: must be in 1..64, got {self.spacing_px}")
+            raise OptionError(
+                f"invalid option `spacing_px`: must be in 1..64, got {self.spacing_px}"
+            )
         if not isinstance(self.extrapolate, bool):
-            raise OptionError(f"invalid option `extrapolate`: must be true or false, got {self.extrapolate!r}")
+            raise OptionError(
+                f"invalid option `extrapolate`: must be true or false, got {self.extrapolate!r}"
+            )
         if self.margin_m is not None and not (
             isinstance(self.margin_m, (int, float)) and 0 <= self.margin_m <= 10
         ):
-            raise OptionError(f"invalid option `margin_m`: must be in [0, 10] m, got {self.margin_m!r}")
+            raise OptionError(
+                f"invalid option `margin_m`: must be in [0, 10] m, got {self.margin_m!r}"
+            )
         if not (
             isinstance(self.max_range_m, (int, float))
             and math.isfinite(self.max_range_m)

@@ -25,7 +25,7 @@ NO_GROUND_TINT = np.array([40, 60, 160], float)  # where the table has no ground
 def draw_calibration_overlay(
     image: np.ndarray,
     table: GroundTable,
-    pattern: Union[Pattern, "CalibrationReport"],
+    pattern: Union[Pattern, CalibrationReport],
     *,
     points: Optional[np.ndarray] = None,
     thickness_px: int = 1,
@@ -65,7 +65,9 @@ def draw_calibration_overlay(
     mask = _crossings(i, lo_i, hi_i, j, lo_j - pad, hi_j + pad)
     mask |= _crossings(j, lo_j, hi_j, i, lo_i - pad, hi_i + pad)
     if thickness_px > 1:
-        mask = cv2.dilate(mask.astype(np.uint8), np.ones((thickness_px, thickness_px), np.uint8)) > 0
+        mask = (
+            cv2.dilate(mask.astype(np.uint8), np.ones((thickness_px, thickness_px), np.uint8)) > 0
+        )
     rgb = np.repeat(grey[..., None], 3, axis=2).astype(np.float64)
     no_ground = ~np.isfinite(x)
     rgb[no_ground] = 0.6 * rgb[no_ground] + 0.4 * NO_GROUND_TINT
@@ -76,8 +78,13 @@ def draw_calibration_overlay(
         for pu, pv in np.asarray(points, float).reshape(-1, 2):
             if np.isfinite(pu) and np.isfinite(pv):
                 cv2.circle(
-                    out, (int(round(pu * 4)), int(round(pv * 4))), radius * 4, POINT_COLOUR, 1,
-                    cv2.LINE_AA, shift=2,
+                    out,
+                    (int(round(pu * 4)), int(round(pv * 4))),
+                    radius * 4,
+                    POINT_COLOUR,
+                    1,
+                    cv2.LINE_AA,
+                    shift=2,
                 )
     return out
 

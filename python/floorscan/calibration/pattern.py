@@ -91,7 +91,9 @@ class Pattern:
         name = "inner_corners" if kind is PatternKind.CHECKERBOARD else "lines"
         counts = tuple(int(n) for n in self.counts)
         if len(counts) != 2 or not all(2 <= n <= MAX_COUNT for n in counts):
-            raise ConfigError(f"pattern: `{name}` must be two counts in 2..{MAX_COUNT}, got {counts}")
+            raise ConfigError(
+                f"pattern: `{name}` must be two counts in 2..{MAX_COUNT}, got {counts}"
+            )
         object.__setattr__(self, "counts", counts)
         step = "square" if kind is PatternKind.CHECKERBOARD else "spacing"
         if not (math.isfinite(self.step_m) and 1e-3 < self.step_m <= 10.0):
@@ -109,7 +111,7 @@ class Pattern:
                 )
             object.__setattr__(self, "line_width_m", w)
         elif self.line_width_m is not None:
-            raise ConfigError("pattern: `line_width` applies to kind = \"lines\" only")
+            raise ConfigError('pattern: `line_width` applies to kind = "lines" only')
 
     # --- construction -------------------------------------------------------------------
     @classmethod

@@ -78,9 +78,7 @@ def model_nodes(
     return np.where(ok, x, np.nan), np.where(ok, y, np.nan)
 
 
-def near_region(
-    x: np.ndarray, y: np.ndarray, region: np.ndarray, margin_m: float
-) -> np.ndarray:
+def near_region(x: np.ndarray, y: np.ndarray, region: np.ndarray, margin_m: float) -> np.ndarray:
     """Nodes ((nodes_v, nodes_u) ground arrays [m]) within ``margin_m`` [m] of the ground
     polygon ``region``, grown by one node in the image, so that every pixel inside the region
     has its four surrounding nodes."""

@@ -50,7 +50,9 @@ class CalibrationReport:
     fitted :class:`RadialPlaneModel`), ``model_name`` (its form, e.g. ``radial2+centre``),
     ``candidates`` (each model form tried and its
     leave-one-out RMS [px]), ``field_of_view`` (:class:`FieldOfView`), ``image_size`` (W, H),
-    ``spacing_px``, ``extrapolate``, ``margin_m``, ``pattern``.
+    ``spacing_px``, ``extrapolate``, ``margin_m``, ``pattern``, ``loo_kind`` (``refit`` or
+    ``linearised``), ``timings_s`` (seconds per stage: detect, fit, table, leave_one_out,
+    report), ``notes`` (points left out, and why).
     """
 
     pattern: Pattern
@@ -71,6 +73,7 @@ class CalibrationReport:
     extrapolate: bool
     margin_m: float
     loo_kind: str = "refit"
+    timings_s: Dict[str, float] = field(default_factory=dict)
     notes: List[str] = field(default_factory=list)
 
     # --- figures ------------------------------------------------------------------------
@@ -146,6 +149,7 @@ class CalibrationReport:
         d["spacing_px"] = self.spacing_px
         d["candidates"] = [{"model": n, "loo_rms_px": num(e)} for n, e in self.candidates]
         d["notes"] = list(self.notes)
+        d["timings_s"] = {k: round(v, 6) for k, v in self.timings_s.items()}
         d["points"] = [
             {
                 "i": int(i),

@@ -9,9 +9,7 @@ from pathlib import Path
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "calibrate", help="build a ground table from an image of a floor pattern"
-    )
+    p = sub.add_parser("calibrate", help="build a ground table from an image of a floor pattern")
     p.add_argument("image", help="calibration image (the robot's camera, pattern on the floor)")
     p.add_argument(
         "--pattern", help="pattern TOML (docs/calibration.md); default: pattern.toml beside IMAGE"
