@@ -134,18 +134,13 @@ def test_rotated_and_offset_patterns(wide640, pattern):
 
 
 # --- the calibrated region, extrapolation, the horizon ------------------------------------
-def test_no_ground_outside_the_margin_around_the_pattern(checkerboard320):
-    _image, pattern, table, report = checkerboard320
-    x, y = table.nodes
-    ok = np.isfinite(x)
-    # Distance of each valid node's ground point from the pattern's outline of points.
-    hull = cv2.convexHull(report.ground_points.astype(np.float32)).reshape(-1, 2)
-    d = np.array(
-        [-cv2.pointPolygonTest(hull, (float(a), float(b)), True) for a, b in zip(x[ok], y[ok])]
-    )
-    # Within the margin (one square), or next to a node that is: the table keeps one node
-    # around its region so that every pixel inside it interpolates. So the bound is the
-    # margin plus the distance on the floor to the farthest neighbouring node.
+def _outside(points: np.ndarray, outline: np.ndarray) -> np.ndarray:
+    hull = cv2.convexHull(outline.astype(np.float32)).reshape(-1, 2)
+    return np.array([-cv2.pointPolygonTest(hull, (float(a), float(b)), True) for a, b in points])
+
+
+def _node_reach(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Distance on the floor from each node to its farthest valid 8-neighbour [m]."""
     xp = np.pad(x, 1, constant_values=np.nan)
     yp = np.pad(y, 1, constant_values=np.nan)
     reach = np.zeros_like(x)
@@ -154,11 +149,34 @@ def test_no_ground_outside_the_margin_around_the_pattern(checkerboard320):
             nx = xp[1 + dv : 1 + dv + x.shape[0], 1 + du : 1 + du + x.shape[1]]
             ny = yp[1 + dv : 1 + dv + x.shape[0], 1 + du : 1 + du + x.shape[1]]
             reach = np.fmax(reach, np.hypot(nx - x, ny - y))
-    assert np.all(d <= pattern.step_m + reach[ok] + 1e-9)
+    return reach
+
+
+@pytest.mark.parametrize("near_field", [True, False])
+def test_no_ground_outside_the_margin_around_the_pattern(wide320, near_field):
+    image, spec = render_calibration(wide320, kind="checkerboard")
+    pattern = Pattern.from_toml(spec.to_toml())
+    table, report = calibrate(image, pattern, spacing_px=4, near_field=near_field)
+    x, y = table.nodes
+    ok = np.isfinite(x)
+    outline = report.ground_points
+    if near_field:  # the floor between the camera and the pattern counts as calibrated
+        outline = np.vstack([outline, [[0.0, 0.0]]])
+    d = _outside(np.column_stack([x[ok], y[ok]]), outline)
+    # Within the margin (one square), or next to a node that is: the table keeps one node
+    # around its region so that every pixel inside it interpolates. So the bound is the
+    # margin plus the distance on the floor to the farthest neighbouring node.
+    assert np.all(d <= pattern.step_m + _node_reach(x, y)[ok] + 1e-9)
     assert np.mean(d <= pattern.step_m) > 0.75  # the ring of extra nodes is a minority
-    assert report.margin_m == pattern.step_m
-    # And nothing far away: the whole table lies within 1.3 m for a board ending at 1.0 m.
+    assert report.margin_m == pattern.step_m and report.near_field == near_field
+    # Nothing far away: the whole table lies within 1.3 m for a board ending at 1.0 m.
     assert np.nanmax(np.hypot(x, y)) < 1.3
+    # The bottom row (where the range sensor starts) has ground under the pattern only with
+    # the near field; the pattern's nearest row is 0.21 m out, the bottom row sees 0.05 m.
+    bottom = np.isfinite(x[-1])
+    assert bottom.sum() > x.shape[1] / 3 if near_field else not bottom.any()
+    e, _ = errors_against_truth(table, wide320)
+    assert e.max() <= 0.01
 
 
 def test_extrapolation_is_limited_and_stays_close_to_the_truth(wide320):

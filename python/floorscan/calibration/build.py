@@ -27,6 +27,7 @@ def calibrate(
     spacing_px: int = 8,
     extrapolate: bool = False,
     margin_m: Optional[float] = None,
+    near_field: bool = True,
     max_range_m: float = 10.0,
     leave_one_out: bool = True,
 ) -> Tuple[GroundTable, CalibrationReport]:
@@ -35,7 +36,7 @@ def calibrate(
     Args:
         image: (H, W) uint8 or uint16 grey image (or (H, W, 3) colour) from the robot's camera.
         pattern: a :class:`Pattern` or the path of its ``pattern.toml``.
-        spacing_px, extrapolate, margin_m, max_range_m, leave_one_out: see
+        spacing_px, extrapolate, margin_m, near_field, max_range_m, leave_one_out: see
             :class:`CalibrationOptions`.
 
     Returns:
@@ -57,6 +58,7 @@ def calibrate(
         spacing_px=spacing_px,
         extrapolate=extrapolate,
         margin_m=margin_m,
+        near_field=near_field,
         max_range_m=max_range_m,
         leave_one_out=leave_one_out,
     )
@@ -75,7 +77,10 @@ def calibrate(
         best.model, u, v, image_size=(w, h), chirality=chirality, max_range_m=opts.max_range_m
     )
     if not opts.extrapolate:
-        keep = near_region(x, y, convex_hull(det.ground_points), margin)
+        outline = det.ground_points
+        if opts.near_field:
+            outline = np.vstack([outline, [[0.0, 0.0]]])
+        keep = near_region(x, y, convex_hull(outline), margin)
         x, y = np.where(keep, x, np.nan), np.where(keep, y, np.nan)
     table = GroundTable.from_arrays(x, y, image_width=w, image_height=h, spacing_px=opts.spacing_px)
     clock.lap("table")
@@ -112,6 +117,7 @@ def calibrate(
         spacing_px=opts.spacing_px,
         extrapolate=opts.extrapolate,
         margin_m=margin,
+        near_field=opts.near_field,
         loo_kind=loo_kind,
         timings_s=clock.laps,
         notes=[

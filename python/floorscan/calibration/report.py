@@ -50,7 +50,7 @@ class CalibrationReport:
     fitted :class:`RadialPlaneModel`), ``model_name`` (its form, e.g. ``radial2+centre``),
     ``candidates`` (each model form tried and its
     leave-one-out RMS [px]), ``field_of_view`` (:class:`FieldOfView`), ``image_size`` (W, H),
-    ``spacing_px``, ``extrapolate``, ``margin_m``, ``pattern``, ``loo_kind`` (``refit`` or
+    ``spacing_px``, ``extrapolate``, ``margin_m``, ``near_field``, ``pattern``, ``loo_kind`` (``refit`` or
     ``linearised``), ``timings_s`` (seconds per stage: detect, fit, table, leave_one_out,
     report), ``notes`` (points left out, and why).
     """
@@ -72,6 +72,7 @@ class CalibrationReport:
     spacing_px: int
     extrapolate: bool
     margin_m: float
+    near_field: bool = True
     loo_kind: str = "refit"
     timings_s: Dict[str, float] = field(default_factory=dict)
     notes: List[str] = field(default_factory=list)
@@ -135,6 +136,7 @@ class CalibrationReport:
             "loo": self.loo_kind,
             "extrapolate": self.extrapolate,
             "margin_m": self.margin_m,
+            "near_field": self.near_field,
             "model_name": self.model_name,
             "model": self.model.to_dict(),
             "field_of_view": self.field_of_view.to_dict(),

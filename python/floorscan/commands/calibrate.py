@@ -29,6 +29,11 @@ def register(sub) -> None:
         help="ground beyond the pattern's outline kept without --extrapolate [m] (default: one square / line spacing)",
     )
     p.add_argument(
+        "--no-near-field",
+        action="store_true",
+        help="without --extrapolate, leave out the floor between the camera and the pattern",
+    )
+    p.add_argument(
         "--max-range", type=float, default=10.0, help="no ground beyond this range [m] (default 10)"
     )
     p.set_defaults(run=run)
@@ -47,6 +52,7 @@ def run(args: argparse.Namespace) -> int:
         spacing_px=args.spacing,
         extrapolate=args.extrapolate,
         margin_m=args.margin,
+        near_field=not args.no_near_field,
         max_range_m=args.max_range,
     )
     written = [str(table.save(args.output))]
