@@ -33,12 +33,16 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..config import Config
+    from ..demo import SIMULATION_CONFIG
     from ..errors import OptionError
     from ..evaluation.report import write_report
     from ..evaluation.runner import run_suite
     from ..evaluation.scenarios import full_suite, quick_suite
 
-    cfg = Config.load(args.config) if args.config else Config()
+    # Simulated calibration scenes place the pattern as near as fits in the image (about
+    # 0.2-1.2 m out) while the ranger scans to 3 m: without a config, the suite asks the
+    # calibration to extrapolate, as a user with a small pattern would.
+    cfg = Config.load(args.config) if args.config else SIMULATION_CONFIG()
     command = (
         "floorscan " + " ".join(sys.argv[1:]) if sys.argv[1:2] == ["eval"] else "floorscan eval"
     )
