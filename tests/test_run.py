@@ -218,3 +218,23 @@ def test_calibration_for_another_resolution_is_skipped_or_fails(dataset, tmp_pat
         )
         == 1
     )
+
+
+def test_automatic_threshold_follows_the_texture_noise(dataset, tmp_path):
+    """With ranger.auto_threshold the run's threshold is k x the robust noise of the filter
+    response in the rows nearest the robot, estimated on the first frame. The synthetic room's
+    floor noise is Gaussian with sigma 2 per pixel (rounded to integers)."""
+    from floorscan.auto_threshold import texture_noise
+    from floorscan.image_io import read_grey
+
+    cfg = Config().with_overrides({"ranger.auto_threshold": True, "ranger.auto_threshold_k": 4.0})
+    table = floorscan.GroundTable.load(dataset / "table.json")
+    mapper = Mapper(table, cfg)
+    first = read_grey(dataset / "room" / "images" / "000000.png")
+    mapper.process(first, timestamp=100.0, pose=(0.0, 0.0, 0.0))
+    noise = texture_noise([first], half_width=4, columns=mapper.ranger.columns, bottom_margin=2)
+    assert mapper.texture_noise == pytest.approx(noise)
+    assert mapper.threshold == pytest.approx(max(4.0 * noise, 2.0))
+    assert mapper.ranger.options["threshold"] == pytest.approx(mapper.threshold)
+    # White noise of sigma 2 per pixel: R = (sum of 4 - sum of 4) / 8 has sigma 2 * sqrt(8) / 8.
+    assert noise == pytest.approx(2.0 * np.sqrt(8) / 8, rel=0.25)

@@ -40,6 +40,11 @@ class RangerConfig:
     max_range_m: Optional[float] = doc(
         "farthest range scanned [m]; inf: as far as the table has ground", 3.0
     )
+    auto_threshold: bool = doc(
+        "set the threshold from the first frame: auto_threshold_k x the carpet's texture noise near the robot (false: use `threshold`)",
+        False,
+    )
+    auto_threshold_k: float = doc("multiple of the texture noise for the automatic threshold", 5.0)
 
 
 @dataclass

@@ -82,6 +82,9 @@ class Mapper:
 
         self.cfg = cfg
         self.ranger = ranger_from_config(table, cfg)
+        self.threshold_pending = cfg.ranger.auto_threshold
+        self.threshold = cfg.ranger.threshold
+        self.texture_noise: Optional[float] = None
         self.robot_from_camera = tuple(float(v) for v in robot_from_camera)
         kw = grid_kwargs(cfg)
         self.global_map = OccupancyGrid(**kw)
@@ -91,6 +94,8 @@ class Mapper:
         self.points = 0
 
     def process(self, image: np.ndarray, *, timestamp: float, pose: Optional[PoseTuple]) -> Scan:
+        if self.threshold_pending:
+            self._set_auto_threshold(image)
         t0 = time.perf_counter()
         scan = self.ranger.scan(image, timestamp=timestamp)
         t1 = time.perf_counter()
@@ -105,6 +110,31 @@ class Mapper:
         self.frames += 1
         self.points += int(np.count_nonzero(scan.status_codes == 0))
         return scan
+
+    def _set_auto_threshold(self, image: np.ndarray) -> None:
+        """The threshold from the first frame's texture noise (ranger.auto_threshold)."""
+        from .image_io import as_grey
+
+        self.threshold, self.texture_noise = _auto_threshold_for(self, as_grey(image))
+        cfg = self.cfg.with_overrides(
+            {"ranger.threshold": self.threshold, "ranger.auto_threshold": False}
+        )
+        self.ranger = ranger_from_config(self.ranger.table, cfg)
+        self.threshold_pending = False
+
+
+def _auto_threshold_for(mapper: Mapper, image: np.ndarray) -> Tuple[float, float]:
+    from .auto_threshold import MIN_AUTO_THRESHOLD, auto_threshold
+
+    r = mapper.cfg.ranger
+    t, noise = auto_threshold(
+        [image],
+        half_width=r.half_width,
+        columns=mapper.ranger.columns,
+        k=r.auto_threshold_k,
+        bottom_margin=r.bottom_margin,
+    )
+    return max(t, MIN_AUTO_THRESHOLD), noise
 
 
 @dataclass

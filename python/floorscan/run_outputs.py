@@ -87,6 +87,7 @@ class RunOutputs:
         return self._laser_range
 
     def on_frame(self, frame, scan: Scan, pose, mapper) -> None:
+        self.extra_summary["last_timestamp"] = scan.timestamp
         self._csv.write(scan.csv_lines())
         if self._bag is not None:
             lo, hi, inc = self.laser_angles(scan)
@@ -197,6 +198,11 @@ class RunOutputs:
                 if p.is_file() and not p.name.startswith(".")
             ),
             "config": self.cfg.to_dict(),
+            "ranger_threshold": {
+                "used": mapper.threshold,
+                "texture_noise": mapper.texture_noise,
+                "automatic": mapper.cfg.ranger.auto_threshold,
+            },
             **self.extra_summary,
         }
         write_atomic(self.out / "summary.json", json.dumps(summary, indent=2, default=float))

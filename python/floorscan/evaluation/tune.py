@@ -17,6 +17,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from .._atomic import PathLike
+from ..auto_threshold import AUTO_K, auto_threshold, texture_noise  # noqa: F401 (re-exported)
 from ..errors import FileFormatError, OptionError
 from ..ground_table import GroundTable
 from ..ranger import VisualRanger
@@ -26,8 +27,6 @@ BOUNDARY, NO_BOUNDARY, INVALID = 0, 1, 3
 DEFAULT_HALF_WIDTHS = (1, 2, 3, 4, 6, 8)
 DEFAULT_THRESHOLDS = tuple(float(t) for t in range(2, 41))
 REFINEMENTS = ("subpixel", "peak", "none")
-AUTO_K = 5.0
-"""Default multiple of the robust texture-noise estimate for the label-free threshold."""
 
 
 @dataclass
@@ -214,49 +213,3 @@ def tune(
     return TuneResult(
         [int(x) for x in half_widths], thresholds, errors, d, t, refine, errors[refine][d][i]
     )
-
-
-def texture_noise(
-    images: Sequence[np.ndarray],
-    *,
-    half_width: int,
-    columns: Sequence[int],
-    bottom_margin: int = 2,
-    rows_fraction: float = 0.12,
-) -> float:
-    """Robust standard deviation (1.4826 MAD) of the box filter response R (half the
-    difference of the window means, as the ranger computes it) over the rows nearest the robot
-    (the bottom ``rows_fraction`` of the image above ``bottom_margin``): the carpet's texture
-    and the sensor noise as the filter sees them, with no labels."""
-    d = int(half_width)
-    samples = []
-    cols = np.asarray(columns, dtype=np.intp)
-    for image in images:
-        img = np.asarray(image, dtype=np.float64)
-        h = img.shape[0]
-        bottom = h - 1 - bottom_margin  # lowest row scanned
-        top = max(d, bottom - max(2 * d + 1, int(round(rows_fraction * h))))
-        c = np.cumsum(np.vstack([np.zeros((1, cols.size)), img[:, cols]]), axis=0)
-        for v in range(top + d, bottom - d + 1):
-            above = c[v] - c[v - d]  # rows v-d .. v-1 (image rows above v)
-            below = c[v + d + 1] - c[v + 1]  # rows v+1 .. v+d
-            samples.append((above - below) / (2 * d))
-    if not samples:
-        raise OptionError("images too small for the texture-noise estimate")
-    r = np.concatenate(samples)
-    return float(1.4826 * np.median(np.abs(r - np.median(r))))
-
-
-def auto_threshold(
-    images: Sequence[np.ndarray],
-    *,
-    half_width: int,
-    columns: Sequence[int],
-    k: float = AUTO_K,
-    bottom_margin: int = 2,
-) -> Tuple[float, float]:
-    """(threshold, noise): ``k`` times :func:`texture_noise`."""
-    noise = texture_noise(
-        images, half_width=half_width, columns=columns, bottom_margin=bottom_margin
-    )
-    return k * noise, noise
