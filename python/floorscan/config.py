@@ -29,7 +29,7 @@ class RangerConfig:
     half_width: int = doc("box filter half-width d [px], >= 1", 4)
     threshold: float = doc(
         "edge threshold on |R| of eq. (1)-(2) (half the difference of the window means), intensity units",
-        12.0,
+        10.0,
     )
     refine: str = doc(
         "boundary placement: subpixel | peak | none (the paper's first crossing)", "subpixel"

@@ -32,7 +32,7 @@ class VisualRanger:
             [px]. Default 64.
         half_width: half-width d of the box filter [px], >= 1. Default 4.
         threshold: edge threshold on the difference of the two window means, in intensity
-            units (0-255 for uint8 images), finite, >= 0. Default 12.
+            units (0-255 for uint8 images), finite, >= 0. Default 10.
         refine: ``"subpixel"`` (default), ``"peak"``, or ``"none"`` (the paper's first
             crossing; ``False`` is accepted too).
         bottom_margin: rows skipped at the bottom of every column (bumper, dead border row)
@@ -63,7 +63,7 @@ class VisualRanger:
         *,
         columns: Union[int, Sequence[int]] = 64,
         half_width: int = 4,
-        threshold: float = 12.0,
+        threshold: float = 10.0,
         refine: Union[str, bool] = "subpixel",
         bottom_margin: int = 2,
         mask: Optional[np.ndarray] = None,

@@ -35,8 +35,9 @@ pub struct RangerOptions {
     pub half_width_px: usize,
     /// Edge threshold on |R| of the paper's eq. (1)-(2), R = (sum of the d pixels above - sum
     /// of the d pixels below) / 2d, i.e. half the difference of the two window means, in the
-    /// image's intensity units (0-255 for 8-bit images), finite and >= 0. Default 12 (a step of
-    /// more than 24 grey levels between carpet and obstacle).
+    /// image's intensity units (0-255 for 8-bit images), finite and >= 0. Default 10 (a step of
+    /// more than 20 grey levels between carpet and obstacle; chosen on the evaluation suite:
+    /// EVALUATION.md).
     pub threshold: f64,
     /// How the boundary row is placed after the first crossing. Default: sub-pixel peak.
     pub refinement: Refinement,
@@ -54,7 +55,7 @@ impl Default for RangerOptions {
     fn default() -> Self {
         Self {
             half_width_px: 4,
-            threshold: 12.0,
+            threshold: 10.0,
             refinement: Refinement::SubPixel,
             columns: ColumnSelection::Count(64),
             start: ColumnStart::BottomMargin(2),

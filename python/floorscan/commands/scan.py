@@ -21,7 +21,7 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
         "--half-width", type=int, default=4, help="box filter half-width d [px] (default 4)"
     )
     p.add_argument(
-        "--threshold", type=float, default=12.0, help="edge threshold, intensity units (default 12)"
+        "--threshold", type=float, default=10.0, help="edge threshold, intensity units (default 10)"
     )
     p.add_argument("--refine", choices=["subpixel", "peak", "none"], default="subpixel")
     p.add_argument(
