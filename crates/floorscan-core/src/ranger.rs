@@ -46,6 +46,9 @@ pub struct VisualRanger {
     /// Largest entry of `offsets` for the current frame.
     max_offset: usize,
     outcomes: Vec<Option<ColumnOutcome>>,
+    /// Floor length [m] one pixel row covers, per sampled column (outer) and image row (inner),
+    /// worked out once: a boundary's footprint then costs no table lookup.
+    footprints_m: Vec<f32>,
 }
 
 impl VisualRanger {
@@ -96,6 +99,13 @@ impl VisualRanger {
             .iter()
             .map(|&c| plan_column(&table, &options, c, starts[c as usize]))
             .collect();
+        let footprints_m = plans
+            .iter()
+            .flat_map(|p| {
+                let table = &table;
+                (0..height).map(move |v| row_footprint_m(table, p.column, v as f64) as f32)
+            })
+            .collect();
         let scannable: Vec<usize> = (0..plans.len())
             .filter(|&j| plans[j].window.is_some())
             .collect();
@@ -112,6 +122,7 @@ impl VisualRanger {
             sums: vec![0; n],
             active_threshold: vec![i32::MAX; n],
             outcomes: vec![None; n],
+            footprints_m,
             table,
             options,
             plans,
@@ -370,13 +381,8 @@ impl VisualRanger {
         match self.table.lookup(c as f64, row) {
             Some(point) => {
                 // Floor covered by one pixel row at the boundary: the reading's range resolution.
-                let footprint_m = match (
-                    self.table.lookup(c as f64, row - 0.5),
-                    self.table.lookup(c as f64, row + 0.5),
-                ) {
-                    (Some(a), Some(b)) => (a.x - b.x).hypot(a.y - b.y),
-                    _ => 0.0,
-                };
+                let v = (row.round().max(0.0) as usize).min(height - 1);
+                let footprint_m = self.footprints_m[j * height + v] as f64;
                 ColumnOutcome::Boundary {
                     row,
                     point,
@@ -416,6 +422,18 @@ fn advance_contiguous<P: Pixel>(sums: &mut [i32], thresholds: &[i32], rows: [&[P
         hits |= (v.abs() > t[i]) as i32;
     }
     hits != 0
+}
+
+/// Floor length [m] that pixel row v of column u covers (between the row's upper and lower
+/// edges); 0 where either edge has no ground.
+fn row_footprint_m(table: &GroundTable, column: u32, v: f64) -> f64 {
+    match (
+        table.lookup(column as f64, v - 0.5),
+        table.lookup(column as f64, v + 0.5),
+    ) {
+        (Some(a), Some(b)) => (a.x - b.x).hypot(a.y - b.y),
+        _ => 0.0,
+    }
 }
 
 /// Works out where a column's scan starts and how far up it may go.
