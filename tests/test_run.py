@@ -238,3 +238,41 @@ def test_automatic_threshold_follows_the_texture_noise(dataset, tmp_path):
     assert mapper.ranger.options["threshold"] == pytest.approx(mapper.threshold)
     # White noise of sigma 2 per pixel: R = (sum of 4 - sum of 4) / 8 has sigma 2 * sqrt(8) / 8.
     assert noise == pytest.approx(2.0 * np.sqrt(8) / 8, rel=0.25)
+
+
+def test_video_with_an_odometry_file_is_mapped(dataset, tmp_path):
+    import cv2
+
+    src = DatasetSource(dataset / "room")
+    frames = [f.image for f in src][:12]
+    h, w = frames[0].shape
+    video = tmp_path / "in.avi"
+    vw = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 10.0, (w, h), isColor=False)
+    assert vw.isOpened()
+    for f in frames:
+        vw.write(f)
+    vw.release()
+    # The video's clock starts at 0; shift the odometry to it (frames at 0.0, 0.1, ...).
+    from floorscan.trajectory import Trajectory, write_tum
+
+    odo = src.odometry
+    write_tum(tmp_path / "odo.txt", Trajectory(odo.timestamps - 100.0, odo.x, odo.y, odo.yaw))
+    out = tmp_path / "out"
+    assert (
+        main(
+            [
+                "run",
+                str(video),
+                "--odometry",
+                str(tmp_path / "odo.txt"),
+                "--table",
+                str(dataset / "table.json"),
+                "-o",
+                str(out),
+            ]
+        )
+        == 0
+    )
+    counts = json.loads((out / "summary.json").read_text())["counts"]
+    assert counts["frames_in"] == 12 and counts["frames_mapped"] == 12
+    assert (OccupancyGrid.load(out / "map.yaml").occupancy_classes() == 2).sum() > 0
