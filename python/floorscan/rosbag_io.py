@@ -12,9 +12,8 @@ import math
 import os
 import shutil
 import tempfile
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, Iterable, Iterator, List, Optional, Sequence, Tuple
+from typing import Dict, Iterable, Iterator, List, Sequence, Tuple
 
 import numpy as np
 
@@ -85,12 +84,6 @@ def decode_image(msg, msgtype: str) -> np.ndarray:
     if enc.startswith("bgr"):
         img = img[..., [2, 1, 0]]
     return as_grey(np.ascontiguousarray(img))
-
-
-@dataclass
-class BagContents:
-    topics: Dict[str, str]
-    """Topic name -> message type of every connection in the bag."""
 
 
 def bag_topics(path: PathLike) -> Dict[str, str]:
@@ -354,7 +347,3 @@ def write_image_odometry_bag(
                 raise DatasetError(f"bag message times must be >= 0 s (ROS time), got {t}")
             writer.write(conn, int(round(t * 1e9)), serialize(m, typ))
     return path
-
-
-def optional_path(p: Optional[PathLike]) -> Optional[Path]:
-    return None if p is None else Path(p)
