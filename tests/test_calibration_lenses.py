@@ -13,7 +13,10 @@ from floorscan.sim import CalibrationPattern, Camera, render_calibration
 LENSES = {
     "wide": (None, None),  # the simulator's Kannala-Brandt, about 136 degrees
     # A 180-degree equidistant fisheye, mounted low: a board in its corners.
-    "fisheye": (Lens.equidistant(f=200.0, cx=322.0, cy=236.0), CameraMount(height_m=0.3, tilt_rad=0.7)),
+    "fisheye": (
+        Lens.equidistant(f=200.0, cx=322.0, cy=236.0),
+        CameraMount(height_m=0.3, tilt_rad=0.7),
+    ),
     # A Duckiebot-like wide-angle lens (OpenCV plumb_bob), and a distortion-free one.
     "plumb_bob": (
         Lens.pinhole_radial(
@@ -21,7 +24,10 @@ LENSES = {
         ),
         CameraMount(height_m=0.35, tilt_rad=0.45),
     ),
-    "pinhole": (Lens.pinhole(fx=500.0, fy=500.0, cx=319.5, cy=239.5), CameraMount(height_m=0.6, tilt_rad=0.5)),
+    "pinhole": (
+        Lens.pinhole(fx=500.0, fy=500.0, cx=319.5, cy=239.5),
+        CameraMount(height_m=0.6, tilt_rad=0.5),
+    ),
 }
 
 

@@ -354,7 +354,10 @@ def refine_crossing(
         if new is None or np.linalg.norm(new - start) > 0.3 * min(lengths):
             return None
         new_half = [float(np.clip(0.65 * widths[k] + 1.5, 1.5, limit[k])) for k in (0, 1)]
-        done = np.linalg.norm(new - q) < 1e-3 and max(abs(a - b) for a, b in zip(new_half, half)) < 0.25
+        done = (
+            np.linalg.norm(new - q) < 1e-3
+            and max(abs(a - b) for a, b in zip(new_half, half)) < 0.25
+        )
         q, half = new, new_half
         if done:
             break
