@@ -7,9 +7,10 @@
 3. Topology: two cells are neighbours when an edge of one faces an edge of the other across a
    line; walking from cell to cell gives each cell, and each of its corners, grid coordinates.
 4. Each crossing, first the mean of the cell corners around it, is refined to sub-pixel
-   accuracy where the two lines' centres cross (``cornerSubPix``, whose condition, that image
-   gradients are perpendicular to the lines through the point, holds at the crossing of the
-   lines' centre lines by symmetry).
+   accuracy where the two lines' centres cross: each centre is a response-weighted quadratic
+   fitted to a band around the line, counting only pixels whose local structure (structure
+   tensor of the response) runs along that line, so the line crossing it cannot pull it
+   sideways (:class:`LineEvidence`, :func:`refine_crossing`).
 
 The result is a lattice in an arbitrary orientation, matched to the pattern by
 :func:`floorscan.calibration.detect.label_lattice`.
@@ -39,15 +40,49 @@ class _Cell:
     facing: int = 0  # edge k faces _DIRS[(facing + k) % 4]
 
 
+class LineEvidence:
+    """Where each line's pixels are, for fitting its centre: the response, and the orientation
+    of the dark structure around each pixel (the structure tensor of the response's gradient,
+    integrated over 1.5 px). Pixels of a line crossing the one being fitted have the other
+    orientation and get no weight; inside a wide line, or where two cross, there is no
+    gradient and the response alone counts (that part is symmetric about the crossing)."""
+
+    def __init__(self, response: np.ndarray) -> None:
+        self.response = response.astype(np.float32)
+        gx = cv2.Sobel(self.response, cv2.CV_32F, 1, 0, ksize=3)
+        gy = cv2.Sobel(self.response, cv2.CV_32F, 0, 1, ksize=3)
+        self.jxx = cv2.GaussianBlur(gx * gx, (0, 0), 1.5)
+        self.jxy = cv2.GaussianBlur(gx * gy, (0, 0), 1.5)
+        self.jyy = cv2.GaussianBlur(gy * gy, (0, 0), 1.5)
+        trace = self.jxx + self.jyy
+        peak = cv2.dilate(trace, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (15, 15)))
+        self.flat = trace < 0.05 * np.maximum(peak, 1e-12)
+
+    def weights(self, window: Tuple[slice, slice], normal: np.ndarray) -> np.ndarray:
+        """Response times how well the local structure has ``normal`` as its across direction
+        (1 along the line, 0 on a line crossing it), raveled."""
+        nx, ny = float(normal[0]), float(normal[1])
+        jxx, jxy, jyy = self.jxx[window], self.jxy[window], self.jyy[window]
+        along_normal = (nx * nx * jxx + 2 * nx * ny * jxy + ny * ny * jyy) / np.maximum(
+            jxx + jyy, 1e-12
+        )
+        agree = np.where(self.flat[window], 1.0, np.clip(2.0 * along_normal - 1.0, 0.0, 1.0))
+        return (self.response[window] * agree).ravel().astype(np.float64)
+
+
 @dataclass
 class LineResponse:
     """The black-hat response [grey levels] (how much darker a pixel is than the light
     surface around it, for structures narrower than an eighth of the image), its threshold
-    for plain floor ``low``, and the line pixels."""
+    for plain floor ``low``, the line pixels, the :class:`LineEvidence` for fitting line
+    centres, and the pattern's line width over spacing (the nominal width of a line next to
+    the distance between lines, where the band searched around a line starts)."""
 
     hat: np.ndarray
     low: float
     mask: np.ndarray
+    evidence: LineEvidence
+    line_fraction: float = 0.1
 
 
 def line_response(grey: np.ndarray) -> LineResponse:
@@ -66,7 +101,8 @@ def line_response(grey: np.ndarray) -> LineResponse:
     strong = np.zeros(n, bool)
     strong[np.unique(labels[hat >= 2 * low])] = True
     strong[0] = False
-    return LineResponse(hat.astype(np.float32), low, strong[labels])
+    hat = hat.astype(np.float32)
+    return LineResponse(hat, low, strong[labels], LineEvidence(hat))
 
 
 def find_cells(mask: np.ndarray) -> List[_Cell]:
@@ -256,59 +292,100 @@ def _axes_at(
     return axes[0], axes[1]
 
 
-def _ridge_curve(
-    hat: np.ndarray, p: np.ndarray, along: np.ndarray, other: np.ndarray, low: float
-) -> Optional[np.ndarray]:
-    """The centre line of the line through ``p`` running along ``along`` (the next crossing on
-    it at ``p + along``; the next parallel line at ``p + other``), in the lattice's oblique
-    frame: coefficients of ``b(a) = c0 + c1 a + c2 a^2``, the point ``p + a * unit(along) +
-    b * unit(other)`` [px]. Each profile runs parallel to the other line, so it never meets
-    it; its darkness centroid is a point of the centre line. Profiles at 0.19 to 0.4 of the
-    way to the neighbouring crossings on both sides; None if fewer than five see the line."""
-    length = float(np.linalg.norm(along))
-    reach = 0.4 * float(np.linalg.norm(other))
-    if length < 3 or reach < 1.0:
-        return None
-    across = other / np.linalg.norm(other)
-    offsets = np.arange(-reach, reach + 1e-9, 0.25)
-    ss, cs = [], []
-    for frac in (-0.4, -0.33, -0.26, -0.19, 0.19, 0.26, 0.33, 0.4):
-        c = p + frac * along
-        prof = _sample(hat, c[None] + offsets[:, None] * across[None])
-        peak = float(prof.max())
-        if peak < low:
-            continue
-        w = np.clip(prof - 0.5 * peak, 0, None)
-        ss.append(frac * length)
-        cs.append(float(np.sum(w * offsets) / w.sum()))
-    if len(ss) < 5:
-        return None
-    return np.polyfit(np.array(ss), np.array(cs), 2)
-
-
 def refine_crossing(
-    hat: np.ndarray, p: np.ndarray, a1: np.ndarray, a2: np.ndarray, low: float
+    response: LineResponse, p: np.ndarray, a1: np.ndarray, a2: np.ndarray
 ) -> Optional[np.ndarray]:
     """Where the centre lines of the two lines through ``p`` (next crossings at ``p + a1``
-    and ``p + a2``) cross [px]: both fitted (:func:`_ridge_curve`) and intersected, twice
-    (from the new point). None if a line is not seen or the point runs away."""
-    u1 = a1 / np.linalg.norm(a1)
-    u2 = a2 / np.linalg.norm(a2)
-    limit = 0.3 * min(np.linalg.norm(a1), np.linalg.norm(a2))
-    start = p
-    for _ in range(2):
-        c1 = _ridge_curve(hat, p, a1, a2, low)  # line 1: beta = c1(alpha)
-        c2 = _ridge_curve(hat, p, a2, a1, low)  # line 2: alpha = c2(beta)
-        if c1 is None or c2 is None:
+    and ``p + a2``) cross [px]. Each centre is a quadratic fitted, weighted by the line's own
+    evidence (:class:`LineEvidence`), to a band around the line out to about the next
+    crossings; the band starts at the nominal line width plus blur and follows the width
+    measured (perspective widens near lines), never past 45% of the distance to the parallel
+    line. None if a line is not seen on both sides or the point runs away."""
+    dirs = [a1 / np.linalg.norm(a1), a2 / np.linalg.norm(a2)]
+    lengths = [float(np.linalg.norm(a1)), float(np.linalg.norm(a2))]
+    if min(lengths) < 3:
+        return None
+    sin_c = max(abs(float(dirs[0][0] * dirs[1][1] - dirs[0][1] * dirs[1][0])), 0.2)
+    gap = [lengths[1 - k] * sin_c for k in (0, 1)]
+    half = [min(0.75 * response.line_fraction * gap[k] + 1.5, 0.45 * gap[k]) for k in (0, 1)]
+    limit = [min(0.45 * gap[k], 2.0 * half[k] + 2.0) for k in (0, 1)]
+    reach = [max(1.2 * lengths[k], 8.0) for k in (0, 1)]
+    radius = max(reach[k] + limit[k] for k in (0, 1))
+    h, w = response.hat.shape
+    x0, x1 = int(max(0, np.floor(p[0] - radius))), int(min(w - 1, np.ceil(p[0] + radius)))
+    y0, y1 = int(max(0, np.floor(p[1] - radius))), int(min(h - 1, np.ceil(p[1] + radius)))
+    if x1 <= x0 or y1 <= y0:
+        return None
+    window = (slice(y0, y1 + 1), slice(x0, x1 + 1))
+    ys, xs = np.mgrid[window]
+    pix = np.stack([xs.ravel(), ys.ravel()], axis=-1).astype(np.float64)
+    normals = [np.array([-d[1], d[0]]) for d in dirs]
+    weights = []
+    for n in normals:
+        wk = response.evidence.weights(window, n)
+        weights.append(np.clip(wk - 0.1 * wk.max(), 0.0, None))
+    keep = (weights[0] > 0) | (weights[1] > 0)  # the light floor weighs nothing
+    pix = pix[keep]
+    weights = [wk[keep] for wk in weights]
+    start = np.asarray(p, dtype=np.float64)
+    q = start.copy()
+    for _ in range(5):
+        curves, widths = [], []
+        for k, d in enumerate(dirs):
+            rel = pix - q
+            t, s = rel @ d, rel @ normals[k]
+            near = np.abs(t) < reach[k]
+            coef = np.zeros(1)
+            for _pass in range(2):
+                sel = near & (np.abs(s - np.polyval(coef, t)) < half[k])
+                wt = weights[k][sel]
+                tt = t[sel]
+                if np.count_nonzero(wt[tt < 0]) < 2 or np.count_nonzero(wt[tt > 0]) < 2:
+                    return None
+                deg = 2 if np.ptp(tt) > 4 * half[k] else 1
+                coef = np.polyfit(tt, s[sel], deg, w=np.sqrt(wt))
+            # Width: spread of the pixels above half the line's peak (a box of width W has
+            # variance W^2 / 12; floor texture stays below half the peak).
+            core = wt > 0.5 * wt.max()
+            off = s[sel][core] - np.polyval(coef, tt[core])
+            widths.append(np.sqrt(12.0 * float(np.mean(off**2))) + 1.0)
+            curves.append(coef)
+        new = _intersect(q, dirs, normals, curves)
+        if new is None or np.linalg.norm(new - start) > 0.3 * min(lengths):
             return None
-        alpha = beta = 0.0
-        for _ in range(10):
-            beta = float(np.polyval(c1, alpha))
-            alpha = float(np.polyval(c2, beta))
-        p = p + alpha * u1 + beta * u2
-        if not np.all(np.isfinite(p)) or np.linalg.norm(p - start) > limit:
+        new_half = [float(np.clip(0.65 * widths[k] + 1.5, 1.5, limit[k])) for k in (0, 1)]
+        done = (
+            np.linalg.norm(new - q) < 1e-3
+            and max(abs(a - b) for a, b in zip(new_half, half)) < 0.25
+        )
+        q, half = new, new_half
+        if done:
+            break
+    return q
+
+
+def _intersect(
+    p: np.ndarray, dirs: List[np.ndarray], normals: List[np.ndarray], curves: List[np.ndarray]
+) -> Optional[np.ndarray]:
+    """The point q with ``n_k . (q - p) = curve_k(d_k . (q - p))`` for both lines (Newton)."""
+    q = p.copy()
+    for _ in range(20):
+        f, jac = np.zeros(2), np.zeros((2, 2))
+        for k in (0, 1):
+            rel = q - p
+            t = rel @ dirs[k]
+            f[k] = rel @ normals[k] - np.polyval(curves[k], t)
+            jac[k] = normals[k] - np.polyval(np.polyder(curves[k]), t) * dirs[k]
+        try:
+            step = np.linalg.solve(jac, -f)
+        except np.linalg.LinAlgError:
             return None
-    return p
+        q = q + step
+        if not np.all(np.isfinite(q)):
+            return None
+        if np.linalg.norm(step) < 1e-6:
+            break
+    return q
 
 
 def _refine_all(
@@ -320,7 +397,7 @@ def _refine_all(
         axes = _axes_at(xs, k)
         if axes is None:
             continue
-        q = refine_crossing(response.hat, p, *axes, response.low)
+        q = refine_crossing(response, p, *axes)
         if q is not None and crossing_strength(response.hat, q, *axes) >= need:
             out[k] = q
     return out
@@ -374,7 +451,7 @@ def grow_lattice(
                 if side is None:
                     continue
                 along = p - q
-                r = refine_crossing(hat, p, along, side, response.low)
+                r = refine_crossing(response, p, along, side)
                 if r is not None and crossing_strength(hat, r, along, side) >= need:
                     xs[new] = r
                     lo, hi = np.minimum(lo, new), np.maximum(hi, new)
@@ -394,6 +471,7 @@ def find_line_crossings(grey: np.ndarray, pattern: Pattern) -> Detection:
     from .detect import label_lattice
 
     response = line_response(grey)
+    response.line_fraction = pattern.line_width_m / pattern.step_m
     found = find_cells(response.mask)
     cells = label_cells(found, match_edges(found)) if found else []
     expected = pattern.counts
