@@ -78,3 +78,11 @@ def test_laser_scans_and_maps_are_written_and_read_back(tmp_path, storage):
     assert (m.info.width, m.info.height) == (3, 2) and m.info.resolution == pytest.approx(0.04)
     np.testing.assert_array_equal(m.data.reshape(2, 3), grid)
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
+
+
+def test_negative_times_are_refused_before_any_file_is_written(tmp_path):
+    with pytest.raises(floorscan.DatasetError, match=">= 0"):
+        write_image_odometry_bag(
+            tmp_path / "neg", [(-1.0, np.zeros((4, 4), np.uint8))], ODOM, ros_version=2
+        )
+    assert not (tmp_path / "neg").exists()

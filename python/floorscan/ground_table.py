@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Callable, Dict, Optional, Tuple
+from typing import Any, Callable, Dict, Tuple
 
 import numpy as np
 
@@ -167,14 +167,6 @@ class GroundTable:
         ub, vb = np.broadcast_arrays(ua, va)
         x, y = self._native.lookup(ub.ravel().copy(), vb.ravel().copy())
         return x.reshape(ub.shape), y.reshape(ub.shape)
-
-    def column_extent(self, u: float) -> Optional[Tuple[float, float]]:
-        """Nearest and farthest ground range [m] seen along image column ``u`` (None if none)."""
-        v = np.arange(self.image_height, dtype=np.float64)
-        x, y = self.lookup(np.full_like(v, float(u)), v)
-        r = np.hypot(x, y)
-        r = r[np.isfinite(r)]
-        return None if r.size == 0 else (float(r.min()), float(r.max()))
 
     # --- files --------------------------------------------------------------------------
     def to_json(self) -> str:

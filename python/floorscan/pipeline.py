@@ -113,28 +113,23 @@ class Mapper:
 
     def _set_auto_threshold(self, image: np.ndarray) -> None:
         """The threshold from the first frame's texture noise (ranger.auto_threshold)."""
+        from .auto_threshold import MIN_AUTO_THRESHOLD, auto_threshold
         from .image_io import as_grey
 
-        self.threshold, self.texture_noise = _auto_threshold_for(self, as_grey(image))
+        r = self.cfg.ranger
+        t, self.texture_noise = auto_threshold(
+            [as_grey(image)],
+            half_width=r.half_width,
+            columns=self.ranger.columns,
+            k=r.auto_threshold_k,
+            bottom_margin=r.bottom_margin,
+        )
+        self.threshold = max(t, MIN_AUTO_THRESHOLD)
         cfg = self.cfg.with_overrides(
             {"ranger.threshold": self.threshold, "ranger.auto_threshold": False}
         )
         self.ranger = ranger_from_config(self.ranger.table, cfg)
         self.threshold_pending = False
-
-
-def _auto_threshold_for(mapper: Mapper, image: np.ndarray) -> Tuple[float, float]:
-    from .auto_threshold import MIN_AUTO_THRESHOLD, auto_threshold
-
-    r = mapper.cfg.ranger
-    t, noise = auto_threshold(
-        [image],
-        half_width=r.half_width,
-        columns=mapper.ranger.columns,
-        k=r.auto_threshold_k,
-        bottom_margin=r.bottom_margin,
-    )
-    return max(t, MIN_AUTO_THRESHOLD), noise
 
 
 @dataclass

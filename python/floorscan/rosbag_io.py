@@ -281,6 +281,11 @@ def write_image_odometry_bag(
     path = Path(path)
     if path.exists():
         raise DatasetError(f"{path} exists already; bags are never overwritten")
+    frames = list(frames)
+    times = [t for t, _ in frames] + [float(t) for t in odometry.timestamps]
+    if times and min(times) < 0:
+        # Checked before the bag is created, so a bad input leaves no half-written bag.
+        raise DatasetError(f"bag message times must be >= 0 s (ROS time), got {min(times)}")
     ts = get_typestore(Stores.ROS1_NOETIC if ros_version == 1 else Stores.LATEST)
     T = ts.types
     if ros_version == 1:
@@ -343,7 +348,5 @@ def write_image_odometry_bag(
             )
             msgs.append((float(t), co, ODOMETRY_TYPE, m))
         for t, conn, typ, m in sorted(msgs, key=lambda r: r[0]):
-            if t < 0:
-                raise DatasetError(f"bag message times must be >= 0 s (ROS time), got {t}")
             writer.write(conn, int(round(t * 1e9)), serialize(m, typ))
     return path

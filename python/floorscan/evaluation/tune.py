@@ -21,9 +21,8 @@ from ..auto_threshold import AUTO_K, auto_threshold, texture_noise  # noqa: F401
 from ..errors import FileFormatError, OptionError
 from ..ground_table import GroundTable
 from ..ranger import VisualRanger
-from ..scoring import score_columns
+from ..scoring import BOUNDARY, INVALID, NO_BOUNDARY, score_columns
 
-BOUNDARY, NO_BOUNDARY, INVALID = 0, 1, 3
 DEFAULT_HALF_WIDTHS = (1, 2, 3, 4, 6, 8)
 DEFAULT_THRESHOLDS = tuple(float(t) for t in range(2, 41))
 REFINEMENTS = ("subpixel", "peak", "none")
