@@ -149,6 +149,7 @@ fn bench_visual(c: &mut Criterion) {
                             point: Point2::new(r.max(0.3) * c, r.max(0.3) * s),
                             footprint_m: 0.0,
                         },
+                        confidence: 1.0,
                     }
                 })
                 .collect(),

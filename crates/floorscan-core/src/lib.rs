@@ -1,7 +1,8 @@
 //! floorscan-core: a camera as a laser-like range sensor, and the occupancy maps it feeds.
 //!
 //! An implementation of Howard & Kitchen, *Fast Visual Mapping for Mobile Robot Navigation*:
-//! the visual range subsystem ([`edge`], [`ground_table`], [`ranger`], [`scan`]) and the lens
+//! the visual range subsystem ([`edge`], [`ground_table`], [`ranger`], [`scan`]), the
+//! appearance ranger for textured floors ([`floor_model`], [`appearance`], [`colour_image`]) and the lens
 //! models and mounts ([`lens`], [`mount`]) used to build and check calibration tables; the map
 //! builder: log-odds maths ([`log_odds`]), grids ([`grid_options`], [`grid`], [`queries`]),
 //! the exact ray walk ([`raycast`]), updates from visual scans, lasers and sonars
@@ -10,9 +11,13 @@
 //! Conventions: SI units; REP 103 frames (x forward, y left, z up, angles counter-clockwise in
 //! radians); image rows count from the top (v = 0 is the top row); REP 117 ranges.
 
+pub mod appearance;
+pub mod appearance_options;
 pub mod branchless;
+pub mod colour_image;
 pub mod edge;
 pub mod error;
+pub mod floor_model;
 pub mod grid;
 pub mod grid_options;
 pub mod ground_table;
@@ -32,8 +37,12 @@ pub mod raycast;
 pub mod scan;
 pub mod sonar;
 
+pub use appearance::AppearanceRanger;
+pub use appearance_options::{AppearanceFeatures, AppearanceOptions};
+pub use colour_image::ColourView;
 pub use edge::Refinement;
 pub use error::{Error, Result};
+pub use floor_model::FloorModel;
 pub use grid::{CellRect, Grid};
 pub use grid_options::{Bounds, GridOptions, Occupancy};
 pub use ground_table::GroundTable;

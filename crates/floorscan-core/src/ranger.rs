@@ -46,6 +46,8 @@ pub struct VisualRanger {
     /// Largest entry of `offsets` for the current frame.
     max_offset: usize,
     outcomes: Vec<Option<ColumnOutcome>>,
+    /// Per column: the confidence of its outcome (see [`edge_confidence`]).
+    confidence: Vec<f32>,
     /// Floor length [m] one pixel row covers, per sampled column (outer) and image row (inner),
     /// worked out once: a boundary's footprint then costs no table lookup.
     footprints_m: Vec<f32>,
@@ -122,6 +124,7 @@ impl VisualRanger {
             sums: vec![0; n],
             active_threshold: vec![i32::MAX; n],
             outcomes: vec![None; n],
+            confidence: vec![1.0; n],
             footprints_m,
             table,
             options,
@@ -176,15 +179,16 @@ impl VisualRanger {
             let plan = self.plans[j];
             self.outcomes[j] = Some(match plan.window {
                 None => ColumnOutcome::Invalid { row: None },
-                Some((lo, hi)) => (lo..=hi)
-                    .find(|&k| {
-                        direct_response_at(image, plan.column as usize, k, d).abs()
-                            > self.threshold_sum
-                    })
-                    .map_or_else(
-                        || self.no_boundary(j, image.height()),
-                        |k| self.resolve_crossing(image, j, k),
-                    ),
+                Some((lo, hi)) => {
+                    let response = |k| direct_response_at(image, plan.column as usize, k, d);
+                    match (lo..=hi).find(|&k| response(k).abs() > self.threshold_sum) {
+                        None => self.no_boundary(j, image.height()),
+                        Some(k) => {
+                            self.confidence[j] = edge_confidence(response(k), self.threshold_sum);
+                            self.resolve_crossing(image, j, k)
+                        }
+                    }
+                }
             });
         }
         self.fill_scan(timestamp_s, out);
@@ -210,11 +214,19 @@ impl VisualRanger {
             self.plans
                 .iter()
                 .zip(&self.outcomes)
-                .map(|(plan, outcome)| ColumnReading {
+                .zip(&self.confidence)
+                .map(|((plan, outcome), &confidence)| ColumnReading {
                     column: plan.column,
                     start_row: plan.start_row as f64,
                     near: plan.near,
                     outcome: outcome.unwrap_or(ColumnOutcome::Invalid { row: None }),
+                    confidence: match outcome {
+                        Some(ColumnOutcome::Boundary { .. } | ColumnOutcome::TooClose) => {
+                            confidence
+                        }
+                        Some(ColumnOutcome::NoBoundary { .. }) => 1.0,
+                        _ => 0.0,
+                    },
                 }),
         );
     }
@@ -263,6 +275,7 @@ impl VisualRanger {
             if any_crossing {
                 for j in 0..self.plans.len() {
                     if self.sums[j].abs() > self.active_threshold[j] {
+                        self.confidence[j] = edge_confidence(self.sums[j], self.threshold_sum);
                         self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
                         self.active_threshold[j] = i32::MAX;
                         unresolved -= 1;
@@ -391,6 +404,17 @@ impl VisualRanger {
             }
             None => ColumnOutcome::Invalid { row: Some(row) },
         }
+    }
+}
+
+/// Confidence of an edge whose raw response `s` crossed `threshold_sum`: 1 - t / |S|, 0 at the
+/// threshold, towards 1 for edges far above it.
+fn edge_confidence(s: i32, threshold_sum: i32) -> f32 {
+    let m = s.unsigned_abs() as f32;
+    if m <= 0.0 {
+        0.0
+    } else {
+        (1.0 - threshold_sum.max(0) as f32 / m).clamp(0.0, 1.0)
     }
 }
 

@@ -82,6 +82,14 @@ pub struct ColumnReading {
     /// field of view on the floor. The map builder starts free space here.
     pub near: Option<Point2>,
     pub outcome: ColumnOutcome,
+    /// How sure the ranger is of the outcome, in [0, 1] (edge ranger: how far the edge response
+    /// cleared the threshold; appearance ranger: the floor / not-floor margin; 1 when unknown).
+    #[serde(default = "full_confidence")]
+    pub confidence: f32,
+}
+
+fn full_confidence() -> f32 {
+    1.0
 }
 
 impl ColumnReading {
@@ -290,6 +298,7 @@ mod tests {
             start_row: 230.0,
             near: Some(Point2::new(0.3, 0.0)),
             outcome,
+            confidence: 1.0,
         }
     }
 

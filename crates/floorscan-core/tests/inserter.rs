@@ -40,6 +40,7 @@ fn reading(near: Option<(f64, f64)>, outcome: ColumnOutcome) -> ColumnReading {
         start_row: 100.0,
         near: near.map(|(x, y)| Point2::new(x, y)),
         outcome,
+        confidence: 1.0,
     }
 }
 

@@ -44,6 +44,7 @@ fn visual_scan(rng: &mut Rng) -> Scan {
                 start_row: 470.0,
                 near: Some(Point2::new(0.35 * c, 0.35 * s)),
                 outcome,
+                confidence: 1.0,
             }
         })
         .collect();

@@ -102,6 +102,7 @@ impl PyScan {
                 start_row,
                 near,
                 outcome,
+                confidence: 1.0,
             });
         }
         Ok(Self {

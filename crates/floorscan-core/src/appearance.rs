@@ -1,0 +1,320 @@
+//! The appearance range sensor: the paper's "visual ranging that does not rely on the texture
+//! assumption". A [`FloorModel`] of colour and texture is learned from a band of floor just
+//! above each column's start row (in front of the robot) and blended over frames; each sampled
+//! column is then scanned from the bottom, and the lowest row of the first run of
+//! `min_run_px` rows that do not look like floor is the boundary, looked up in the ground
+//! table like the edge ranger's (same statuses: boundary, no_boundary, too_close, invalid).
+//!
+//! A row of a column does not look like floor when most pixels of the horizontal patch around
+//! the column (2w + 1 pixels) do not. Each reading carries a confidence in [0, 1]: the margin by
+//! which the rows above the boundary are not floor times the margin by which those below are.
+//! Buffers live in the ranger and its model: scanning a frame allocates nothing.
+
+use crate::appearance_options::{AppearanceFeatures, AppearanceOptions};
+use crate::colour_image::ColourView;
+use crate::error::{invalid_option, Error, Result};
+use crate::floor_model::{colour_bin, texture_bin, FloorModel};
+use crate::ground_table::GroundTable;
+use crate::image::Pixel;
+use crate::pose::Point2;
+use crate::ranger_options::ColumnStart;
+use crate::scan::{ColumnOutcome, ColumnReading, Scan};
+
+/// Reference pixels are sampled every this many columns and rows.
+const REFERENCE_STRIDE: usize = 2;
+
+#[derive(Debug, Clone, Copy)]
+struct Plan {
+    column: u32,
+    start_row: usize,
+    near: Option<Point2>,
+    /// Highest row scanned; `None` when the column cannot be scanned (no ground at its start).
+    top_row: Option<usize>,
+    /// Patch columns, inclusive.
+    patch: (usize, usize),
+}
+
+/// The appearance range sensor for one camera (image size fixed by its ground table).
+#[derive(Debug, Clone)]
+pub struct AppearanceRanger {
+    table: GroundTable,
+    options: AppearanceOptions,
+    plans: Vec<Plan>,
+    /// Per image column: the reference band's rows (top, bottom), inclusive; `None` where the
+    /// column's start row has no ground.
+    reference: Vec<Option<(usize, usize)>>,
+    model: FloorModel,
+    outcomes: Vec<ColumnOutcome>,
+    confidence: Vec<f32>,
+}
+
+impl AppearanceRanger {
+    pub fn new(table: GroundTable, options: AppearanceOptions) -> Result<Self> {
+        options.validate()?;
+        let (width, height) = (table.image_width(), table.image_height());
+        let starts: Vec<usize> = match &options.start {
+            ColumnStart::BottomMargin(m) => {
+                if *m >= height {
+                    return Err(invalid_option(
+                        "bottom_margin",
+                        format!("{m} rows leaves nothing of a {height}-row image"),
+                    ));
+                }
+                vec![height - 1 - m; width]
+            }
+            ColumnStart::PerColumn(rows) => {
+                if rows.len() != width {
+                    return Err(invalid_option(
+                        "start_rows",
+                        format!(
+                            "needs one start row per image column ({width}), got {}",
+                            rows.len()
+                        ),
+                    ));
+                }
+                if let Some(bad) = rows.iter().find(|&&r| r as usize >= height) {
+                    return Err(invalid_option(
+                        "start_rows",
+                        format!("start row {bad} is outside the image ({height} rows)"),
+                    ));
+                }
+                rows.iter().map(|&r| r as usize).collect()
+            }
+        };
+        let band = ((options.reference_fraction * height as f64).round() as usize).max(1);
+        let reference = (0..width)
+            .map(|u| {
+                let s = starts[u];
+                table
+                    .lookup(u as f64, s as f64)
+                    .map(|_| ((s + 1).saturating_sub(band), s))
+            })
+            .collect();
+        let w = options.patch_half_width_px;
+        let plans: Vec<Plan> = options
+            .column_indices(width)?
+            .into_iter()
+            .map(|c| {
+                let u = c as usize;
+                let start_row = starts[u];
+                let near = table.lookup(u as f64, start_row as f64);
+                let within = |p: Point2| options.max_range_m.is_none_or(|r| p.norm() <= r);
+                let top_row = near.filter(|&p| within(p)).map(|_| {
+                    let mut top = start_row;
+                    while top > 0 && table.lookup(u as f64, (top - 1) as f64).is_some_and(within) {
+                        top -= 1;
+                    }
+                    top
+                });
+                Plan {
+                    column: c,
+                    start_row,
+                    near,
+                    top_row,
+                    patch: (u.saturating_sub(w), (u + w).min(width - 1)),
+                }
+            })
+            .collect();
+        let n = plans.len();
+        Ok(Self {
+            table,
+            options,
+            plans,
+            reference,
+            model: FloorModel::default(),
+            outcomes: vec![ColumnOutcome::Invalid { row: None }; n],
+            confidence: vec![0.0; n],
+        })
+    }
+
+    pub fn table(&self) -> &GroundTable {
+        &self.table
+    }
+    pub fn options(&self) -> &AppearanceOptions {
+        &self.options
+    }
+    pub fn model(&self) -> &FloorModel {
+        &self.model
+    }
+    /// The sampled image columns, in output order.
+    pub fn columns(&self) -> Vec<u32> {
+        self.plans.iter().map(|p| p.column).collect()
+    }
+
+    /// Forgets the learned floor (e.g. on entering another building).
+    pub fn reset_model(&mut self) {
+        self.model.reset();
+    }
+
+    /// Learns from this frame's reference band, then scans it into a new [`Scan`].
+    pub fn scan<P: Pixel>(&mut self, image: &ColourView<P>, timestamp_s: f64) -> Result<Scan> {
+        let mut scan = Scan::default();
+        self.scan_into(image, timestamp_s, &mut scan)?;
+        Ok(scan)
+    }
+
+    /// Learns from this frame's reference band, then scans it into `out` (its buffer reused).
+    pub fn scan_into<P: Pixel>(
+        &mut self,
+        image: &ColourView<P>,
+        timestamp_s: f64,
+        out: &mut Scan,
+    ) -> Result<()> {
+        self.check_size(image)?;
+        self.learn(image);
+        for j in 0..self.plans.len() {
+            let (outcome, confidence) = self.scan_column(image, j);
+            self.outcomes[j] = outcome;
+            self.confidence[j] = confidence;
+        }
+        out.timestamp_s = timestamp_s;
+        out.readings.clear();
+        out.readings
+            .extend(self.plans.iter().enumerate().map(|(j, p)| ColumnReading {
+                column: p.column,
+                start_row: p.start_row as f64,
+                near: p.near,
+                outcome: self.outcomes[j],
+                confidence: self.confidence[j],
+            }));
+        Ok(())
+    }
+
+    /// Whether pixel (u, v) looks like floor to the current model.
+    pub fn looks_like_floor<P: Pixel>(&self, image: &ColourView<P>, u: usize, v: usize) -> bool {
+        let texture = match self.options.features {
+            AppearanceFeatures::Colour => None,
+            AppearanceFeatures::ColourAndTexture => Some(texture_bin(gradient(image, u, v))),
+        };
+        self.model.is_floor(colour_bin(image.rgb8(u, v)), texture)
+    }
+
+    fn check_size<P: Pixel>(&self, image: &ColourView<P>) -> Result<()> {
+        let (width, height) = (self.table.image_width(), self.table.image_height());
+        if image.width() != width || image.height() != height {
+            return Err(Error::InvalidImage(format!(
+                "image is {} x {} (w x h) but the calibration table is for {width} x {height}",
+                image.width(),
+                image.height()
+            )));
+        }
+        Ok(())
+    }
+
+    fn learn<P: Pixel>(&mut self, image: &ColourView<P>) {
+        self.model.begin_frame();
+        for u in (0..image.width()).step_by(REFERENCE_STRIDE) {
+            if let Some((top, bottom)) = self.reference[u] {
+                for v in (top..=bottom).rev().step_by(REFERENCE_STRIDE) {
+                    let t = texture_bin(gradient(image, u, v));
+                    self.model.add(colour_bin(image.rgb8(u, v)), t);
+                }
+            }
+        }
+        self.model
+            .finish_frame(self.options.adaptation_rate, self.options.min_floor_share);
+    }
+
+    fn scan_column<P: Pixel>(&self, image: &ColourView<P>, j: usize) -> (ColumnOutcome, f32) {
+        let plan = self.plans[j];
+        let Some(top) = plan.top_row else {
+            return (ColumnOutcome::Invalid { row: None }, 0.0);
+        };
+        let (a, b) = plan.patch;
+        let patch_n = (b - a + 1) as f32;
+        let min_run = self.options.min_run_px;
+        let (mut run, mut run_start, mut run_not_floor) = (0usize, 0usize, 0f32);
+        let (mut floor_rows, mut floor_sum) = (0usize, 0f32);
+        for v in (top..=plan.start_row).rev() {
+            let floor = (a..=b)
+                .filter(|&u| self.looks_like_floor(image, u, v))
+                .count();
+            let share = floor as f32 / patch_n;
+            if 2 * floor < b - a + 1 {
+                if run == 0 {
+                    run_start = v;
+                    run_not_floor = 0.0;
+                }
+                run += 1;
+                run_not_floor += 1.0 - share;
+                if run >= min_run {
+                    let below = if floor_rows > 0 {
+                        floor_sum / floor_rows as f32
+                    } else {
+                        1.0
+                    };
+                    let confidence = margin(run_not_floor / run as f32) * margin(below);
+                    return (self.boundary(j, run_start), confidence);
+                }
+            } else {
+                run = 0;
+                floor_rows += 1;
+                floor_sum += share;
+            }
+        }
+        let confidence = if floor_rows > 0 {
+            margin(floor_sum / floor_rows as f32)
+        } else {
+            0.0
+        };
+        match self.table.lookup(plan.column as f64, top as f64) {
+            Some(farthest) => (
+                ColumnOutcome::NoBoundary {
+                    top_row: top as f64,
+                    farthest,
+                },
+                confidence,
+            ),
+            None => (ColumnOutcome::Invalid { row: None }, 0.0),
+        }
+    }
+
+    /// The outcome of a run of non-floor rows whose lowest row is `v`: its lower edge (the
+    /// obstacle's base, v + 0.5) is the boundary.
+    fn boundary(&self, j: usize, v: usize) -> ColumnOutcome {
+        let plan = &self.plans[j];
+        if v == plan.start_row {
+            return ColumnOutcome::TooClose;
+        }
+        let u = plan.column as f64;
+        let row = v as f64 + 0.5;
+        match self.table.lookup(u, row) {
+            Some(point) => {
+                let footprint_m = match (
+                    self.table.lookup(u, row - 0.5),
+                    self.table.lookup(u, row + 0.5),
+                ) {
+                    (Some(p), Some(q)) => (p.x - q.x).hypot(p.y - q.y),
+                    _ => 0.0,
+                };
+                ColumnOutcome::Boundary {
+                    row,
+                    point,
+                    footprint_m,
+                }
+            }
+            None => ColumnOutcome::Invalid { row: Some(row) },
+        }
+    }
+}
+
+/// A share s in [0.5, 1] as a margin in [0, 1]: 2s - 1.
+fn margin(share: f32) -> f32 {
+    (2.0 * share - 1.0).clamp(0.0, 1.0)
+}
+
+/// |dG/du| + |dG/dv| of the green channel by central differences (one-sided at the borders),
+/// 8-bit scale.
+#[inline(always)]
+fn gradient<P: Pixel>(image: &ColourView<P>, u: usize, v: usize) -> i32 {
+    let g = image.channel(1);
+    let shift = if P::MAX > 255 { 8 } else { 0 };
+    let at = |u: usize, v: usize| g.get(u, v).to_i32() >> shift;
+    let (ul, ur) = (u.saturating_sub(1), (u + 1).min(g.width() - 1));
+    let (vt, vb) = (v.saturating_sub(1), (v + 1).min(g.height() - 1));
+    (at(ur, v) - at(ul, v)).abs() + (at(u, vb) - at(u, vt)).abs()
+}
+
+#[cfg(test)]
+#[path = "appearance_tests.rs"]
+mod tests;

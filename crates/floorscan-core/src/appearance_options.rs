@@ -1,0 +1,187 @@
+//! Options of the appearance range sensor: one documented structure, validated when the ranger
+//! is built. The `[appearance]` table of the TOML config file is exactly these fields.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{invalid_option, Result};
+use crate::ranger_options::{ColumnSelection, ColumnStart, RangerOptions};
+
+/// Which appearance statistics a pixel must match to look like floor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AppearanceFeatures {
+    /// Colour only (intensity and two chroma axes).
+    Colour,
+    /// Colour and local texture (gradient magnitude).
+    ColourAndTexture,
+}
+
+/// Options of [`crate::appearance::AppearanceRanger`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct AppearanceOptions {
+    /// Sampled columns. Default: 64 evenly spaced (as the edge ranger).
+    pub columns: ColumnSelection,
+    /// Start of each column's scan. Default: 2 px bottom margin (as the edge ranger).
+    pub start: ColumnStart,
+    /// Farthest ground range scanned [m]; `None`: as far as the table has ground. Default 3 m.
+    pub max_range_m: Option<f64>,
+    /// Height of the reference band of floor, just above each column's start row, as a share
+    /// of the image height, in (0, 0.5]. Default 0.1 (the floor nearest the robot).
+    pub reference_fraction: f64,
+    /// Statistics compared. Default: colour and texture.
+    pub features: AppearanceFeatures,
+    /// A pixel looks like floor when at least this share of the reference lies within one bin
+    /// of its colour (and of its texture), in (0, 1). Default 0.003.
+    pub min_floor_share: f64,
+    /// Half-width of the horizontal patch classified around each column [px]: a row of the
+    /// column is not floor when most of its 2w + 1 pixels are not. Default 2.
+    pub patch_half_width_px: usize,
+    /// Rows in a run of non-floor rows that makes a boundary (the lowest row of the run is the
+    /// boundary), >= 1. Default 3 (as the floor-mask truth).
+    pub min_run_px: usize,
+    /// Weight of the newest frame's reference in the model, in (0, 1]; 1 relearns every frame.
+    /// Default 0.5.
+    pub adaptation_rate: f64,
+}
+
+impl Default for AppearanceOptions {
+    fn default() -> Self {
+        let edge = RangerOptions::default();
+        Self {
+            columns: edge.columns,
+            start: edge.start,
+            max_range_m: edge.max_range_m,
+            reference_fraction: 0.1,
+            features: AppearanceFeatures::ColourAndTexture,
+            min_floor_share: 0.003,
+            patch_half_width_px: 2,
+            min_run_px: 3,
+            adaptation_rate: 0.5,
+        }
+    }
+}
+
+/// Largest patch half-width and run accepted [px] (far beyond any image's useful values).
+pub const MAX_PATCH_PX: usize = 256;
+
+impl AppearanceOptions {
+    /// Checks every field that does not depend on the image size.
+    pub fn validate(&self) -> Result<()> {
+        let share = |name: &'static str, v: f64, hi_inclusive: bool| {
+            let ok = v.is_finite() && v > 0.0 && if hi_inclusive { v <= 1.0 } else { v < 1.0 };
+            if ok {
+                Ok(())
+            } else {
+                Err(invalid_option(
+                    name,
+                    format!(
+                        "must be in (0, 1{}, got {v}",
+                        if hi_inclusive { "]" } else { ")" }
+                    ),
+                ))
+            }
+        };
+        if !(self.reference_fraction.is_finite()
+            && self.reference_fraction > 0.0
+            && self.reference_fraction <= 0.5)
+        {
+            return Err(invalid_option(
+                "reference_fraction",
+                format!("must be in (0, 0.5], got {}", self.reference_fraction),
+            ));
+        }
+        share("min_floor_share", self.min_floor_share, false)?;
+        share("adaptation_rate", self.adaptation_rate, true)?;
+        if self.patch_half_width_px > MAX_PATCH_PX {
+            return Err(invalid_option(
+                "patch_half_width_px",
+                format!(
+                    "must be at most {MAX_PATCH_PX}, got {}",
+                    self.patch_half_width_px
+                ),
+            ));
+        }
+        if self.min_run_px < 1 || self.min_run_px > MAX_PATCH_PX {
+            return Err(invalid_option(
+                "min_run_px",
+                format!("must be in 1..={MAX_PATCH_PX}, got {}", self.min_run_px),
+            ));
+        }
+        // Columns and range limit: the edge ranger's rules.
+        RangerOptions {
+            columns: self.columns.clone(),
+            max_range_m: self.max_range_m,
+            ..Default::default()
+        }
+        .validate()
+    }
+
+    /// The sampled image columns for an image `width` pixels wide.
+    pub fn column_indices(&self, width: usize) -> Result<Vec<u32>> {
+        RangerOptions {
+            columns: self.columns.clone(),
+            ..Default::default()
+        }
+        .column_indices(width)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_every_bad_option_is_an_error() {
+        AppearanceOptions::default().validate().unwrap();
+        let d = AppearanceOptions::default;
+        let bad = [
+            AppearanceOptions {
+                reference_fraction: 0.0,
+                ..d()
+            },
+            AppearanceOptions {
+                reference_fraction: 0.7,
+                ..d()
+            },
+            AppearanceOptions {
+                min_floor_share: 1.0,
+                ..d()
+            },
+            AppearanceOptions {
+                min_floor_share: f64::NAN,
+                ..d()
+            },
+            AppearanceOptions {
+                adaptation_rate: 0.0,
+                ..d()
+            },
+            AppearanceOptions {
+                min_run_px: 0,
+                ..d()
+            },
+            AppearanceOptions {
+                patch_half_width_px: 10_000,
+                ..d()
+            },
+            AppearanceOptions {
+                columns: ColumnSelection::Count(0),
+                ..d()
+            },
+            AppearanceOptions {
+                max_range_m: Some(-1.0),
+                ..d()
+            },
+        ];
+        for o in bad {
+            assert!(o.validate().is_err(), "{o:?}");
+        }
+    }
+
+    #[test]
+    fn partial_serde_form_takes_defaults() {
+        let o: AppearanceOptions = serde_json::from_str(r#"{"min_run_px": 5}"#).unwrap();
+        assert_eq!(o.min_run_px, 5);
+        assert_eq!(o.features, AppearanceFeatures::ColourAndTexture);
+    }
+}

@@ -1,0 +1,293 @@
+//! Tests of the appearance range sensor on synthetic colour images with exactly known
+//! boundaries: a tiled, noisy floor (grout lines, two tile colours) and obstacles of another
+//! colour, against a brute-force scan of the true obstacle mask with the same column rule.
+
+use crate::appearance::AppearanceRanger;
+use crate::appearance_options::{AppearanceFeatures, AppearanceOptions};
+use crate::colour_image::ColourView;
+use crate::error::Error;
+use crate::ground_table::GroundTable;
+use crate::image::ImageView;
+use crate::pose::Point2;
+use crate::ranger_options::{ColumnSelection, ColumnStart};
+use crate::scan::{ColumnOutcome, ColumnStatus};
+
+const W: usize = 160;
+const H: usize = 120;
+
+/// Ground below `horizon_row`: x grows upwards, y to the left.
+fn table(horizon_row: f64) -> GroundTable {
+    GroundTable::from_fn(W, H, 4, |u, v| {
+        (v >= horizon_row).then(|| {
+            Point2::new(
+                0.2 + (H as f64 - 1.0 - v) * 0.01,
+                (W as f64 / 2.0 - u) * 0.005,
+            )
+        })
+    })
+    .unwrap()
+}
+
+/// A small deterministic noise in -6..=6.
+fn noise(u: usize, v: usize, seed: u64) -> i32 {
+    let mut x = (u as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (v as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+        ^ seed.wrapping_mul(0x1656_67B1_9E37_79F9);
+    x ^= x >> 29;
+    x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x ^= x >> 32;
+    (x % 13) as i32 - 6
+}
+
+/// Tiles of 12 px with 2 px grout, two tile colours, noise; obstacle pixels (mask true) red.
+fn tiled_image(obstacle: &dyn Fn(usize, usize) -> bool, seed: u64) -> Vec<u8> {
+    let mut img = vec![0u8; W * H * 3];
+    for v in 0..H {
+        for u in 0..W {
+            let base: [i32; 3] = if obstacle(u, v) {
+                [200, 40, 40]
+            } else if u % 14 < 2 || v % 14 < 2 {
+                [90, 90, 88]
+            } else if (u / 14 + v / 14) % 2 == 0 {
+                [150, 135, 115]
+            } else {
+                [175, 160, 140]
+            };
+            for c in 0..3 {
+                let n = noise(u, v, seed * 3 + c as u64);
+                img[(v * W + u) * 3 + c] = (base[c] + n).clamp(0, 255) as u8;
+            }
+        }
+    }
+    img
+}
+
+fn options(features: AppearanceFeatures) -> AppearanceOptions {
+    AppearanceOptions {
+        columns: ColumnSelection::Count(W),
+        start: ColumnStart::BottomMargin(0),
+        max_range_m: None,
+        features,
+        ..Default::default()
+    }
+}
+
+/// Brute force on the true mask: per column, rows from the bottom; a row is not floor when most
+/// patch pixels are obstacle; the lowest row of the first run of `run` such rows is the boundary.
+fn expected(
+    obstacle: &dyn Fn(usize, usize) -> bool,
+    u: usize,
+    w: usize,
+    run: usize,
+) -> ColumnStatus2 {
+    let (a, b) = (u.saturating_sub(w), (u + w).min(W - 1));
+    let not_floor = |v: usize| 2 * (a..=b).filter(|&x| obstacle(x, v)).count() > b - a + 1;
+    let mut count = 0;
+    for k in 0..H {
+        let v = H - 1 - k;
+        if not_floor(v) {
+            count += 1;
+            if count == run {
+                let lowest = v + run - 1;
+                return if lowest == H - 1 {
+                    ColumnStatus2::TooClose
+                } else {
+                    ColumnStatus2::Boundary(lowest as f64 + 0.5)
+                };
+            }
+        } else {
+            count = 0;
+        }
+    }
+    ColumnStatus2::NoBoundary
+}
+
+#[derive(Debug, PartialEq)]
+enum ColumnStatus2 {
+    Boundary(f64),
+    NoBoundary,
+    TooClose,
+}
+
+fn observed(outcome: &ColumnOutcome) -> ColumnStatus2 {
+    match outcome {
+        ColumnOutcome::Boundary { row, .. } => ColumnStatus2::Boundary(*row),
+        ColumnOutcome::NoBoundary { .. } => ColumnStatus2::NoBoundary,
+        ColumnOutcome::TooClose => ColumnStatus2::TooClose,
+        ColumnOutcome::Invalid { .. } => panic!("invalid column"),
+    }
+}
+
+/// A box whose base follows a staircase and slope, a thin leg, and one column band that touches
+/// the bottom (too close), over a tiled floor.
+fn scene(u: usize, v: usize) -> bool {
+    let base = match u {
+        0..=39 => 40 + u / 2,
+        40..=79 => 70,
+        80..=89 => 95, // a 10 px leg
+        90..=129 => 30,
+        130..=139 => H, // touches the bottom row
+        _ => 0,         // free to the top
+    };
+    v < base
+}
+
+/// The scene without the obstacle that touches the bottom: the floor the robot learned from
+/// before it came too close (an obstacle inside the reference band is learned as floor in
+/// proportion to the adaptation rate).
+fn earlier_scene(u: usize, v: usize) -> bool {
+    !(130..=139).contains(&u) && scene(u, v)
+}
+
+/// Learns `earlier_scene` (seed 0), then scans `scene` with a slow adaptation rate.
+fn scan_scene(o: &AppearanceOptions, seed: u64) -> crate::scan::Scan {
+    let o = AppearanceOptions {
+        adaptation_rate: 0.02,
+        ..o.clone()
+    };
+    let mut r = AppearanceRanger::new(table(0.0), o).unwrap();
+    let before = tiled_image(&earlier_scene, 0);
+    r.scan(&ColourView::interleaved(&before, W, H).unwrap(), 0.0)
+        .unwrap();
+    let img = tiled_image(&scene, seed);
+    r.scan(&ColourView::interleaved(&img, W, H).unwrap(), 0.1)
+        .unwrap()
+}
+
+#[test]
+fn colour_boundaries_match_brute_force_on_a_tiled_floor() {
+    let o = options(AppearanceFeatures::Colour);
+    let scan = scan_scene(&o, 1);
+    assert_eq!(scan.len(), W);
+    for reading in &scan.readings {
+        let u = reading.column as usize;
+        let want = expected(&scene, u, o.patch_half_width_px, o.min_run_px);
+        assert_eq!(observed(&reading.outcome), want, "column {u}");
+        assert!((0.0..=1.0).contains(&reading.confidence));
+    }
+    let statuses: Vec<_> = scan.readings.iter().map(|r| r.status()).collect();
+    for s in [
+        ColumnStatus::Boundary,
+        ColumnStatus::TooClose,
+        ColumnStatus::NoBoundary,
+    ] {
+        assert!(statuses.contains(&s), "{s:?} never seen");
+    }
+}
+
+#[test]
+fn texture_features_land_within_a_row_of_the_truth() {
+    let o = options(AppearanceFeatures::ColourAndTexture);
+    let scan = scan_scene(&o, 2);
+    for reading in &scan.readings {
+        let u = reading.column as usize;
+        match (
+            expected(&scene, u, o.patch_half_width_px, o.min_run_px),
+            observed(&reading.outcome),
+        ) {
+            (ColumnStatus2::Boundary(a), ColumnStatus2::Boundary(b)) => {
+                assert!((a - b).abs() <= 1.0, "column {u}: {a} vs {b}")
+            }
+            (want, got) => assert_eq!(got, want, "column {u}"),
+        }
+    }
+}
+
+#[test]
+fn grey_input_reads_as_equal_channels_and_the_range_limit_sets_the_top() {
+    // A grey floor of two tones below row 60, a dark obstacle above; the table has ground
+    // from row 32 down (a node row; the no-boundary columns stop there).
+    let mut grey = vec![0u8; W * H];
+    for v in 0..H {
+        for u in 0..W {
+            grey[v * W + u] = if u >= 100 || v >= 60 {
+                if (u / 5 + v / 5) % 2 == 0 {
+                    120
+                } else {
+                    150
+                }
+            } else {
+                20
+            };
+        }
+    }
+    let rgb: Vec<u8> = grey.iter().flat_map(|&g| [g, g, g]).collect();
+    let o = options(AppearanceFeatures::Colour);
+    let mut a = AppearanceRanger::new(table(32.0), o.clone()).unwrap();
+    let mut b = AppearanceRanger::new(table(32.0), o).unwrap();
+    let sa = a
+        .scan(&ColourView::grey(ImageView::new(&grey, W, H).unwrap()), 0.0)
+        .unwrap();
+    let sb = b
+        .scan(&ColourView::interleaved(&rgb, W, H).unwrap(), 0.0)
+        .unwrap();
+    assert_eq!(sa, sb);
+    for r in &sa.readings {
+        match r.outcome {
+            ColumnOutcome::Boundary { row, .. } => {
+                assert!(r.column < 100);
+                assert_eq!(row, 59.5);
+            }
+            ColumnOutcome::NoBoundary { top_row, .. } => {
+                assert!(r.column >= 100);
+                assert_eq!(top_row, 32.0);
+            }
+            other => panic!("column {}: {other:?}", r.column),
+        }
+    }
+}
+
+#[test]
+fn the_adaptation_rate_weighs_the_newest_reference() {
+    // Frame 1 learns a grey floor; frame 2's floor is brown. With a tiny adaptation rate brown
+    // has too small a share of the model to count as floor (the robot looks too close);
+    // after a reset the brown frame is the whole model.
+    let make = |floor: [u8; 3]| -> Vec<u8> {
+        (0..W * H)
+            .flat_map(|i| if i / W < 20 { [20, 200, 20] } else { floor })
+            .collect()
+    };
+    let (grey, brown) = (make([128, 128, 128]), make([150, 100, 60]));
+    let o = AppearanceOptions {
+        adaptation_rate: 0.001,
+        ..options(AppearanceFeatures::Colour)
+    };
+    let mut r = AppearanceRanger::new(table(0.0), o).unwrap();
+    let (grey, brown) = (
+        ColourView::interleaved(&grey, W, H).unwrap(),
+        ColourView::interleaved(&brown, W, H).unwrap(),
+    );
+    let s1 = r.scan(&grey, 0.0).unwrap();
+    assert!(s1.readings.iter().all(|x| x.row() == 19.5));
+    let s2 = r.scan(&brown, 0.1).unwrap();
+    assert!(s2
+        .readings
+        .iter()
+        .all(|x| x.status() == ColumnStatus::TooClose));
+    r.reset_model();
+    let s3 = r.scan(&brown, 0.2).unwrap();
+    assert!(s3.readings.iter().all(|x| x.row() == 19.5));
+}
+
+#[test]
+fn wrong_size_and_columns_without_ground_are_reported() {
+    let img = tiled_image(&scene, 3);
+    let mut r = AppearanceRanger::new(table(0.0), options(AppearanceFeatures::Colour)).unwrap();
+    let small = ColourView::interleaved(&img[..(W - 1) * H * 3], W - 1, H).unwrap();
+    assert!(matches!(r.scan(&small, 0.0), Err(Error::InvalidImage(_))));
+    // No ground anywhere: every column is invalid.
+    let none = GroundTable::from_fn(W, H, 4, |_, _| None).unwrap();
+    let mut r = AppearanceRanger::new(none, options(AppearanceFeatures::Colour)).unwrap();
+    let scan = r
+        .scan(&ColourView::interleaved(&img, W, H).unwrap(), 0.0)
+        .unwrap();
+    assert!(scan
+        .readings
+        .iter()
+        .all(|x| x.status() == ColumnStatus::Invalid));
+    let bad = AppearanceOptions {
+        start: ColumnStart::BottomMargin(H),
+        ..Default::default()
+    };
+    assert!(AppearanceRanger::new(table(0.0), bad).is_err());
+}

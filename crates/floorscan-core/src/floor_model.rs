@@ -1,0 +1,253 @@
+//! What the floor looks like: histograms of colour and of local texture learned from a reference
+//! region of floor (Ulrich & Nourbakhsh 2000: appearance histograms of a reference area in front
+//! of the robot; Lorigo, Brooks & Grimson 1997: brightness, colour and texture compared against
+//! a bottom reference window), blended over frames so the model follows the building.
+//!
+//! A pixel looks like floor when the share of reference pixels whose colour lies within one bin
+//! of its own (on each of the three colour axes) is at least `min_share`, and likewise for its
+//! texture bin (when texture is used). Buffers are sized once: learning allocates nothing.
+
+/// Intensity bins, 16 grey levels each (8-bit scale).
+pub const INTENSITY_BINS: usize = 16;
+/// Bins per chroma axis, 16 levels each, the grey axis on a bin edge, clamped at +-96.
+pub const CHROMA_BINS: usize = 12;
+/// Colour bins in all: intensity x chroma x chroma.
+pub const COLOUR_BINS: usize = INTENSITY_BINS * CHROMA_BINS * CHROMA_BINS;
+/// Texture bins: gradient magnitude (|dG/du| + |dG/dv| of the green channel, central
+/// differences), 8 levels each, the last bin open-ended.
+pub const TEXTURE_BINS: usize = 8;
+
+/// Colour bin of an 8-bit (r, g, b): intensity (r + g + b) / 3, chroma r - g and
+/// (r + g) / 2 - b.
+#[inline(always)]
+pub fn colour_bin([r, g, b]: [i32; 3]) -> usize {
+    let i = ((r + g + b) / 3).clamp(0, 255) as usize >> 4;
+    let chroma = |c: i32| ((c + 96).clamp(0, 16 * CHROMA_BINS as i32 - 1) >> 4) as usize;
+    let c1 = chroma(r - g);
+    let c2 = chroma((r + g) / 2 - b);
+    (i * CHROMA_BINS + c1) * CHROMA_BINS + c2
+}
+
+/// Texture bin of a gradient magnitude (8-bit scale).
+#[inline(always)]
+pub fn texture_bin(gradient: i32) -> usize {
+    ((gradient.max(0) >> 3) as usize).min(TEXTURE_BINS - 1)
+}
+
+/// The learned floor appearance.
+#[derive(Debug, Clone)]
+pub struct FloorModel {
+    colour_counts: Vec<u32>,
+    texture_counts: [u32; TEXTURE_BINS],
+    samples: u32,
+    scratch: Vec<f32>,
+    /// Learned share of reference pixels within one bin of each colour bin.
+    colour_share: Vec<f32>,
+    texture_share: [f32; TEXTURE_BINS],
+    floor_colour: Vec<bool>,
+    floor_texture: [bool; TEXTURE_BINS],
+    frames: u64,
+}
+
+impl Default for FloorModel {
+    fn default() -> Self {
+        Self {
+            colour_counts: vec![0; COLOUR_BINS],
+            texture_counts: [0; TEXTURE_BINS],
+            samples: 0,
+            scratch: vec![0.0; COLOUR_BINS],
+            colour_share: vec![0.0; COLOUR_BINS],
+            texture_share: [0.0; TEXTURE_BINS],
+            floor_colour: vec![false; COLOUR_BINS],
+            floor_texture: [false; TEXTURE_BINS],
+            frames: 0,
+        }
+    }
+}
+
+impl FloorModel {
+    /// Forgets everything learned (the next frame's reference is the whole model).
+    pub fn reset(&mut self) {
+        self.frames = 0;
+        self.colour_share.fill(0.0);
+        self.texture_share = [0.0; TEXTURE_BINS];
+        self.floor_colour.fill(false);
+        self.floor_texture = [false; TEXTURE_BINS];
+    }
+
+    /// Frames learned since the last reset.
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+
+    /// Starts collecting one frame's reference pixels.
+    pub fn begin_frame(&mut self) {
+        self.colour_counts.fill(0);
+        self.texture_counts = [0; TEXTURE_BINS];
+        self.samples = 0;
+    }
+
+    /// Adds one reference pixel.
+    #[inline(always)]
+    pub fn add(&mut self, colour: usize, texture: usize) {
+        self.colour_counts[colour] += 1;
+        self.texture_counts[texture] += 1;
+        self.samples += 1;
+    }
+
+    /// Folds the frame's reference into the model: `model = rate * frame + (1 - rate) * model`
+    /// (the first frame after a reset is the model), then marks the bins whose share is at least
+    /// `min_share` as floor. A frame without reference pixels leaves the model as it was.
+    pub fn finish_frame(&mut self, adaptation_rate: f64, min_share: f64) {
+        if self.samples == 0 {
+            return;
+        }
+        let n = self.samples as f32;
+        let rate = if self.frames == 0 {
+            1.0
+        } else {
+            adaptation_rate as f32
+        };
+        // Box sums over +-1 bin along each colour axis (separable), into `scratch`.
+        for (s, &c) in self.scratch.iter_mut().zip(&self.colour_counts) {
+            *s = c as f32;
+        }
+        box3(&mut self.scratch, &mut self.colour_share, rate, n);
+        let mut tex = [0f32; TEXTURE_BINS];
+        for (b, t) in tex.iter_mut().enumerate() {
+            let lo = b.saturating_sub(1);
+            let hi = (b + 1).min(TEXTURE_BINS - 1);
+            *t = self.texture_counts[lo..=hi].iter().sum::<u32>() as f32 / n;
+        }
+        for (m, t) in self.texture_share.iter_mut().zip(tex) {
+            *m = rate * t + (1.0 - rate) * *m;
+        }
+        let min = min_share as f32;
+        for (f, &s) in self.floor_colour.iter_mut().zip(&self.colour_share) {
+            *f = s >= min;
+        }
+        for (f, &s) in self.floor_texture.iter_mut().zip(&self.texture_share) {
+            *f = s >= min;
+        }
+        self.frames += 1;
+    }
+
+    /// Whether a pixel of these bins looks like floor (`texture: None` ignores texture).
+    #[inline(always)]
+    pub fn is_floor(&self, colour: usize, texture: Option<usize>) -> bool {
+        self.floor_colour[colour] && texture.is_none_or(|t| self.floor_texture[t])
+    }
+
+    /// The learned share of a colour bin (for tests and diagnostics).
+    pub fn colour_share(&self, colour: usize) -> f32 {
+        self.colour_share[colour]
+    }
+}
+
+/// `model = rate * box(counts) / n + (1 - rate) * model`, box = sum over +-1 bin on each axis.
+fn box3(counts: &mut [f32], model: &mut [f32], rate: f32, n: f32) {
+    const C: usize = CHROMA_BINS;
+    let idx = |i: usize, a: usize, b: usize| (i * C + a) * C + b;
+    let mut line = [0f32; INTENSITY_BINS];
+    // Axis 2 (second chroma), then axis 1, then intensity; each pass in place via a line copy.
+    for i in 0..INTENSITY_BINS {
+        for a in 0..C {
+            line[..C].copy_from_slice(&counts[idx(i, a, 0)..idx(i, a, 0) + C]);
+            for b in 0..C {
+                counts[idx(i, a, b)] = sum3(&line[..C], b);
+            }
+        }
+        for b in 0..C {
+            for (a, l) in line[..C].iter_mut().enumerate() {
+                *l = counts[idx(i, a, b)];
+            }
+            for a in 0..C {
+                counts[idx(i, a, b)] = sum3(&line[..C], a);
+            }
+        }
+    }
+    for a in 0..C {
+        for b in 0..C {
+            for (i, l) in line.iter_mut().enumerate() {
+                *l = counts[idx(i, a, b)];
+            }
+            for i in 0..INTENSITY_BINS {
+                let k = idx(i, a, b);
+                model[k] = rate * sum3(&line, i) / n + (1.0 - rate) * model[k];
+            }
+        }
+    }
+}
+
+#[inline(always)]
+fn sum3(line: &[f32], i: usize) -> f32 {
+    let lo = i.saturating_sub(1);
+    let hi = (i + 1).min(line.len() - 1);
+    line[lo..=hi].iter().sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bins_cover_their_ranges() {
+        assert_eq!(colour_bin([0, 0, 0]), (6 * CHROMA_BINS) + 6);
+        assert!(colour_bin([255, 255, 255]) < COLOUR_BINS);
+        assert!(colour_bin([255, 0, 0]) < COLOUR_BINS);
+        assert!(colour_bin([0, 0, 255]) < COLOUR_BINS);
+        assert_eq!(texture_bin(0), 0);
+        assert_eq!(texture_bin(1000), TEXTURE_BINS - 1);
+    }
+
+    #[test]
+    fn share_counts_neighbours_within_one_bin_by_brute_force() {
+        let mut m = FloorModel::default();
+        m.begin_frame();
+        let pixels = [[10, 10, 10], [40, 10, 200], [200, 100, 50], [30, 20, 10]];
+        for p in pixels {
+            m.add(colour_bin(p), 0);
+        }
+        m.finish_frame(1.0, 0.3);
+        let coords = |b: usize| {
+            let (i, r) = (
+                b / (CHROMA_BINS * CHROMA_BINS),
+                b % (CHROMA_BINS * CHROMA_BINS),
+            );
+            (i as i64, (r / CHROMA_BINS) as i64, (r % CHROMA_BINS) as i64)
+        };
+        for b in 0..COLOUR_BINS {
+            let (i, a, c) = coords(b);
+            let near = pixels
+                .iter()
+                .filter(|p| {
+                    let (pi, pa, pc) = coords(colour_bin(**p));
+                    (pi - i).abs() <= 1 && (pa - a).abs() <= 1 && (pc - c).abs() <= 1
+                })
+                .count();
+            assert!(
+                (m.colour_share(b) - near as f32 / 4.0).abs() < 1e-6,
+                "bin {b}"
+            );
+            assert_eq!(m.is_floor(b, None), near as f32 / 4.0 >= 0.3);
+        }
+    }
+
+    #[test]
+    fn the_model_blends_frames_at_the_adaptation_rate() {
+        let mut m = FloorModel::default();
+        let (a, b) = (colour_bin([50, 50, 50]), colour_bin([200, 200, 200]));
+        m.begin_frame();
+        m.add(a, 0);
+        m.finish_frame(0.25, 0.5);
+        m.begin_frame();
+        m.add(b, 0);
+        m.finish_frame(0.25, 0.5);
+        assert!((m.colour_share(a) - 0.75).abs() < 1e-6);
+        assert!((m.colour_share(b) - 0.25).abs() < 1e-6);
+        assert!(m.is_floor(a, Some(0)) && !m.is_floor(b, Some(0)));
+        assert!(!m.is_floor(a, Some(5)), "texture bin never seen");
+        m.reset();
+        assert!(!m.is_floor(a, None));
+    }
+}
