@@ -6,6 +6,7 @@ radians), REP 117 ranges (+inf no return), image rows counted from the top.
 """
 
 from . import _native
+from .appearance import AppearanceRanger
 from .errors import (
     CalibrationError,
     ConfigError,
@@ -58,6 +59,7 @@ __all__ = [
     "TableError",
     "UnsupportedVersionError",
     "VisualRanger",
+    "AppearanceRanger",
     "read_scans_csv",
     "write_scans_csv",
     "WorldError",

@@ -25,6 +25,10 @@ def doc(text: str, default: Any = dataclasses.MISSING, **kw):
 
 @dataclass
 class RangerConfig:
+    kind: str = doc(
+        "range sensor: edge (the paper's box filter) | appearance (floor colour and texture model) | fused (appearance boundaries placed by nearby edges)",
+        "edge",
+    )
     columns: int = doc("number of evenly spaced image columns sampled per frame", 64)
     half_width: int = doc("box filter half-width d [px], >= 1", 4)
     threshold: float = doc(
@@ -45,6 +49,30 @@ class RangerConfig:
         False,
     )
     auto_threshold_k: float = doc("multiple of the texture noise for the automatic threshold", 5.0)
+
+
+@dataclass
+class AppearanceConfig:
+    reference_fraction: float = doc(
+        "height of the reference band of floor above each column's start, share of the image height, (0, 0.5]",
+        0.1,
+    )
+    features: str = doc("statistics compared: colour_texture | colour", "colour_texture")
+    min_floor_share: float = doc(
+        "a pixel is floor when this share of the reference lies within one histogram bin of it, (0, 1)",
+        0.003,
+    )
+    intensity_reach: int = doc(
+        "intensity bins (16 grey levels each) a pixel may lie from the reference and match, 1..15",
+        1,
+    )
+    patch_half_width: int = doc("half-width of the patch classified around each column [px]", 2)
+    min_run: int = doc("rows of not-floor in a run that make a boundary, >= 1", 3)
+    adaptation_rate: float = doc("weight of the newest frame in the floor model, (0, 1]", 0.5)
+    snap_rows: float = doc(
+        "fused ranger: largest distance [rows] at which an edge replaces the appearance boundary",
+        3.0,
+    )
 
 
 @dataclass
@@ -112,6 +140,7 @@ class OutputsConfig:
 @dataclass
 class Config:
     ranger: RangerConfig = field(default_factory=RangerConfig)
+    appearance: AppearanceConfig = field(default_factory=AppearanceConfig)
     calibration: CalibrationConfig = field(default_factory=CalibrationConfig)
     rig: RigConfig = field(default_factory=RigConfig)
     map: MapConfig = field(default_factory=MapConfig)

@@ -50,6 +50,19 @@ def read_grey(path: PathLike) -> np.ndarray:
         raise ImageError(f"cannot read image {path}: {e}") from None
 
 
+def read_rgb(path: PathLike) -> np.ndarray:
+    """Reads an image file as a (H, W, 3) uint8 RGB array (grey files give equal channels)."""
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(path) as im:
+            return np.asarray(im.convert("RGB"))
+    except FileNotFoundError:
+        raise ImageError(f"image file not found: {path}") from None
+    except (UnidentifiedImageError, OSError, SyntaxError) as e:
+        raise ImageError(f"cannot read image {path}: {e}") from None
+
+
 def write_png(path: PathLike, image: np.ndarray) -> Path:
     """Writes a uint8 grey (H, W) or colour (H, W, 3) image as PNG, atomically."""
     from PIL import Image

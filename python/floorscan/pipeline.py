@@ -24,17 +24,48 @@ from .trajectory import Pose2, Trajectory
 PoseTuple = Tuple[float, float, float]
 
 
-def ranger_from_config(table: GroundTable, cfg: Config) -> VisualRanger:
-    r = cfg.ranger
-    return VisualRanger(
-        table,
-        columns=r.columns,
-        half_width=r.half_width,
-        threshold=r.threshold,
-        refine=r.refine,
-        bottom_margin=r.bottom_margin,
-        max_range_m=r.max_range_m,
-    )
+RANGER_KINDS = ("edge", "appearance", "fused")
+
+
+def ranger_from_config(table: GroundTable, cfg: Config, **overrides):
+    """The range sensor of ``cfg.ranger.kind`` (edge, appearance or fused) for ``table``;
+    ``overrides`` replace shared ranger options (``columns``, ``bottom_margin``,
+    ``max_range_m``)."""
+    from .appearance import AppearanceRanger
+    from .errors import ConfigError
+    from .fused import FusedRanger
+
+    r, a = cfg.ranger, cfg.appearance
+    shared = dict(columns=r.columns, bottom_margin=r.bottom_margin, max_range_m=r.max_range_m)
+    shared.update(overrides)
+    if r.kind not in RANGER_KINDS:
+        raise ConfigError(
+            f"invalid ranger.kind {r.kind!r}: expected one of {', '.join(RANGER_KINDS)}"
+        )
+
+    def edge() -> VisualRanger:
+        return VisualRanger(
+            table, half_width=r.half_width, threshold=r.threshold, refine=r.refine, **shared
+        )
+
+    def appearance() -> AppearanceRanger:
+        return AppearanceRanger(
+            table,
+            reference_fraction=a.reference_fraction,
+            features=a.features,
+            min_floor_share=a.min_floor_share,
+            intensity_reach=a.intensity_reach,
+            patch_half_width=a.patch_half_width,
+            min_run=a.min_run,
+            adaptation_rate=a.adaptation_rate,
+            **shared,
+        )
+
+    if r.kind == "edge":
+        return edge()
+    if r.kind == "appearance":
+        return appearance()
+    return FusedRanger(edge(), appearance(), snap_rows=a.snap_rows)
 
 
 def grid_kwargs(cfg: Config) -> Dict[str, object]:

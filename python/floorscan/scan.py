@@ -56,6 +56,9 @@ class Scan:
     bearings = property(lambda self: self._native.bearings)
     near_x = property(lambda self: self._native.near_x)
     near_y = property(lambda self: self._native.near_y)
+    confidence = property(lambda self: self._native.confidence)
+    """How sure the ranger is of each reading, in [0, 1] (float32): edge ranger, how far the
+    edge cleared the threshold; appearance ranger, the floor / not-floor margin."""
     footprints = property(lambda self: self._native.footprints)
     """Floor length one pixel row covers at each boundary [m]: the reading's range resolution."""
 

@@ -211,8 +211,11 @@ impl AppearanceRanger {
                 }
             }
         }
-        self.model
-            .finish_frame(self.options.adaptation_rate, self.options.min_floor_share);
+        self.model.finish_frame(
+            self.options.adaptation_rate,
+            self.options.min_floor_share,
+            self.options.intensity_reach_bins,
+        );
     }
 
     fn scan_column<P: Pixel>(&self, image: &ColourView<P>, j: usize) -> (ColumnOutcome, f32) {

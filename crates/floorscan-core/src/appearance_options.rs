@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{invalid_option, Result};
+use crate::floor_model::INTENSITY_BINS;
 use crate::ranger_options::{ColumnSelection, ColumnStart, RangerOptions};
 
 /// Which appearance statistics a pixel must match to look like floor.
@@ -34,6 +35,9 @@ pub struct AppearanceOptions {
     /// A pixel looks like floor when at least this share of the reference lies within one bin
     /// of its colour (and of its texture), in (0, 1). Default 0.003.
     pub min_floor_share: f64,
+    /// How far in intensity a pixel may lie from reference pixels and still match them, in
+    /// intensity bins of 16 grey levels (the chroma reach is one bin), in 1..=15. Default 1.
+    pub intensity_reach_bins: usize,
     /// Half-width of the horizontal patch classified around each column [px]: a row of the
     /// column is not floor when most of its 2w + 1 pixels are not. Default 2.
     pub patch_half_width_px: usize,
@@ -55,6 +59,7 @@ impl Default for AppearanceOptions {
             reference_fraction: 0.1,
             features: AppearanceFeatures::ColourAndTexture,
             min_floor_share: 0.003,
+            intensity_reach_bins: 1,
             patch_half_width_px: 2,
             min_run_px: 3,
             adaptation_rate: 0.5,
@@ -93,6 +98,16 @@ impl AppearanceOptions {
         }
         share("min_floor_share", self.min_floor_share, false)?;
         share("adaptation_rate", self.adaptation_rate, true)?;
+        if !(1..INTENSITY_BINS).contains(&self.intensity_reach_bins) {
+            return Err(invalid_option(
+                "intensity_reach_bins",
+                format!(
+                    "must be in 1..={}, got {}",
+                    INTENSITY_BINS - 1,
+                    self.intensity_reach_bins
+                ),
+            ));
+        }
         if self.patch_half_width_px > MAX_PATCH_PX {
             return Err(invalid_option(
                 "patch_half_width_px",
@@ -154,6 +169,10 @@ mod tests {
             },
             AppearanceOptions {
                 adaptation_rate: 0.0,
+                ..d()
+            },
+            AppearanceOptions {
+                intensity_reach_bins: 0,
                 ..d()
             },
             AppearanceOptions {

@@ -97,8 +97,10 @@ impl FloorModel {
 
     /// Folds the frame's reference into the model: `model = rate * frame + (1 - rate) * model`
     /// (the first frame after a reset is the model), then marks the bins whose share is at least
-    /// `min_share` as floor. A frame without reference pixels leaves the model as it was.
-    pub fn finish_frame(&mut self, adaptation_rate: f64, min_share: f64) {
+    /// `min_share` as floor. Shares count reference pixels within one bin on each chroma axis
+    /// and within `intensity_reach` bins on the intensity axis (light and shade of one floor).
+    /// A frame without reference pixels leaves the model as it was.
+    pub fn finish_frame(&mut self, adaptation_rate: f64, min_share: f64, intensity_reach: usize) {
         if self.samples == 0 {
             return;
         }
@@ -112,7 +114,13 @@ impl FloorModel {
         for (s, &c) in self.scratch.iter_mut().zip(&self.colour_counts) {
             *s = c as f32;
         }
-        box3(&mut self.scratch, &mut self.colour_share, rate, n);
+        box3(
+            &mut self.scratch,
+            &mut self.colour_share,
+            rate,
+            n,
+            intensity_reach,
+        );
         let mut tex = [0f32; TEXTURE_BINS];
         for (b, t) in tex.iter_mut().enumerate() {
             let lo = b.saturating_sub(1);
@@ -144,8 +152,9 @@ impl FloorModel {
     }
 }
 
-/// `model = rate * box(counts) / n + (1 - rate) * model`, box = sum over +-1 bin on each axis.
-fn box3(counts: &mut [f32], model: &mut [f32], rate: f32, n: f32) {
+/// `model = rate * box(counts) / n + (1 - rate) * model`, box = sum over +-1 bin on each chroma
+/// axis and +-`reach` bins on the intensity axis.
+fn box3(counts: &mut [f32], model: &mut [f32], rate: f32, n: f32, reach: usize) {
     const C: usize = CHROMA_BINS;
     let idx = |i: usize, a: usize, b: usize| (i * C + a) * C + b;
     let mut line = [0f32; INTENSITY_BINS];
@@ -154,7 +163,7 @@ fn box3(counts: &mut [f32], model: &mut [f32], rate: f32, n: f32) {
         for a in 0..C {
             line[..C].copy_from_slice(&counts[idx(i, a, 0)..idx(i, a, 0) + C]);
             for b in 0..C {
-                counts[idx(i, a, b)] = sum3(&line[..C], b);
+                counts[idx(i, a, b)] = sum_near(&line[..C], b, 1);
             }
         }
         for b in 0..C {
@@ -162,7 +171,7 @@ fn box3(counts: &mut [f32], model: &mut [f32], rate: f32, n: f32) {
                 *l = counts[idx(i, a, b)];
             }
             for a in 0..C {
-                counts[idx(i, a, b)] = sum3(&line[..C], a);
+                counts[idx(i, a, b)] = sum_near(&line[..C], a, 1);
             }
         }
     }
@@ -173,16 +182,16 @@ fn box3(counts: &mut [f32], model: &mut [f32], rate: f32, n: f32) {
             }
             for i in 0..INTENSITY_BINS {
                 let k = idx(i, a, b);
-                model[k] = rate * sum3(&line, i) / n + (1.0 - rate) * model[k];
+                model[k] = rate * sum_near(&line, i, reach) / n + (1.0 - rate) * model[k];
             }
         }
     }
 }
 
 #[inline(always)]
-fn sum3(line: &[f32], i: usize) -> f32 {
-    let lo = i.saturating_sub(1);
-    let hi = (i + 1).min(line.len() - 1);
+fn sum_near(line: &[f32], i: usize, reach: usize) -> f32 {
+    let lo = i.saturating_sub(reach);
+    let hi = (i + reach).min(line.len() - 1);
     line[lo..=hi].iter().sum()
 }
 
@@ -208,7 +217,7 @@ mod tests {
         for p in pixels {
             m.add(colour_bin(p), 0);
         }
-        m.finish_frame(1.0, 0.3);
+        m.finish_frame(1.0, 0.3, 1);
         let coords = |b: usize| {
             let (i, r) = (
                 b / (CHROMA_BINS * CHROMA_BINS),
@@ -239,10 +248,10 @@ mod tests {
         let (a, b) = (colour_bin([50, 50, 50]), colour_bin([200, 200, 200]));
         m.begin_frame();
         m.add(a, 0);
-        m.finish_frame(0.25, 0.5);
+        m.finish_frame(0.25, 0.5, 1);
         m.begin_frame();
         m.add(b, 0);
-        m.finish_frame(0.25, 0.5);
+        m.finish_frame(0.25, 0.5, 1);
         assert!((m.colour_share(a) - 0.75).abs() < 1e-6);
         assert!((m.colour_share(b) - 0.25).abs() < 1e-6);
         assert!(m.is_floor(a, Some(0)) && !m.is_floor(b, Some(0)));

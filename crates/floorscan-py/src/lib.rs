@@ -4,6 +4,7 @@
 
 use pyo3::prelude::*;
 
+mod appearance;
 mod errors;
 mod grid;
 mod ground_table;
@@ -18,6 +19,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<ground_table::PyGroundTable>()?;
     m.add_class::<ranger::PyVisualRanger>()?;
+    m.add_class::<appearance::PyAppearanceRanger>()?;
+    m.add_function(wrap_pyfunction!(appearance::fuse, m)?)?;
     m.add_class::<scan::PyScan>()?;
     m.add_class::<grid::PyOccupancyGrid>()?;
     m.add_class::<local_map::PyLocalMap>()?;

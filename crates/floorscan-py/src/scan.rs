@@ -156,6 +156,11 @@ impl PyScan {
             _ => 0.0,
         })
     }
+    /// Each reading's confidence in [0, 1].
+    #[getter]
+    fn confidence<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f32>> {
+        self.column_of(py, |r| r.confidence)
+    }
     #[getter]
     fn start_rows<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.column_of(py, |r| r.start_row)

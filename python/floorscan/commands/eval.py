@@ -27,6 +27,28 @@ def register(sub) -> None:
     p.add_argument("--only", help="run only scenarios whose name contains this text")
     p.add_argument("--config", help="configuration TOML (ranger and map settings)")
     p.add_argument("--threads", type=int, default=2, help="render threads (default 2)")
+    p.add_argument(
+        "--floors",
+        help="a folder of real frames with floor masks (images/, masks/; the format of "
+        "../shared/data/floors): scored in image rows per clip and floor type",
+    )
+    p.add_argument(
+        "--ranger",
+        choices=["edge", "appearance", "fused", "all"],
+        help="range sensor to evaluate (default: the config's ranger.kind; --floors: all)",
+    )
+    p.add_argument(
+        "--cross-validate",
+        action="store_true",
+        help="--floors: also tune on all clips but one and score the held-out clip, each in turn",
+    )
+    p.add_argument(
+        "--trim-mask-bottom",
+        type=int,
+        default=0,
+        help="--floors diagnostic: replace the masks' bottom N rows by the row above (default 0: "
+        "the exact rule)",
+    )
     p.add_argument("-o", "--output", default="eval-out", help="output folder (default eval-out)")
     p.set_defaults(run=run)
 
@@ -48,6 +70,12 @@ def run(args: argparse.Namespace) -> int:
     )
     out = Path(args.output)
     t0 = time.perf_counter()
+    if args.floors:
+        return _floors(args, cfg, out, command, t0)
+    if args.ranger and args.ranger != "all":
+        cfg = cfg.with_overrides({"ranger.kind": args.ranger})
+    elif args.ranger == "all":
+        raise OptionError("--ranger all needs --floors (run the suite once per ranger)")
     if args.dataset:
         records = [_dataset_record(args, cfg)]
     else:
@@ -105,3 +133,26 @@ def _dataset_record(args: argparse.Namespace, cfg) -> dict:
         "wall_s": {"evaluate": time.perf_counter() - t0},
         "result": result,
     }
+
+
+def _floors(args: argparse.Namespace, cfg, out: Path, command: str, t0: float) -> int:
+    import json
+
+    from .._atomic import write_atomic
+    from ..evaluation.floor_eval import run_floor_eval
+
+    kinds = ["edge", "appearance", "fused"] if args.ranger in (None, "all") else [args.ranger]
+    res = run_floor_eval(
+        args.floors,
+        cfg,
+        kinds=kinds,
+        cv=args.cross_validate,
+        trim_mask_bottom=args.trim_mask_bottom,
+    )
+    out.mkdir(parents=True, exist_ok=True)
+    md = f"# Real floors: {args.floors}\n\nCommand: `{command}`\n\n" + res["markdown"]
+    write_atomic(out / "floors.md", md)
+    write_atomic(out / "floors.json", json.dumps(res["results"], indent=1, default=float))
+    print(md, end="")
+    print(f"\nscored in {time.perf_counter() - t0:.1f} s; floors.md, floors.json in {out}/")
+    return 0

@@ -59,6 +59,7 @@ def register(sub) -> None:
     p.add_argument("--threshold", type=float, help="override ranger.threshold")
     p.add_argument("--half-width", type=int, help="override ranger.half_width")
     p.add_argument("--columns", type=int, help="override ranger.columns")
+    p.add_argument("--ranger", choices=["edge", "appearance", "fused"], help="override ranger.kind")
     p.set_defaults(run=main)
 
 
@@ -123,6 +124,7 @@ def main(args: argparse.Namespace) -> int:
             "ranger.threshold": args.threshold,
             "ranger.half_width": args.half_width,
             "ranger.columns": args.columns,
+            "ranger.kind": args.ranger,
         }
     )
     source = open_source(args)

@@ -7,8 +7,7 @@ import sys
 
 from ..dataset import image_inputs
 from ..ground_table import GroundTable
-from ..image_io import read_grey
-from ..ranger import VisualRanger
+from ..image_io import read_grey, read_rgb
 from ..scan import write_scans_csv
 
 
@@ -30,18 +29,33 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--max-range", type=float, default=3.0, help="farthest range scanned [m] (default 3)"
     )
-
-
-def ranger_from_args(args: argparse.Namespace) -> VisualRanger:
-    return VisualRanger(
-        GroundTable.load(args.table),
-        columns=args.columns,
-        half_width=args.half_width,
-        threshold=args.threshold,
-        refine=args.refine,
-        bottom_margin=args.bottom_margin,
-        max_range_m=args.max_range,
+    p.add_argument(
+        "--ranger",
+        choices=["edge", "appearance", "fused"],
+        default="edge",
+        help="range sensor (default edge); appearance and fused read colour and use the "
+        "[appearance] table of --config",
     )
+    p.add_argument("--config", help="configuration TOML (its [appearance] table)")
+
+
+def ranger_from_args(args: argparse.Namespace):
+    from ..config import Config
+    from ..pipeline import ranger_from_config
+
+    cfg = Config.load(args.config) if getattr(args, "config", None) else Config()
+    cfg = cfg.with_overrides(
+        {
+            "ranger.kind": getattr(args, "ranger", "edge"),
+            "ranger.columns": args.columns,
+            "ranger.half_width": args.half_width,
+            "ranger.threshold": args.threshold,
+            "ranger.refine": args.refine,
+            "ranger.bottom_margin": args.bottom_margin,
+            "ranger.max_range_m": args.max_range,
+        }
+    )
+    return ranger_from_config(GroundTable.load(args.table), cfg)
 
 
 def register(sub) -> None:
@@ -56,7 +70,8 @@ def run(args: argparse.Namespace) -> int:
     ranger = ranger_from_args(args)
     scans = []
     for t, path in image_inputs(args.inputs):
-        scans.append(ranger.scan(read_grey(path), timestamp=t))
+        image = read_grey(path) if args.ranger == "edge" else read_rgb(path)
+        scans.append(ranger.scan(image, timestamp=t))
     write_scans_csv(args.output, scans)
     n = sum(s.count()["boundary"] for s in scans)
     print(f"scanned {len(scans)} image(s), {n} boundary points -> {args.output}", file=sys.stderr)

@@ -1,0 +1,122 @@
+//! Fusing the edge and appearance range sensors column by column: the appearance ranger says
+//! where the floor's look ends (it is not fooled by grout lines, wood grain or reflections), the
+//! edge ranger places an edge to a fraction of a row. The fused reading is the edge reading
+//! when the edge ranger found its first edge within `snap_rows` of the appearance boundary (both
+//! boundary or too-close), and the appearance reading otherwise.
+
+use crate::error::{Error, Result};
+use crate::scan::{ColumnOutcome, Scan};
+
+/// Fuses two scans of the same frame and columns into `out` (its buffer reused).
+pub fn fuse_scans(edge: &Scan, appearance: &Scan, snap_rows: f64, out: &mut Scan) -> Result<()> {
+    if edge.len() != appearance.len()
+        || edge
+            .readings
+            .iter()
+            .zip(&appearance.readings)
+            .any(|(a, b)| a.column != b.column)
+    {
+        return Err(Error::LengthMismatch(
+            "the edge and appearance scans must sample the same columns".into(),
+        ));
+    }
+    if !(snap_rows.is_finite() && snap_rows >= 0.0) {
+        return Err(crate::error::invalid_option(
+            "snap_rows",
+            format!("must be finite and >= 0, got {snap_rows}"),
+        ));
+    }
+    out.timestamp_s = appearance.timestamp_s;
+    out.readings.clear();
+    out.readings.extend(
+        edge.readings
+            .iter()
+            .zip(&appearance.readings)
+            .map(|(e, a)| {
+                let agree = match (e.outcome, a.outcome) {
+                    (ColumnOutcome::TooClose, ColumnOutcome::TooClose) => true,
+                    (
+                        ColumnOutcome::Boundary { row: re, .. },
+                        ColumnOutcome::Boundary { row: ra, .. },
+                    ) => (re - ra).abs() <= snap_rows,
+                    (ColumnOutcome::Boundary { row, .. }, ColumnOutcome::TooClose) => {
+                        (row - a.start_row).abs() <= snap_rows
+                    }
+                    _ => false,
+                };
+                if agree {
+                    *e
+                } else {
+                    *a
+                }
+            }),
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pose::Point2;
+    use crate::scan::ColumnReading;
+
+    fn reading(column: u32, outcome: ColumnOutcome) -> ColumnReading {
+        ColumnReading {
+            column,
+            start_row: 100.0,
+            near: Some(Point2::new(0.3, 0.0)),
+            outcome,
+            confidence: 0.5,
+        }
+    }
+    fn boundary(column: u32, row: f64) -> ColumnReading {
+        reading(
+            column,
+            ColumnOutcome::Boundary {
+                row,
+                point: Point2::new(row, 0.0),
+                footprint_m: 0.0,
+            },
+        )
+    }
+
+    #[test]
+    fn the_edge_refines_a_nearby_appearance_boundary_and_is_ignored_elsewhere() {
+        let edge = Scan {
+            timestamp_s: 1.0,
+            readings: vec![
+                boundary(0, 50.2), // 0.8 rows from appearance's: edge wins
+                boundary(1, 90.0), // a grout line far below: appearance wins
+                boundary(2, 99.0), // too close by appearance, an edge at the start
+                reading(
+                    3,
+                    ColumnOutcome::NoBoundary {
+                        top_row: 0.0,
+                        farthest: Point2::new(3.0, 0.0),
+                    },
+                ),
+            ],
+        };
+        let appearance = Scan {
+            timestamp_s: 1.0,
+            readings: vec![
+                boundary(0, 49.4),
+                boundary(1, 40.5),
+                reading(2, ColumnOutcome::TooClose),
+                boundary(3, 20.5),
+            ],
+        };
+        let mut out = Scan::default();
+        fuse_scans(&edge, &appearance, 2.0, &mut out).unwrap();
+        assert_eq!(out.readings[0], edge.readings[0]);
+        assert_eq!(out.readings[1], appearance.readings[1]);
+        assert_eq!(out.readings[2], edge.readings[2]);
+        assert_eq!(out.readings[3], appearance.readings[3]);
+        let short = Scan {
+            timestamp_s: 1.0,
+            readings: vec![boundary(0, 1.0)],
+        };
+        assert!(fuse_scans(&edge, &short, 2.0, &mut out).is_err());
+        assert!(fuse_scans(&edge, &appearance, f64::NAN, &mut out).is_err());
+    }
+}

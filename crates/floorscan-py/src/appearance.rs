@@ -1,0 +1,119 @@
+//! Bindings of `floorscan_core::appearance`. Options arrive as JSON (`AppearanceOptions` serde
+//! form), built and validated by the Python wrapper `floorscan.AppearanceRanger`.
+
+use floorscan_core::{fuse_scans, AppearanceOptions, AppearanceRanger, ColourView, Pixel, Scan};
+use numpy::{Element, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use crate::errors::{error, IntoPyResult};
+use crate::ground_table::PyGroundTable;
+use crate::image::BorrowedImage;
+use crate::scan::PyScan;
+
+#[pyclass(name = "AppearanceRanger", module = "floorscan._native")]
+pub struct PyAppearanceRanger {
+    inner: AppearanceRanger,
+}
+
+fn scan_colour<P: Pixel + Element>(
+    py: Python<'_>,
+    ranger: &mut AppearanceRanger,
+    array: &Bound<'_, PyArray3<P>>,
+    timestamp: f64,
+    out: &mut Scan,
+) -> PyResult<()> {
+    let shape = array.shape();
+    if shape[2] != 3 || !array.is_c_contiguous() {
+        return Err(error(
+            "ImageError",
+            format!("colour image must be a C-contiguous (H, W, 3) array, got shape {shape:?}"),
+        ));
+    }
+    let ro = array.readonly();
+    let data = ro
+        .as_slice()
+        .map_err(|e| error("ImageError", e.to_string()))?;
+    let view = ColourView::interleaved(data, shape[1], shape[0]).py()?;
+    py.detach(|| ranger.scan_into(&view, timestamp, out)).py()
+}
+
+fn scan_grey<P: Pixel + Element>(
+    py: Python<'_>,
+    ranger: &mut AppearanceRanger,
+    array: &Bound<'_, PyArray2<P>>,
+    timestamp: f64,
+    out: &mut Scan,
+) -> PyResult<()> {
+    let img = BorrowedImage::new(array)?;
+    let view = ColourView::grey(img.view()?);
+    py.detach(|| ranger.scan_into(&view, timestamp, out)).py()
+}
+
+#[pymethods]
+impl PyAppearanceRanger {
+    #[new]
+    fn new(table: &PyGroundTable, options_json: &str) -> PyResult<Self> {
+        let options: AppearanceOptions = serde_json::from_str(options_json)
+            .map_err(|e| error("OptionError", format!("invalid appearance options: {e}")))?;
+        Ok(Self {
+            inner: AppearanceRanger::new(table.inner.clone(), options).py()?,
+        })
+    }
+
+    /// Learns from the frame's reference band and scans it: a (H, W) grey or C-contiguous
+    /// (H, W, 3) RGB array of uint8 or uint16; the GIL is released while scanning.
+    fn scan(
+        &mut self,
+        py: Python<'_>,
+        image: &Bound<'_, PyAny>,
+        timestamp: f64,
+    ) -> PyResult<PyScan> {
+        let mut out = Scan::default();
+        let r = &mut self.inner;
+        if let Ok(a) = image.cast::<PyArray3<u8>>() {
+            scan_colour(py, r, a, timestamp, &mut out)?;
+        } else if let Ok(a) = image.cast::<PyArray3<u16>>() {
+            scan_colour(py, r, a, timestamp, &mut out)?;
+        } else if let Ok(a) = image.cast::<PyArray2<u8>>() {
+            scan_grey(py, r, a, timestamp, &mut out)?;
+        } else if let Ok(a) = image.cast::<PyArray2<u16>>() {
+            scan_grey(py, r, a, timestamp, &mut out)?;
+        } else {
+            return Err(error(
+                "ImageError",
+                "image must be a (H, W) or (H, W, 3) numpy array of uint8 or uint16".into(),
+            ));
+        }
+        Ok(PyScan { inner: out })
+    }
+
+    /// Forgets the learned floor.
+    fn reset_model(&mut self) {
+        self.inner.reset_model();
+    }
+
+    /// Frames learned since the last reset.
+    #[getter]
+    fn frames_learned(&self) -> u64 {
+        self.inner.model().frames()
+    }
+
+    #[getter]
+    fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
+        PyArray1::from_vec(py, self.inner.columns())
+    }
+
+    #[getter]
+    fn options_json(&self) -> String {
+        serde_json::to_string(self.inner.options()).unwrap_or_default()
+    }
+}
+
+/// Fuses an edge scan and an appearance scan of the same frame and columns
+/// (`floorscan_core::fusion`).
+#[pyfunction]
+pub fn fuse(edge: &PyScan, appearance: &PyScan, snap_rows: f64) -> PyResult<PyScan> {
+    let mut out = Scan::default();
+    fuse_scans(&edge.inner, &appearance.inner, snap_rows, &mut out).py()?;
+    Ok(PyScan { inner: out })
+}
