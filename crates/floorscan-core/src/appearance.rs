@@ -306,16 +306,18 @@ fn margin(share: f32) -> f32 {
     (2.0 * share - 1.0).clamp(0.0, 1.0)
 }
 
-/// |dG/du| + |dG/dv| of the green channel by central differences (one-sided at the borders),
-/// 8-bit scale.
+/// Texture at (u, v): |G(u+1, v) - G(u-1, v)| + 2 |G(u, v+1) - G(u, v)| of the green channel
+/// (8-bit scale, clamped at the borders). The vertical difference looks only downwards, so the
+/// floor row just below an obstacle keeps its floor texture and the boundary stays on the
+/// obstacle's base.
 #[inline(always)]
 fn gradient<P: Pixel>(image: &ColourView<P>, u: usize, v: usize) -> i32 {
     let g = image.channel(1);
     let shift = if P::MAX > 255 { 8 } else { 0 };
     let at = |u: usize, v: usize| g.get(u, v).to_i32() >> shift;
     let (ul, ur) = (u.saturating_sub(1), (u + 1).min(g.width() - 1));
-    let (vt, vb) = (v.saturating_sub(1), (v + 1).min(g.height() - 1));
-    (at(ur, v) - at(ul, v)).abs() + (at(u, vb) - at(u, vt)).abs()
+    let vb = (v + 1).min(g.height() - 1);
+    (at(ur, v) - at(ul, v)).abs() + 2 * (at(u, vb) - at(u, v)).abs()
 }
 
 #[cfg(test)]

@@ -13,8 +13,8 @@ pub const INTENSITY_BINS: usize = 16;
 pub const CHROMA_BINS: usize = 12;
 /// Colour bins in all: intensity x chroma x chroma.
 pub const COLOUR_BINS: usize = INTENSITY_BINS * CHROMA_BINS * CHROMA_BINS;
-/// Texture bins: gradient magnitude (|dG/du| + |dG/dv| of the green channel, central
-/// differences), 8 levels each, the last bin open-ended.
+/// Texture bins: gradient magnitude of the green channel (see `appearance::gradient`), 8
+/// levels each, the last bin open-ended.
 pub const TEXTURE_BINS: usize = 8;
 
 /// Colour bin of an 8-bit (r, g, b): intensity (r + g + b) / 3, chroma r - g and

@@ -29,18 +29,18 @@ def cross_validate(
     scores = [score_floor_frames(loaded, factory(p)) for p in points]
     clips = sorted(scores[0]) if scores else []
     held_out: Dict[str, Dict[str, object]] = {}
+
+    def train_error(s, held: str) -> float:
+        w = sum(v[0] for c, v in s.items() if c != held)
+        n = sum(v[1] for c, v in s.items() if c != held)
+        return w / n if n else 0.0
+
     for clip in clips:
-
-        def train_error(s) -> float:
-            w = sum(v[0] for c, v in s.items() if c != clip)
-            n = sum(v[1] for c, v in s.items() if c != clip)
-            return w / n if n else 0.0
-
-        best = min(range(len(points)), key=lambda i: train_error(scores[i]))
+        best = min(range(len(points)), key=lambda i: train_error(scores[i], clip))
         wrong, n = scores[best][clip][0], scores[best][clip][1]
         held_out[clip] = {
             "options": points[best],
-            "train_error_rate": train_error(scores[best]),
+            "train_error_rate": train_error(scores[best], clip),
             "wrong": wrong,
             "columns": n,
             "error_rate": wrong / n if n else float("nan"),
