@@ -1,8 +1,9 @@
 """The fused range sensor: the edge and appearance rangers on the same frame and columns,
 fused per column (``floorscan_core::fusion``): the edge reading where its first edge lies within
-``snap_rows`` of the appearance boundary (the edge places it to a fraction of a row), the
-appearance reading elsewhere (a grout line or reflection below the appearance boundary is not
-an obstacle)."""
+``snap_rows`` of the appearance boundary (the edge places it to a fraction of a row) or where
+the appearance ranger saw only floor (an obstacle that looks like the floor), the appearance
+reading elsewhere (a grout line or reflection below the appearance boundary is not an
+obstacle)."""
 
 from __future__ import annotations
 

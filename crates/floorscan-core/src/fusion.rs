@@ -1,8 +1,10 @@
 //! Fusing the edge and appearance range sensors column by column: the appearance ranger says
 //! where the floor's look ends (it is not fooled by grout lines, wood grain or reflections), the
-//! edge ranger places an edge to a fraction of a row. The fused reading is the edge reading
-//! when the edge ranger found its first edge within `snap_rows` of the appearance boundary (both
-//! boundary or too-close), and the appearance reading otherwise.
+//! edge ranger places an edge to a fraction of a row and sees obstacles that look like the
+//! floor (a grey wall over a grey carpet). The fused reading is the edge reading when the edge
+//! ranger found its first edge within `snap_rows` of the appearance boundary (both boundary or
+//! too-close) or when the appearance ranger saw nothing but floor (no boundary), and the
+//! appearance reading otherwise (an edge far below an appearance boundary is floor texture).
 
 use crate::error::{Error, Result};
 use crate::scan::{ColumnOutcome, Scan};
@@ -42,6 +44,7 @@ pub fn fuse_scans(edge: &Scan, appearance: &Scan, snap_rows: f64, out: &mut Scan
                     (ColumnOutcome::Boundary { row, .. }, ColumnOutcome::TooClose) => {
                         (row - a.start_row).abs() <= snap_rows
                     }
+                    (_, ColumnOutcome::NoBoundary { .. }) => true,
                     _ => false,
                 };
                 if agree {
@@ -112,6 +115,17 @@ mod tests {
         assert_eq!(out.readings[1], appearance.readings[1]);
         assert_eq!(out.readings[2], edge.readings[2]);
         assert_eq!(out.readings[3], appearance.readings[3]);
+        // The appearance ranger saw only floor: the edge ranger's boundary stands.
+        let mut app2 = appearance.clone();
+        app2.readings[1] = reading(
+            1,
+            ColumnOutcome::NoBoundary {
+                top_row: 0.0,
+                farthest: Point2::new(3.0, 0.0),
+            },
+        );
+        fuse_scans(&edge, &app2, 2.0, &mut out).unwrap();
+        assert_eq!(out.readings[1], edge.readings[1]);
         let short = Scan {
             timestamp_s: 1.0,
             readings: vec![boundary(0, 1.0)],
