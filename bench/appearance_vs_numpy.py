@@ -16,9 +16,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from appearance_reference import appearance_scan  # noqa: E402
-
 import floorscan as fs  # noqa: E402
+from appearance_reference import appearance_scan  # noqa: E402
 from floorscan.evaluation.floor_masks import image_row_table  # noqa: E402
 
 W, H = 640, 480
@@ -54,8 +53,8 @@ def main() -> None:
         s = r.scan(img)
         status, rows = appearance_scan(img, cols, start_row=H - 1)
         assert np.array_equal(s.status_codes, status) and np.array_equal(s.rows, rows)
-        a = median_ms(lambda: r.scan(img))
-        b = median_ms(lambda: appearance_scan(img, cols, start_row=H - 1))
+        a = median_ms(lambda r=r: r.scan(img))
+        b = median_ms(lambda cols=cols: appearance_scan(img, cols, start_row=H - 1))
         print(f"| {n} | {a:.2f} | {b:.2f} | {b / a:.1f}x |")
 
 
