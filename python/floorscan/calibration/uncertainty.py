@@ -78,23 +78,21 @@ def model_spread(
     weights: Optional[Sequence[float]] = None,
 ) -> np.ndarray:
     """Largest distance [m] between ``best``'s floor point and each of ``others``' whose
-    weight (if ``weights`` are given) is at least ``MIN_WEIGHT``; infinite where such a model
-    sees no floor where ``best`` does."""
+    weight (if ``weights`` are given) is at least ``MIN_WEIGHT``: infinite where such a model
+    sees the pixel's ray at or above the horizon while ``best`` sees floor (a disagreement
+    that matters), not counted where the model's lens cannot describe the pixel at all (past
+    the radius where its polynomial folds back: it is no candidate for that part of the
+    image)."""
     g = floor_points(best, u, v, min_depression_rad=min_depression_rad)
-    if weights is None:
-        out = np.zeros(np.shape(u))
-        for m in others:
-            o = floor_points(m, u, v, min_depression_rad=min_depression_rad)
-            d = np.hypot(o[0] - g[0], o[1] - g[1])
-            out = np.maximum(out, np.where(np.isfinite(d), d, np.inf))
-        return out
     out = np.zeros(np.shape(u))
-    for m, w in zip(others, weights):
-        if w < MIN_WEIGHT:
+    for i, m in enumerate(others):
+        if weights is not None and weights[i] < MIN_WEIGHT:
             continue
         o = floor_points(m, u, v, min_depression_rad=min_depression_rad)
         d = np.hypot(o[0] - g[0], o[1] - g[1])
-        out = np.maximum(out, np.where(np.isfinite(d), d, np.inf))
+        describable = np.all(np.isfinite(m.rays(u, v)), axis=0)
+        d = np.where(np.isfinite(d), d, np.where(describable, np.inf, 0.0))
+        out = np.maximum(out, d)
     return out
 
 
