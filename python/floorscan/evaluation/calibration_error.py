@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import tempfile
 from pathlib import Path
-from typing import Any, Dict, Tuple
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -27,8 +27,10 @@ def table_error(
 ) -> Dict[str, Any]:
     """Max and RMS distance [cm] between ``table`` and the exact mapping of ``camera``
     (:class:`floorscan.sim.Camera`) on a pixel lattice every ``step_px`` pixels, over the pixels
-    whose exact ground range is within ``within_m`` [m] and that the table covers; also the
-    share of those pixels the table covers."""
+    whose exact ground range is within ``within_m`` [m] (3 m, the range sensor's default
+    maximum range) and that the table covers; also the share of those pixels the table covers
+    (``covered_share``) and the share of the covered ones within the table's own predicted
+    error (``within_predicted``, for tables that carry one)."""
     w, h = table.image_width, table.image_height
     us, vs = np.meshgrid(
         np.arange(0.0, w, step_px, dtype=np.float64), np.arange(0.0, h, step_px, dtype=np.float64)
@@ -42,7 +44,14 @@ def table_error(
     err = np.hypot(cx[covered] - tx[within][covered], cy[covered] - ty[within][covered])
     if err.size == 0:
         return {"status": "no overlap", "max_cm": float("nan"), "rms_cm": float("nan")}
+    extra = {}
+    if table.error_m is not None:
+        bar = table.lookup_error(us[within][covered], vs[within][covered])
+        ok = np.isfinite(bar)
+        if ok.any():
+            extra["within_predicted"] = float(np.mean(err[ok] <= bar[ok]))
     return {
+        **extra,
         "status": "measured",
         "max_cm": float(err.max() * 100),
         "rms_cm": float(np.sqrt(np.mean(err**2)) * 100),
@@ -53,11 +62,14 @@ def table_error(
 
 
 def calibrated_table(
-    camera, *, spacing_px: int = 8, extrapolate: bool = False
+    camera, *, calibration: Optional[Dict[str, Any]] = None
 ) -> Tuple[GroundTable, Dict[str, Any]]:
     """The ground table ranging uses: calibrated from the simulated checkerboard scene when
-    :mod:`floorscan.calibration` is available (with its error against the exact mapping), else
-    the camera's exact table (error reported as not available)."""
+    :mod:`floorscan.calibration` is available (with its error against the exact mapping, to
+    3 m), else the camera's exact table (error reported as not available). ``calibration``:
+    keyword options of :func:`floorscan.calibrate` (default: its defaults)."""
+    calibration = dict(calibration or {})
+    spacing_px = calibration.get("spacing_px", 8)
     if not calibration_available():
         return camera.ground_table(spacing_px=spacing_px), {"status": NOT_AVAILABLE}
     from ..calibration import calibrate
@@ -67,7 +79,7 @@ def calibrated_table(
     with tempfile.TemporaryDirectory(prefix="floorscan-eval-") as tmp:
         path = Path(tmp) / "pattern.toml"
         path.write_text(pattern.to_toml(), encoding="utf-8")
-        table, _report = calibrate(image, path, spacing_px=spacing_px, extrapolate=extrapolate)
+        table, _report = calibrate(image, path, **calibration)
     return table, table_error(table, camera)
 
 
@@ -75,8 +87,7 @@ def table_for_dataset(
     dataset: Path,
     truth_dir: Path,
     *,
-    spacing_px: int = 8,
-    extrapolate: bool = False,
+    calibration: Optional[Dict[str, Any]] = None,
     table_path=None,
 ) -> Tuple[GroundTable, Dict[str, Any]]:
     """The table to range a dataset with, and its calibration error when measurable: a given
@@ -86,6 +97,8 @@ def table_for_dataset(
     from ..errors import DatasetError
     from ..sim import Camera
 
+    calibration = dict(calibration or {})
+    spacing_px = calibration.get("spacing_px", 8)
     dataset, truth_dir = Path(dataset), Path(truth_dir)
     camera = (
         Camera.load(truth_dir / "camera.json") if (truth_dir / "camera.json").is_file() else None
@@ -99,8 +112,7 @@ def table_for_dataset(
         table, _ = calibrate(
             read_grey(dataset / "calibration" / "pattern.png"),
             dataset / "calibration" / "pattern.toml",
-            spacing_px=spacing_px,
-            extrapolate=extrapolate,
+            **calibration,
         )
     elif camera is not None:
         return camera.ground_table(spacing_px=spacing_px), {
