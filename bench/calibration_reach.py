@@ -13,9 +13,8 @@ import math
 import sys
 import time
 
-import numpy as np
-
 import floorscan
+import numpy as np
 from floorscan.lens import CameraMount, Lens
 from floorscan.sim import Camera
 from floorscan.sim.calibration import CalibrationPattern, render_calibration

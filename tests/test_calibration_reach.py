@@ -7,11 +7,10 @@ from __future__ import annotations
 import math
 
 import cv2
+import floorscan
 import numpy as np
 import pytest
 import yaml
-
-import floorscan
 from floorscan import CalibrationError, GroundTable
 from floorscan.calibration import Intrinsics, Pattern, calibrate, check_table
 from floorscan.calibration.camera_fit import fit_family
