@@ -72,6 +72,10 @@ class MapConfig:
     occupied_threshold: float = doc("probability at or above which a cell is occupied", 0.65)
     free_threshold: float = doc("probability at or below which a cell is free", 0.196)
     local_size_m: float = doc("side of the robot-centred local map [m] (the paper: 3.84 m)", 3.84)
+    max_cells: int = doc(
+        "most cells the global map may span (default 2^25: 231 m square at 4 cm); a pose farther out is skipped and counted (docs/limits.md)",
+        1 << 25,
+    )
 
 
 @dataclass

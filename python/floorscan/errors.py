@@ -63,6 +63,10 @@ class WorldError(FileFormatError):
     """A simulator world file is invalid (the message names the line or the field)."""
 
 
+class InternalError(FloorscanError, RuntimeError):
+    """A bug in floorscan (a Rust panic caught at the FFI boundary); please report it."""
+
+
 __all__ = [
     "FloorscanError",
     "ImageError",
@@ -78,4 +82,5 @@ __all__ = [
     "CalibrationError",
     "DatasetError",
     "WorldError",
+    "InternalError",
 ]

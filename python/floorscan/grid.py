@@ -16,8 +16,15 @@ import numpy as np
 from . import _native
 from ._atomic import PathLike
 from .errors import LengthMismatchError
-from .grid_options import EvidenceLike, as_pose, as_poses, grid_options, inserter_options
-from .grid_views import GridViews
+from .grid_options import (
+    DEFAULT_MAX_CELLS,
+    EvidenceLike,
+    as_pose,
+    as_poses,
+    grid_options,
+    inserter_options,
+)
+from .grid_views import GridViews, cell_index
 from .scan import Scan
 
 
@@ -83,6 +90,9 @@ class OccupancyGrid(GridViews):
             boundary row is uncertain by about half a row, several cells far away.
         too_close: ``"mark"`` (default: a ``too_close`` column marks the near edge of its
             field of view) or ``"ignore"``.
+        max_cells: most cells the map may span (its tiles' bounding box, fixed bounds, or one
+            export), default 2^25 (231 m square at 4 cm): a pose far outside raises
+            OutOfBoundsError instead of allocating (docs/limits.md).
 
     >>> import floorscan, numpy as np
     >>> grid = floorscan.OccupancyGrid(cell_size_m=0.1)
@@ -107,6 +117,7 @@ class OccupancyGrid(GridViews):
         sonar: EvidenceLike = (0.4, -0.2),
         too_close: str = "mark",
         boundary_margin_rows: float = 0.5,
+        max_cells: int = DEFAULT_MAX_CELLS,
     ) -> None:
         go = grid_options(
             cell_size_m=cell_size_m,
@@ -116,6 +127,7 @@ class OccupancyGrid(GridViews):
             clamp_max_nats=clamp_max_nats,
             occupied_threshold=occupied_threshold,
             free_threshold=free_threshold,
+            max_cells=max_cells,
         )
         io = inserter_options(
             visual=visual,
@@ -254,10 +266,14 @@ class OccupancyGrid(GridViews):
     def write_raw(self, values: np.ndarray, *, x_cell: int, y_cell: int) -> None:
         """Writes an (H, W) int16 array of log-odds [1/1000 nat] with its first cell at
         (x_cell, y_cell) (values are clamped to the map's bounds)."""
-        v = np.ascontiguousarray(values, dtype=np.int16)
+        try:
+            v = np.ascontiguousarray(values, dtype=np.int16)
+        except (TypeError, ValueError, OverflowError) as e:
+            raise LengthMismatchError(f"values must be an (H, W) int16 array: {e}") from None
         if v.ndim != 2:
             raise LengthMismatchError(f"values must be (H, W), got shape {v.shape}")
-        self._native.write_values(int(x_cell), int(y_cell), v)
+        x, y = cell_index("x_cell", x_cell), cell_index("y_cell", y_cell)
+        self._native.write_values(x, y, v)
 
     def save(self, path: PathLike, *, mode: str = "trinary", extent=None):
         """Writes a ROS map_server map: ``path`` (.yaml) and an 8-bit PGM beside it, atomically.

@@ -16,7 +16,7 @@ import numpy as np
 from . import _native
 from .errors import OptionError
 from .grid import InsertStats, laser_args, sonar_args
-from .grid_options import EvidenceLike, as_pose, grid_options, inserter_options
+from .grid_options import DEFAULT_MAX_CELLS, EvidenceLike, as_pose, grid_options, inserter_options
 from .grid_views import UNITS_PER_NAT, GridViews
 from .scan import Scan
 
@@ -59,6 +59,7 @@ class LocalMap(GridViews):
         sonar: EvidenceLike = (0.4, -0.2),
         too_close: str = "mark",
         boundary_margin_rows: float = 0.5,
+        max_cells: int = DEFAULT_MAX_CELLS,
     ) -> None:
         go = grid_options(
             cell_size_m=cell_size_m,
@@ -68,6 +69,7 @@ class LocalMap(GridViews):
             clamp_max_nats=clamp_max_nats,
             occupied_threshold=occupied_threshold,
             free_threshold=free_threshold,
+            max_cells=max_cells,
         )
         try:
             size = float(size_m)

@@ -45,6 +45,7 @@ def grid_kwargs(cfg: Config) -> Dict[str, object]:
         clamp_max_nats=m.clamp_max_nats,
         occupied_threshold=m.occupied_threshold,
         free_threshold=m.free_threshold,
+        max_cells=m.max_cells,
         visual=(s.visual.hit_nats, s.visual.miss_nats),
         laser=(s.laser.hit_nats, s.laser.miss_nats),
         sonar=(s.sonar.hit_nats, s.sonar.miss_nats),

@@ -140,7 +140,7 @@ def read_scans_csv(path: PathLike) -> List[Scan]:
     """Reads the public CSV back into scans (one per timestamp, in file order)."""
     try:
         text = Path(path).read_text(encoding="utf-8")
-    except OSError as e:
+    except (OSError, UnicodeDecodeError) as e:
         raise FileFormatError(f"cannot read scans CSV {path}: {e}") from None
     return list(parse_scans_csv(text, source=str(path)))
 

@@ -186,5 +186,6 @@ class BagSource(FrameSource):
     def __iter__(self) -> Iterator[Frame]:
         from .rosbag_io import iter_bag_images
 
-        for i, (t, img) in enumerate(iter_bag_images(self.path, image_topic=self.image_topic)):
-            yield Frame(i, t, img)
+        images = iter_bag_images(self.path, image_topic=self.image_topic)
+        for i, (t, img, error) in enumerate(images):
+            yield Frame(i, t, img, error)

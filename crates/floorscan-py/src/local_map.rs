@@ -23,19 +23,21 @@ impl PyLocalMap {
         inserter_options_json: &str,
         local_from_robot: [f64; 3],
     ) -> PyResult<Self> {
-        let o: LocalMapOptions = parse_json("local map options", options_json)?;
-        let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
-        Ok(Self {
-            inner: LocalMap::new(o, io, pose(local_from_robot)).py()?,
+        crate::errors::guard(|| {
+            let o: LocalMapOptions = parse_json("local map options", options_json)?;
+            let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
+            Ok(Self {
+                inner: LocalMap::new(o, io, pose(local_from_robot)).py()?,
+            })
         })
     }
 
     fn move_by(&mut self, delta: [f64; 3]) -> PyResult<()> {
-        self.inner.move_by(&pose(delta)).py()
+        crate::errors::guard(|| self.inner.move_by(&pose(delta)).py())
     }
 
     fn move_to(&mut self, local_from_robot: [f64; 3]) -> PyResult<()> {
-        self.inner.move_to(&pose(local_from_robot)).py()
+        crate::errors::guard(|| self.inner.move_to(&pose(local_from_robot)).py())
     }
 
     #[getter]
@@ -45,10 +47,12 @@ impl PyLocalMap {
     }
 
     fn insert_scan(&mut self, scan: &PyScan, mount: [f64; 3]) -> PyResult<Stats> {
-        self.inner
-            .insert_scan(&scan.inner, &pose(mount))
-            .py()
-            .map(stats)
+        crate::errors::guard(|| {
+            self.inner
+                .insert_scan(&scan.inner, &pose(mount))
+                .py()
+                .map(stats)
+        })
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -63,16 +67,18 @@ impl PyLocalMap {
         range_max: f64,
         mount: [f64; 3],
     ) -> PyResult<Stats> {
-        let r = slice1(&ranges, "ranges")?;
-        let a = match &angles {
-            Some(a) => Some(slice1(a, "angles")?),
-            None => None,
-        };
-        let laser = laser_layout(r, a, angle_min, angle_increment, range_min, range_max);
-        self.inner
-            .insert_laser(&laser, &pose(mount))
-            .py()
-            .map(stats)
+        crate::errors::guard(|| {
+            let r = slice1(&ranges, "ranges")?;
+            let a = match &angles {
+                Some(a) => Some(slice1(a, "angles")?),
+                None => None,
+            };
+            let laser = laser_layout(r, a, angle_min, angle_increment, range_min, range_max);
+            self.inner
+                .insert_laser(&laser, &pose(mount))
+                .py()
+                .map(stats)
+        })
     }
 
     fn insert_sonar(
@@ -82,10 +88,12 @@ impl PyLocalMap {
         beam_width: f64,
         range_max: f64,
     ) -> PyResult<Stats> {
-        let (m, _) = rows(&mounts, 3, "mounts")?;
-        let (readings, mounts) =
-            sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
-        self.inner.insert_sonar(&readings, &mounts).py().map(stats)
+        crate::errors::guard(|| {
+            let (m, _) = rows(&mounts, 3, "mounts")?;
+            let (readings, mounts) =
+                sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
+            self.inner.insert_sonar(&readings, &mounts).py().map(stats)
+        })
     }
 
     /// The window (min x, min y, width, height) [cells of the local lattice].
@@ -97,12 +105,12 @@ impl PyLocalMap {
     fn values<'py>(
         &self,
         py: Python<'py>,
-        min_x: i32,
-        min_y: i32,
-        width: usize,
-        height: usize,
+        min_x: i64,
+        min_y: i64,
+        width: u64,
+        height: u64,
     ) -> PyResult<Bound<'py, PyArray2<i16>>> {
-        grid::values(py, self.inner.grid(), min_x, min_y, width, height)
+        crate::errors::guard(|| grid::values(py, self.inner.grid(), min_x, min_y, width, height))
     }
 
     /// The window resampled in the robot frame: (height, width) int16, row 0 at the robot's
@@ -113,9 +121,17 @@ impl PyLocalMap {
         width: usize,
         height: usize,
     ) -> PyResult<Bound<'py, PyArray2<i16>>> {
-        let mut out = Vec::new();
-        self.inner.robot_view(width, height, &mut out);
-        PyArray1::from_vec(py, out).reshape([height, width])
+        crate::errors::guard(|| {
+            if width.checked_mul(height).is_none_or(|n| n > 1 << 26) {
+                return Err(crate::errors::error(
+                    "OptionError",
+                    format!("a {width} x {height} robot view is larger than 2^26 cells"),
+                ));
+            }
+            let mut out = Vec::new();
+            self.inner.robot_view(width, height, &mut out);
+            PyArray1::from_vec(py, out).reshape([height, width])
+        })
     }
 
     fn occupancy_codes<'py>(
@@ -124,7 +140,9 @@ impl PyLocalMap {
         xs: PyReadonlyArray1<'_, f64>,
         ys: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<Bound<'py, PyArray1<u8>>> {
-        grid::occupancy_codes(py, self.inner.grid(), slice1(&xs, "x")?, slice1(&ys, "y")?)
+        crate::errors::guard(|| {
+            grid::occupancy_codes(py, self.inner.grid(), slice1(&xs, "x")?, slice1(&ys, "y")?)
+        })
     }
 
     fn distances<'py>(
@@ -134,13 +152,15 @@ impl PyLocalMap {
         ys: PyReadonlyArray1<'_, f64>,
         max_m: f64,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        grid::distances(
-            py,
-            self.inner.grid(),
-            slice1(&xs, "x")?,
-            slice1(&ys, "y")?,
-            max_m,
-        )
+        crate::errors::guard(|| {
+            grid::distances(
+                py,
+                self.inner.grid(),
+                slice1(&xs, "x")?,
+                slice1(&ys, "y")?,
+                max_m,
+            )
+        })
     }
 
     fn limits(&self) -> (i16, i16, i16, i16) {

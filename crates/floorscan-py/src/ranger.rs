@@ -19,10 +19,12 @@ pub struct PyVisualRanger {
 impl PyVisualRanger {
     #[new]
     fn new(table: &PyGroundTable, options_json: &str) -> PyResult<Self> {
-        let options: RangerOptions = serde_json::from_str(options_json)
-            .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
-        Ok(Self {
-            inner: VisualRanger::new(table.inner.clone(), options).py()?,
+        crate::errors::guard(|| {
+            let options: RangerOptions = serde_json::from_str(options_json)
+                .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
+            Ok(Self {
+                inner: VisualRanger::new(table.inner.clone(), options).py()?,
+            })
         })
     }
 
@@ -33,26 +35,28 @@ impl PyVisualRanger {
         image: &Bound<'_, PyAny>,
         timestamp: f64,
     ) -> PyResult<PyScan> {
-        let mut out = Scan::default();
-        if let Ok(a) = image.cast::<PyArray2<u8>>() {
-            let img = BorrowedImage::new(a)?;
-            let view = img.view()?;
-            let ranger = &mut self.inner;
-            py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
-                .py()?;
-        } else if let Ok(a) = image.cast::<PyArray2<u16>>() {
-            let img = BorrowedImage::new(a)?;
-            let view = img.view()?;
-            let ranger = &mut self.inner;
-            py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
-                .py()?;
-        } else {
-            return Err(error(
-                "ImageError",
-                "image must be a 2-D numpy array of uint8 or uint16 (H, W)".into(),
-            ));
-        }
-        Ok(PyScan { inner: out })
+        crate::errors::guard(|| {
+            let mut out = Scan::default();
+            if let Ok(a) = image.cast::<PyArray2<u8>>() {
+                let img = BorrowedImage::new(a)?;
+                let view = img.view()?;
+                let ranger = &mut self.inner;
+                py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
+                    .py()?;
+            } else if let Ok(a) = image.cast::<PyArray2<u16>>() {
+                let img = BorrowedImage::new(a)?;
+                let view = img.view()?;
+                let ranger = &mut self.inner;
+                py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
+                    .py()?;
+            } else {
+                return Err(error(
+                    "ImageError",
+                    "image must be a 2-D numpy array of uint8 or uint16 (H, W)".into(),
+                ));
+            }
+            Ok(PyScan { inner: out })
+        })
     }
 
     /// The sampled image columns, in output order.

@@ -229,7 +229,7 @@ class Camera:
     def load(cls, path: PathLike) -> Camera:
         try:
             return cls.from_json(Path(path).read_text(encoding="utf-8"))
-        except OSError as e:
+        except (OSError, UnicodeDecodeError) as e:
             raise FileFormatError(f"cannot read camera file {path}: {e}") from None
 
     def __repr__(self) -> str:
