@@ -5,7 +5,10 @@ Conventions: SI units, REP 103 frames (x forward, y left, angles counter-clockwi
 radians), REP 117 ranges (+inf no return), image rows counted from the top.
 """
 
-from . import _native
+from . import (
+    _native,
+    _startup,  # noqa: F401  (first: a Ctrl-C while importing exits quietly)
+)
 from .errors import (
     CalibrationError,
     ConfigError,
@@ -15,9 +18,11 @@ from .errors import (
     GeometryError,
     ImageError,
     ImageTypeError,
+    InternalError,
     LengthMismatchError,
     OptionError,
     OutOfBoundsError,
+    OutputError,
     TableError,
     UnsupportedVersionError,
     WorldError,
@@ -46,6 +51,7 @@ __all__ = [
     "GroundTable",
     "ImageError",
     "ImageTypeError",
+    "InternalError",
     "InsertStats",
     "Lens",
     "LengthMismatchError",
@@ -53,6 +59,7 @@ __all__ = [
     "OccupancyGrid",
     "OptionError",
     "OutOfBoundsError",
+    "OutputError",
     "SCAN_CSV_HEADER",
     "Scan",
     "TableError",

@@ -108,9 +108,20 @@ class OutputsConfig:
     overlay_max_frames: int = doc(
         "frames in the overlay animation (evenly spread over the run)", 120
     )
+    overlay_max_mb: int = doc(
+        "most memory the kept overlay frames may take [MB]; fewer frames are kept past it", 256
+    )
     bag: bool = doc("write scans (LaserScan) and the map (OccupancyGrid) to a ROS 2 bag", True)
     bag_storage: str = doc("ROS 2 bag storage: mcap | sqlite3", "mcap")
     laser_angle_increment_rad: float = doc("angular bin of the LaserScan conversion [rad]", 0.01)
+
+
+@dataclass
+class LimitsConfig:
+    max_image_pixels: int = doc(
+        "largest image decoded (width x height); larger ones, decompression bombs among them, are refused unread (docs/limits.md)",
+        1 << 26,
+    )
 
 
 @dataclass
@@ -121,6 +132,7 @@ class Config:
     map: MapConfig = field(default_factory=MapConfig)
     sensors: SensorsConfig = field(default_factory=SensorsConfig)
     outputs: OutputsConfig = field(default_factory=OutputsConfig)
+    limits: LimitsConfig = field(default_factory=LimitsConfig)
 
     # --- reading ------------------------------------------------------------------------
     @classmethod

@@ -15,7 +15,7 @@ import numpy as np
 
 from . import _native
 from ._atomic import PathLike
-from .errors import LengthMismatchError
+from .errors import ArgumentTypeError, LengthMismatchError
 from .grid_options import (
     DEFAULT_MAX_CELLS,
     EvidenceLike,
@@ -45,13 +45,15 @@ def laser_args(ranges, angles, angle_min, angle_increment, *, two_d: bool = Fals
         raise LengthMismatchError(f"`ranges` must have shape {shape}, got {r.shape}")
     if angles is not None:
         if angle_min is not None or angle_increment is not None:
-            raise TypeError("give either `angles` or `angle_min` and `angle_increment`, not both")
+            raise ArgumentTypeError(
+                "give either `angles` or `angle_min` and `angle_increment`, not both"
+            )
         a = np.ascontiguousarray(angles, dtype=np.float64)
         if a.ndim != 1 or a.size != r.shape[-1]:
             raise LengthMismatchError(f"{r.shape[-1]} ranges per scan but {a.size} angles")
         return r, a, 0.0, 0.0
     if angle_min is None or angle_increment is None:
-        raise TypeError("give `angles`, or both `angle_min` and `angle_increment`")
+        raise ArgumentTypeError("give `angles`, or both `angle_min` and `angle_increment`")
     return r, None, float(angle_min), float(angle_increment)
 
 
@@ -173,7 +175,7 @@ class OccupancyGrid(GridViews):
         dataset's rig.toml ``[camera]``). Free space starts at each column's near edge of view;
         see :mod:`floorscan.grid` for the rules. The GIL is released."""
         if not isinstance(scan, Scan):
-            raise TypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
+            raise ArgumentTypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
         return InsertStats(
             *self._native.insert_scan(scan._native, as_pose(pose, "pose"), as_pose(mount, "mount"))
         )

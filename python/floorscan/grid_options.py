@@ -9,7 +9,7 @@ from typing import Any, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from .errors import OptionError
+from .errors import ArgumentTypeError, OptionError
 
 DEFAULT_MAX_CELLS = 1 << 25
 """Default ``max_cells`` of a map (33.5 M cells: 231 m square at 4 cm); see docs/limits.md."""
@@ -85,7 +85,9 @@ def _number(name: str, value: Any) -> float:
 
 def _count(name: str, value: Any, lo: int, hi: int) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
-        raise OptionError(f"invalid option `{name}`: must be an integer in [{lo}, {hi}], got {value!r}")
+        raise OptionError(
+            f"invalid option `{name}`: must be an integer in [{lo}, {hi}], got {value!r}"
+        )
     return int(value)
 
 
@@ -180,9 +182,9 @@ def as_pose(value: Any, name: str) -> Pose:
     try:
         a = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
-        raise TypeError(f"`{name}` must be (x, y, yaw), got {value!r}") from None
+        raise ArgumentTypeError(f"`{name}` must be (x, y, yaw), got {value!r}") from None
     if a.shape != (3,):
-        raise TypeError(f"`{name}` must be (x [m], y [m], yaw [rad]), got shape {a.shape}")
+        raise ArgumentTypeError(f"`{name}` must be (x [m], y [m], yaw [rad]), got shape {a.shape}")
     return float(a[0]), float(a[1]), float(a[2])
 
 

@@ -174,6 +174,9 @@ class GroundTable:
 
     @classmethod
     def from_json(cls, text: str) -> GroundTable:
+        """Parses the JSON file format (docs/formats.md); FileFormatError if damaged."""
+        if not isinstance(text, str):
+            raise FileFormatError(f"a ground table is JSON text, got {type(text).__name__}")
         return cls(_native.GroundTable.from_json(text))
 
     def save(self, path: PathLike) -> Path:

@@ -46,7 +46,9 @@ def set_max_image_pixels(pixels: int) -> None:
     max_image_pixels``); ``floorscan run`` sets it from its configuration."""
     global _max_image_pixels
     if isinstance(pixels, bool) or not isinstance(pixels, int) or pixels < 1:
-        raise OptionError(f"invalid option `max_image_pixels`: must be an integer >= 1, got {pixels!r}")
+        raise OptionError(
+            f"invalid option `max_image_pixels`: must be an integer >= 1, got {pixels!r}"
+        )
     _max_image_pixels = pixels
 
 

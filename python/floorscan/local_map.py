@@ -14,7 +14,7 @@ from typing import Any, Dict, Optional, Sequence
 import numpy as np
 
 from . import _native
-from .errors import OptionError
+from .errors import ArgumentTypeError, OptionError
 from .grid import InsertStats, laser_args, sonar_args
 from .grid_options import DEFAULT_MAX_CELLS, EvidenceLike, as_pose, grid_options, inserter_options
 from .grid_views import UNITS_PER_NAT, GridViews
@@ -116,7 +116,7 @@ class LocalMap(GridViews):
         camera at ``mount`` (``robot_from_camera``). Same argument order as
         :meth:`floorscan.OccupancyGrid.insert_scan`."""
         if not isinstance(scan, Scan):
-            raise TypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
+            raise ArgumentTypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
         self._place(pose)
         return InsertStats(*self._native.insert_scan(scan._native, as_pose(mount, "mount")))
 

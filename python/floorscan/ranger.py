@@ -14,7 +14,7 @@ from typing import Any, Dict, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from .errors import ImageError, OptionError
+from .errors import ArgumentTypeError, ImageError, OptionError
 from .ground_table import GroundTable
 from .image_io import as_grey
 from .scan import Scan
@@ -76,7 +76,9 @@ class VisualRanger:
         max_range_m: Optional[float] = 3.0,
     ) -> None:
         if not isinstance(table, GroundTable):
-            raise TypeError(f"table must be a floorscan.GroundTable, got {type(table).__name__}")
+            raise ArgumentTypeError(
+                f"table must be a floorscan.GroundTable, got {type(table).__name__}"
+            )
         self._table = table
         options = build_ranger_options(
             image_width=table.image_width,
@@ -116,7 +118,12 @@ class VisualRanger:
                 f"image is {grey.shape[1]} x {grey.shape[0]} (W x H) but the calibration table is "
                 f"for {self._table.image_width} x {self._table.image_height}"
             )
-        t = float(timestamp)
+        try:
+            t = float(timestamp)
+        except (TypeError, ValueError):
+            raise OptionError(
+                f"invalid option `timestamp`: must be a number [s], got {timestamp!r}"
+            ) from None
         if not math.isfinite(t):
             raise OptionError(f"invalid option `timestamp`: must be finite, got {timestamp}")
         if grey.dtype == np.uint16:

@@ -17,7 +17,6 @@ import numpy as np
 from ._atomic import PathLike, write_atomic
 from .errors import DatasetError, GeometryError
 
-
 MIN_QUATERNION_NORM = 1e-6
 """Quaternions shorter than this are refused (no rotation can be read from them); any longer
 quaternion is normalised (the yaw formula below is invariant to its scale)."""
@@ -27,14 +26,10 @@ def yaw_from_quaternion(qx: float, qy: float, qz: float, qw: float) -> float:
     """Yaw [rad] about +z of a quaternion, normalised first (GeometryError if near zero)."""
     norm = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
     if not norm >= MIN_QUATERNION_NORM:
-        raise GeometryError(
-            f"quaternion ({qx}, {qy}, {qz}, {qw}) has norm {norm}: not a rotation"
-        )
+        raise GeometryError(f"quaternion ({qx}, {qy}, {qz}, {qw}) has norm {norm}: not a rotation")
     # atan2(2(wz + xy), w^2 + x^2 - y^2 - z^2) equals the unit-quaternion formula
     # atan2(2(wz + xy), 1 - 2(y^2 + z^2)) for |q| = 1 and does not depend on |q|.
-    return math.atan2(
-        2.0 * (qw * qz + qx * qy), qw * qw + qx * qx - qy * qy - qz * qz
-    )
+    return math.atan2(2.0 * (qw * qz + qx * qy), qw * qw + qx * qx - qy * qy - qz * qz)
 
 
 def quaternion_from_yaw(yaw: float) -> Tuple[float, float, float, float]:

@@ -18,6 +18,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<ground_table::PyGroundTable>()?;
     m.add_class::<ranger::PyVisualRanger>()?;
+    m.add_function(wrap_pyfunction!(ranger::validate_ranger_options, m)?)?;
     m.add_class::<scan::PyScan>()?;
     m.add_class::<grid::PyOccupancyGrid>()?;
     m.add_class::<local_map::PyLocalMap>()?;

@@ -77,3 +77,14 @@ impl PyVisualRanger {
         }
     }
 }
+
+/// Validates ranger options (their serde form) without a table: every check that does not
+/// depend on the image size (`floorscan config --check` runs it, as `floorscan run` does).
+#[pyfunction]
+pub fn validate_ranger_options(options_json: &str) -> PyResult<()> {
+    crate::errors::guard(|| {
+        let options: RangerOptions = serde_json::from_str(options_json)
+            .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
+        options.validate().py()
+    })
+}

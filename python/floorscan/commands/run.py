@@ -8,9 +8,10 @@ import sys
 from pathlib import Path
 
 from ..config import Config
+from ..config_check import check_config
 from ..errors import DatasetError, OptionError
 from ..ground_table import GroundTable
-from ..image_io import read_grey
+from ..image_io import read_grey, set_max_image_pixels
 from ..pipeline import Mapper, run
 from ..progress import Progress
 from ..rig import Rig
@@ -125,6 +126,8 @@ def main(args: argparse.Namespace) -> int:
             "ranger.columns": args.columns,
         }
     )
+    check_config(cfg)
+    set_max_image_pixels(cfg.limits.max_image_pixels)
     source = open_source(args)
     table = load_table(args, source, cfg)
     mapper = Mapper(table, cfg, robot_from_camera=rig_pose(source, cfg))
@@ -147,4 +150,4 @@ def main(args: argparse.Namespace) -> int:
     print(
         f"outputs in {outputs.out if hasattr(outputs, 'out') else args.output}/: map.yaml map.png scans.csv summary.json ..."
     )
-    return 130 if stats.interrupted else 0
+    return 128 + (stats.signal or 2) if stats.interrupted else 0
