@@ -5,10 +5,11 @@ Conventions: SI units, REP 103 frames (x forward, y left, angles counter-clockwi
 radians), REP 117 ranges (+inf no return), image rows counted from the top.
 """
 
-from . import (
-    _native,
-    _startup,  # noqa: F401  (first: a Ctrl-C while importing exits quietly)
-)
+# isort: off
+from . import _startup  # noqa: F401  (first: a Ctrl-C while importing exits quietly)
+
+# isort: on
+from . import _native
 from .errors import (
     CalibrationError,
     ConfigError,

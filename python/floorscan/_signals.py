@@ -4,8 +4,8 @@
   (a ``KeyboardInterrupt``) like SIGINT, so every command stops the same way on all three.
 - :class:`StopRequest` (``floorscan run``): the first signal asks the frame loop to stop after
   the current frame; a second one while frames are still being read interrupts at once.
-- :func:`StopRequest.saving`: while the outputs are written, signals are noted and ignored
-  (every output is finished whole); a third signal abandons the outputs not yet written,
+  Once the loop has ended the outputs are written: the next signal is noted and ignored
+  (every output is finished whole), the one after abandons the outputs not yet written,
   each writer removing its temporary file.
 
 Handlers are only installed in the main thread (Python delivers signals there only).
@@ -60,47 +60,58 @@ def _raise(signum, _frame) -> None:
     raise Interrupted(signum)
 
 
+def ignore_stop_signals() -> None:
+    """Ignores SIGINT, SIGTERM and SIGHUP from now on (the command line's last act)."""
+    if _in_main_thread():
+        for s in STOP_SIGNALS:
+            signal.signal(s, signal.SIG_IGN)
+
+
 def handle_signals():
     """Context manager: SIGINT, SIGTERM and SIGHUP raise :class:`Interrupted`."""
     return _handlers(_raise)
 
 
 class StopRequest:
-    """Cooperative stop for a frame loop (see the module docstring)."""
+    """Cooperative stop for a frame loop (see the module docstring). Install it once, around
+    both the loop and the saving, so that no signal falls between two handlers."""
 
     def __init__(self) -> None:
         self.signum: Optional[int] = None
-        self._saving = False
-        self._while_saving = 0
+        self._in_loop = False
+        self._after_loop = 0
 
     @property
     def requested(self) -> bool:
         return self.signum is not None
 
     def _on_signal(self, signum, _frame) -> None:
-        if self._saving:
-            self._while_saving += 1
-            if self._while_saving >= 2:
-                raise Interrupted(signum)
-            print(
-                "floorscan: still saving the outputs (signal once more to abandon the rest)",
-                file=sys.stderr,
-            )
+        if self._in_loop:
+            if self.signum is not None:
+                raise Interrupted(signum)  # second signal: stop reading at once
+            self.signum = int(signum)
             return
-        if self.signum is not None:
-            raise Interrupted(signum)  # second signal: stop reading at once
-        self.signum = int(signum)
+        # Past the loop: the outputs are being written. Note the first signal; abandon the
+        # outputs not yet written on the second (each writer removes its temporary file).
+        self.signum = self.signum or int(signum)
+        self._after_loop += 1
+        if self._after_loop >= 2:
+            raise Interrupted(signum)
+        print(
+            "floorscan: saving the outputs (signal once more to abandon the rest)",
+            file=sys.stderr,
+        )
 
-    def frames(self):
-        """Context manager for the frame loop: a signal sets :attr:`requested`."""
+    def installed(self):
+        """Context manager: this request handles SIGINT, SIGTERM and SIGHUP."""
         return _handlers(self._on_signal)
 
     @contextlib.contextmanager
-    def saving(self) -> Iterator[None]:
-        """Context manager for writing the outputs: signals are noted, not raised (twice)."""
-        self._saving = True
+    def loop(self) -> Iterator[None]:
+        """Context manager for the frame loop: a first signal sets :attr:`requested`, a
+        second raises :class:`Interrupted`."""
+        self._in_loop = True
         try:
-            with _handlers(self._on_signal):
-                yield
+            yield
         finally:
-            self._saving = False
+            self._in_loop = False

@@ -11,7 +11,7 @@ import importlib
 import sys
 from typing import List, Optional
 
-from ._signals import exit_code, handle_signals
+from ._signals import exit_code, handle_signals, ignore_stop_signals
 from .errors import FloorscanError
 
 EXIT_OK = 0
@@ -56,6 +56,16 @@ def _os_error(e: OSError) -> str:
 
 
 def main(argv: Optional[List[str]] = None) -> int:
+    try:
+        return _main(argv)
+    finally:
+        if argv is None:
+            # The console script is about to exit with its outputs complete: a late signal
+            # must not kill it with another status during the interpreter's shutdown.
+            ignore_stop_signals()
+
+
+def _main(argv: Optional[List[str]]) -> int:
     command = "floorscan"
     debug = "--debug" in (sys.argv[1:] if argv is None else argv)
     try:

@@ -53,6 +53,7 @@ def check_config(cfg: Config) -> Config:
     """Raises the error ``floorscan run`` would raise for this configuration (OptionError,
     ConfigError), else returns it."""
     from .grid import OccupancyGrid
+    from .image_io import check_max_image_pixels
     from .local_map import LocalMap
     from .pipeline import grid_kwargs
     from .run_outputs import check_outputs
@@ -63,4 +64,5 @@ def check_config(cfg: Config) -> Config:
     OccupancyGrid(**kw)
     LocalMap(size_m=cfg.map.local_size_m, **kw)
     check_outputs(cfg.outputs)
+    check_max_image_pixels(cfg.limits.max_image_pixels)
     return cfg

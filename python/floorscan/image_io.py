@@ -45,11 +45,16 @@ def set_max_image_pixels(pixels: int) -> None:
     """Sets the largest image (width x height) any reader decodes (``[limits]
     max_image_pixels``); ``floorscan run`` sets it from its configuration."""
     global _max_image_pixels
+    _max_image_pixels = check_max_image_pixels(pixels)
+
+
+def check_max_image_pixels(pixels) -> int:
+    """The ``max_image_pixels`` option, checked (an integer >= 1)."""
     if isinstance(pixels, bool) or not isinstance(pixels, int) or pixels < 1:
         raise OptionError(
-            f"invalid option `max_image_pixels`: must be an integer >= 1, got {pixels!r}"
+            f"invalid option `limits.max_image_pixels`: must be an integer >= 1, got {pixels!r}"
         )
-    _max_image_pixels = pixels
+    return pixels
 
 
 def max_image_pixels() -> int:

@@ -180,23 +180,23 @@ def run(
     start = time.perf_counter()
     shape = (mapper.ranger.table.image_height, mapper.ranger.table.image_width)
     stop = StopRequest()
-    try:
-        with stop.frames():
-            _frame_loop(source, mapper, outputs, stats, shape, stop, strict, progress)
-    except KeyboardInterrupt as e:
-        stats.interrupted = True
-        stats.signal = getattr(e, "signum", int(signal.SIGINT))
-    except FloorscanError as e:
-        stats.error = str(e)
-        raise
-    finally:
-        if stop.requested:
+    with stop.installed():
+        try:
+            with stop.loop():
+                _frame_loop(source, mapper, outputs, stats, shape, stop, strict, progress)
+        except KeyboardInterrupt as e:
             stats.interrupted = True
-            stats.signal = stats.signal or stop.signum
-        with stop.saving():
+            stats.signal = getattr(e, "signum", int(signal.SIGINT))
+        except FloorscanError as e:
+            stats.error = str(e)
+            raise
+        finally:
             if progress is not None:
                 progress.close()
             source.close()
+            if stop.requested:
+                stats.interrupted = True
+                stats.signal = stats.signal or stop.signum
             stats.dropped_live = source.dropped
             stats.boundary_points = mapper.points
             stats.wall_s = time.perf_counter() - start

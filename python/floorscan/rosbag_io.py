@@ -218,11 +218,15 @@ class Ros2BagWriter:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._tmpdir = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", dir=self.path.parent))
-        self.typestore = get_typestore(Stores.LATEST)
-        self.types = self.typestore.types
-        plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
-        self._writer = Writer(self._tmpdir / "bag", version=9, storage_plugin=plugin)
-        self._writer.open()
+        try:
+            self.typestore = get_typestore(Stores.LATEST)
+            self.types = self.typestore.types
+            plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
+            self._writer = Writer(self._tmpdir / "bag", version=9, storage_plugin=plugin)
+            self._writer.open()
+        except BaseException:  # interrupted or failed while opening: leave nothing behind
+            shutil.rmtree(self._tmpdir, ignore_errors=True)
+            raise
         self._connections: Dict[str, object] = {}
 
     def _conn(self, topic: str, msgtype: str):

@@ -89,10 +89,22 @@ class RunOutputs:
         if not os.access(self.out, os.W_OK | os.X_OK):
             raise OutputError(f"output folder {self.out} is not writable")
         self.cfg = cfg
+        self.finishing = False
         o = cfg.outputs
-        fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
+        self._bag = None
+        self._csv = None
+        self._csv_tmp: Optional[str] = None
+        try:
+            fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
+            self._csv = os.fdopen(fd, "w", encoding="utf-8")
+            self._open(cfg, expected_frames)
+        except BaseException:
+            self._discard_temporaries()  # interrupted or failed while opening: leave nothing
+            raise
+
+    def _open(self, cfg: Config, expected_frames: Optional[int]) -> None:
+        o = cfg.outputs
         _make_readable(self._csv_tmp)
-        self._csv = os.fdopen(fd, "w", encoding="utf-8")
         self._csv.write(SCAN_CSV_HEADER + "\n")
         # Overlay frames live in one buffer allocated (and touched) at the first frame, so memory
         # stays flat over a run however long; frames wider than 480 px are halved.
@@ -106,7 +118,6 @@ class RunOutputs:
         self._frame_count = 0
         self._next_snapshot: Optional[float] = None
         self.snapshots: List[Path] = []
-        self._bag = None
         self._laser_range: Optional[tuple] = None
         self.extra_summary: dict = {}
         self.memory_samples: List[tuple] = []
@@ -184,6 +195,7 @@ class RunOutputs:
             self._write_overlay,
             lambda: self._write_summary(mapper, stats),
         ]
+        self.finishing = True
         first: Optional[BaseException] = None
         try:
             for step in steps:
@@ -223,12 +235,17 @@ class RunOutputs:
                 bag.abort()
                 raise
 
+    def discard(self) -> None:
+        """Abandons a run that never started: removes the temporary files (see finish)."""
+        self._discard_temporaries()
+
     def _discard_temporaries(self) -> None:
         """Removes what an interrupted or failed finish left: the scans' temporary file, an
         unfinished bag, a half-written overlay."""
-        if not self._csv.closed:
+        if self._csv is not None and not self._csv.closed:
             self._csv.close()
-        Path(self._csv_tmp).unlink(missing_ok=True)
+        if self._csv_tmp is not None:
+            Path(self._csv_tmp).unlink(missing_ok=True)
         if self._bag is not None:
             bag, self._bag = self._bag, None
             try:

@@ -131,17 +131,25 @@ def main(args: argparse.Namespace) -> int:
     source = open_source(args)
     table = load_table(args, source, cfg)
     mapper = Mapper(table, cfg, robot_from_camera=rig_pose(source, cfg))
-    outputs = RunOutputs(args.output, cfg, expected_frames=len(source) or None)
-    if args.rerun:
-        from ..rerun_log import RerunOutputs
+    outputs = None
+    try:
+        outputs = RunOutputs(args.output, cfg, expected_frames=len(source) or None)
+        if args.rerun:
+            from ..rerun_log import RerunOutputs
 
-        outputs = RerunOutputs(outputs)
-    if source.odometry is None:
-        print(
-            "no odometry: only the local map is built (the robot is taken as standing still)",
-            file=sys.stderr,
+            outputs = RerunOutputs(outputs)
+        if source.odometry is None:
+            print(
+                "no odometry: only the local map is built (the robot is taken as standing still)",
+                file=sys.stderr,
+            )
+        stats = run(
+            source, mapper, outputs, strict=args.strict, progress=Progress(len(source) or None)
         )
-    stats = run(source, mapper, outputs, strict=args.strict, progress=Progress(len(source) or None))
+    except BaseException:
+        if outputs is not None and not getattr(outputs, "finishing", True):
+            outputs.discard()  # stopped before the run began: nothing to save, nothing left
+        raise
     skipped = stats.frames_in - stats.frames_mapped
     print(
         f"{stats.frames_mapped} frames mapped, {skipped} skipped, {stats.boundary_points} boundary points"
