@@ -90,7 +90,6 @@ class RunOutputs:
             raise OutputError(f"output folder {self.out} is not writable")
         self.cfg = cfg
         self.finishing = False
-        o = cfg.outputs
         self._bag = None
         self._csv = None
         self._csv_tmp: Optional[str] = None

@@ -147,7 +147,15 @@ def read_scans_csv(path: PathLike) -> List[Scan]:
 
 
 def parse_scans_csv(text: str, *, source: str = "<csv>") -> Iterator[Scan]:
-    reader = csv.reader(io.StringIO(text))
+    """The scans of CSV text (FileFormatError naming the line for anything malformed)."""
+    try:
+        yield from _parse_scans_csv(text, source)
+    except csv.Error as e:
+        raise FileFormatError(f"{source}: not a valid CSV file: {e}") from None
+
+
+def _parse_scans_csv(text: str, source: str) -> Iterator[Scan]:
+    reader = csv.reader(io.StringIO(text, newline=""))
     header = next(reader, None)
     if header is None or ",".join(h.strip() for h in header) != SCAN_CSV_HEADER:
         raise FileFormatError(f"{source}: first line must be the header {SCAN_CSV_HEADER!r}")

@@ -4,8 +4,8 @@
 //! the GIL.
 
 use floorscan_core::{
-    BeamAngles, CellIndex, CellRect, Evidence, Grid, GridOptions, Inserter, InserterOptions,
-    LaserScan, Point2, Pose2, Ray, SonarReading, UpdateStats,
+    BeamAngles, Evidence, Grid, GridOptions, Inserter, InserterOptions, LaserScan, Point2, Pose2,
+    Ray, SonarReading, UpdateStats,
 };
 use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
