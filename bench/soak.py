@@ -118,7 +118,9 @@ def main() -> None:
     )
     print("| elapsed | " + " | ".join(f"{p}%" for p in range(10, 101, 10)) + " |")
     print("|---|" + "---:|" * 10)
-    picks = [samples[min(len(samples) - 1, int(len(samples) * p / 100))] for p in range(10, 101, 10)]
+    picks = [
+        samples[min(len(samples) - 1, int(len(samples) * p / 100))] for p in range(10, 101, 10)
+    ]
     print("| RSS MB (sampled outside, 1 Hz) | " + " | ".join(f"{m:.0f}" for _, m in picks) + " |")
     print(
         f"\nframe loop after its first 10 % ({len(steady)} samples, one per 600 frames): "

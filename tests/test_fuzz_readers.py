@@ -43,7 +43,9 @@ PROFILE = os.environ.get("FLOORSCAN_HYPOTHESIS_PROFILE", "ci")
 SEEDS = {
     "config": Config().to_toml(),
     "rig": "[camera]\nx = 0.1\ny = 0.0\nyaw = 0.0\nheight = 0.4\n",
-    "pattern": Pattern.checkerboard(inner_corners=(7, 5), square=0.1, near_left=(0.6, 0.3)).to_toml(),
+    "pattern": Pattern.checkerboard(
+        inner_corners=(7, 5), square=0.1, near_left=(0.6, 0.3)
+    ).to_toml(),
     "images": "# timestamp filename\n1.0 images/0.png\n1.1 images/1.png\n1.2 images/2.png\n",
     "tum": "# t x y z qx qy qz qw\n1.0 0 0 0 0 0 0 1\n1.1 0.1 0 0 0 0 0.05 0.9987\n",
     "carmen": "PARAM robot_frontlaser_offset 0.0 nohost 0\n"

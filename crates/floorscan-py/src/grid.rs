@@ -213,11 +213,13 @@ impl PyOccupancyGrid {
         })
     }
 
-    fn copy(&self) -> Self {
-        Self {
-            grid: self.grid.clone(),
-            inserter: self.inserter.clone(),
-        }
+    fn copy(&self) -> PyResult<Self> {
+        crate::errors::guard(|| {
+            Ok(Self {
+                grid: self.grid.clone(),
+                inserter: self.inserter.clone(),
+            })
+        })
     }
 
     fn insert_scan(
@@ -374,8 +376,8 @@ impl PyOccupancyGrid {
     }
 
     /// The exported rectangle (min x, min y, width, height) [cells].
-    fn extent(&self) -> (i32, i32, usize, usize) {
-        extent(&self.grid)
+    fn extent(&self) -> PyResult<(i32, i32, usize, usize)> {
+        crate::errors::guard(|| Ok(extent(&self.grid)))
     }
 
     fn values<'py>(
@@ -436,51 +438,60 @@ impl PyOccupancyGrid {
     }
 
     /// (clamp_min, clamp_max, occupied_at, free_at) in stored units (1/1000 nat).
-    fn limits(&self) -> (i16, i16, i16, i16) {
-        limits(&self.grid)
+    fn limits(&self) -> PyResult<(i16, i16, i16, i16)> {
+        crate::errors::guard(|| Ok(limits(&self.grid)))
     }
 
     #[getter]
-    fn cell_size_m(&self) -> f64 {
-        self.grid.cell_size_m()
+    fn cell_size_m(&self) -> PyResult<f64> {
+        crate::errors::guard(|| Ok(self.grid.cell_size_m()))
     }
 
     #[getter]
-    fn origin_m(&self) -> (f64, f64) {
-        let o = self.grid.origin_m();
-        (o.x, o.y)
+    fn origin_m(&self) -> PyResult<(f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let o = self.grid.origin_m();
+                (o.x, o.y)
+            })
+        })
     }
 
     /// Fixed bounds (min x, min y, max x, max y) [cells, max excluded], None if growing.
     #[getter]
-    fn fixed_cells(&self) -> Option<(i32, i32, i32, i32)> {
-        self.grid
-            .fixed_cells()
-            .map(|r| (r.min.x, r.min.y, r.max.x, r.max.y))
+    fn fixed_cells(&self) -> PyResult<Option<(i32, i32, i32, i32)>> {
+        crate::errors::guard(|| {
+            Ok(self
+                .grid
+                .fixed_cells()
+                .map(|r| (r.min.x, r.min.y, r.max.x, r.max.y)))
+        })
     }
 
     #[getter]
-    fn memory_bytes(&self) -> usize {
-        self.grid.memory_bytes() + self.inserter.memory_bytes()
+    fn memory_bytes(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.grid.memory_bytes() + self.inserter.memory_bytes()))
     }
 
     #[getter]
-    fn grid_memory_bytes(&self) -> usize {
-        self.grid.memory_bytes()
+    fn grid_memory_bytes(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.grid.memory_bytes()))
     }
 
     #[getter]
-    fn allocated_tiles(&self) -> usize {
-        self.grid.allocated_tiles()
+    fn allocated_tiles(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.grid.allocated_tiles()))
     }
 
     #[getter]
-    fn grid_options_json(&self) -> String {
-        serde_json::to_string(self.grid.options()).unwrap_or_default()
+    fn grid_options_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(self.grid.options()).unwrap_or_default()))
     }
 
     #[getter]
-    fn inserter_options_json(&self) -> String {
-        serde_json::to_string(self.inserter.options()).unwrap_or_default()
+    fn inserter_options_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok(serde_json::to_string(self.inserter.options()).unwrap_or_default())
+        })
     }
 }

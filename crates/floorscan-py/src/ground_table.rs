@@ -77,8 +77,8 @@ impl PyGroundTable {
         })
     }
 
-    fn to_json(&self) -> String {
-        self.inner.to_json()
+    fn to_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(self.inner.to_json()))
     }
 
     /// Ground points at pixels (u, v): two float64 arrays, NaN where there is no ground.
@@ -112,16 +112,16 @@ impl PyGroundTable {
     }
 
     #[getter]
-    fn image_width(&self) -> usize {
-        self.inner.image_width()
+    fn image_width(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.image_width()))
     }
     #[getter]
-    fn image_height(&self) -> usize {
-        self.inner.image_height()
+    fn image_height(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.image_height()))
     }
     #[getter]
-    fn spacing_px(&self) -> usize {
-        self.inner.spacing_px()
+    fn spacing_px(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.spacing_px()))
     }
 
     /// Node values as two (nodes_v, nodes_u) float64 arrays, NaN for no ground.
@@ -148,8 +148,10 @@ impl PyGroundTable {
     }
 
     /// The free-form metadata as a JSON object string.
-    fn metadata_json(&self) -> String {
-        serde_json::to_string(&self.inner.metadata).unwrap_or_else(|_| "{}".into())
+    fn metadata_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok(serde_json::to_string(&self.inner.metadata).unwrap_or_else(|_| "{}".into()))
+        })
     }
 
     /// A copy of the table with `metadata` (a JSON object string) replacing its metadata.
@@ -161,7 +163,7 @@ impl PyGroundTable {
         })
     }
 
-    fn __eq__(&self, other: &Self) -> bool {
-        self.inner == other.inner
+    fn __eq__(&self, other: &Self) -> PyResult<bool> {
+        crate::errors::guard(|| Ok(self.inner == other.inner))
     }
 }

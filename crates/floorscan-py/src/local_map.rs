@@ -41,9 +41,13 @@ impl PyLocalMap {
     }
 
     #[getter]
-    fn pose(&self) -> (f64, f64, f64) {
-        let p = self.inner.pose();
-        (p.x, p.y, p.yaw)
+    fn pose(&self) -> PyResult<(f64, f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let p = self.inner.pose();
+                (p.x, p.y, p.yaw)
+            })
+        })
     }
 
     fn insert_scan(&mut self, scan: &PyScan, mount: [f64; 3]) -> PyResult<Stats> {
@@ -97,9 +101,13 @@ impl PyLocalMap {
     }
 
     /// The window (min x, min y, width, height) [cells of the local lattice].
-    fn extent(&self) -> (i32, i32, usize, usize) {
-        let r = self.inner.window();
-        (r.min.x, r.min.y, r.width(), r.height())
+    fn extent(&self) -> PyResult<(i32, i32, usize, usize)> {
+        crate::errors::guard(|| {
+            Ok({
+                let r = self.inner.window();
+                (r.min.x, r.min.y, r.width(), r.height())
+            })
+        })
     }
 
     fn values<'py>(
@@ -163,23 +171,27 @@ impl PyLocalMap {
         })
     }
 
-    fn limits(&self) -> (i16, i16, i16, i16) {
-        grid::limits(self.inner.grid())
+    fn limits(&self) -> PyResult<(i16, i16, i16, i16)> {
+        crate::errors::guard(|| Ok(grid::limits(self.inner.grid())))
     }
 
     #[getter]
-    fn cell_size_m(&self) -> f64 {
-        self.inner.grid().cell_size_m()
+    fn cell_size_m(&self) -> PyResult<f64> {
+        crate::errors::guard(|| Ok(self.inner.grid().cell_size_m()))
     }
 
     #[getter]
-    fn origin_m(&self) -> (f64, f64) {
-        let o = self.inner.grid().origin_m();
-        (o.x, o.y)
+    fn origin_m(&self) -> PyResult<(f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let o = self.inner.grid().origin_m();
+                (o.x, o.y)
+            })
+        })
     }
 
     #[getter]
-    fn options_json(&self) -> String {
-        serde_json::to_string(self.inner.options()).unwrap_or_default()
+    fn options_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(self.inner.options()).unwrap_or_default()))
     }
 }

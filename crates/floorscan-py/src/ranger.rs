@@ -61,20 +61,22 @@ impl PyVisualRanger {
 
     /// The sampled image columns, in output order.
     #[getter]
-    fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
-        PyArray1::from_vec(py, self.inner.columns())
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        crate::errors::guard(|| Ok(PyArray1::from_vec(py, self.inner.columns())))
     }
 
     #[getter]
-    fn options_json(&self) -> String {
-        serde_json::to_string(self.inner.options()).unwrap_or_default()
+    fn options_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(self.inner.options()).unwrap_or_default()))
     }
 
     #[getter]
-    fn table(&self) -> PyGroundTable {
-        PyGroundTable {
-            inner: self.inner.table().clone(),
-        }
+    fn table(&self) -> PyResult<PyGroundTable> {
+        crate::errors::guard(|| {
+            Ok(PyGroundTable {
+                inner: self.inner.table().clone(),
+            })
+        })
     }
 }
 

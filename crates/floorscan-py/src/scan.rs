@@ -116,66 +116,72 @@ impl PyScan {
     }
 
     #[getter]
-    fn timestamp(&self) -> f64 {
-        self.inner.timestamp_s
+    fn timestamp(&self) -> PyResult<f64> {
+        crate::errors::guard(|| Ok(self.inner.timestamp_s))
     }
-    fn __len__(&self) -> usize {
-        self.inner.len()
-    }
-    #[getter]
-    fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
-        self.column_of(py, |r| r.column)
+    fn __len__(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.len()))
     }
     #[getter]
-    fn rows<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.column_of(py, |r| r.row())
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.column)))
     }
     #[getter]
-    fn status_codes<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
-        self.column_of(py, |r| r.status().code())
+    fn rows<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.row())))
     }
     #[getter]
-    fn x<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.column_of(py, |r| r.point().map_or(f64::NAN, |p| p.x))
+    fn status_codes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u8>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.status().code())))
     }
     #[getter]
-    fn y<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.column_of(py, |r| r.point().map_or(f64::NAN, |p| p.y))
+    fn x<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.point().map_or(f64::NAN, |p| p.x))))
     }
     #[getter]
-    fn ranges<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.column_of(py, |r| r.range_m())
+    fn y<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.point().map_or(f64::NAN, |p| p.y))))
     }
     #[getter]
-    fn bearings<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.column_of(py, |r| r.bearing_rad())
+    fn ranges<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.range_m())))
+    }
+    #[getter]
+    fn bearings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.bearing_rad())))
     }
     /// Floor length one pixel row covers at each boundary [m] (0 where not a boundary).
     #[getter]
-    fn footprints<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.column_of(py, |r| match r.outcome {
-            ColumnOutcome::Boundary { footprint_m, .. } => footprint_m,
-            _ => 0.0,
+    fn footprints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        crate::errors::guard(|| {
+            Ok(self.column_of(py, |r| match r.outcome {
+                ColumnOutcome::Boundary { footprint_m, .. } => footprint_m,
+                _ => 0.0,
+            }))
         })
     }
     #[getter]
-    fn start_rows<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.column_of(py, |r| r.start_row)
+    fn start_rows<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.start_row)))
     }
     #[getter]
-    fn near_x<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.column_of(py, |r| r.near.map_or(f64::NAN, |p| p.x))
+    fn near_x<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.near.map_or(f64::NAN, |p| p.x))))
     }
     #[getter]
-    fn near_y<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.column_of(py, |r| r.near.map_or(f64::NAN, |p| p.y))
+    fn near_y<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        crate::errors::guard(|| Ok(self.column_of(py, |r| r.near.map_or(f64::NAN, |p| p.y))))
     }
 
     /// The scan's CSV lines (no header), see `floorscan_core::scan::SCAN_CSV_HEADER`.
-    fn csv_lines(&self) -> String {
-        let mut s = String::new();
-        self.inner.write_csv_lines(&mut s);
-        s
+    fn csv_lines(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok({
+                let mut s = String::new();
+                self.inner.write_csv_lines(&mut s);
+                s
+            })
+        })
     }
 
     /// Fixed angular binning (sensor_msgs/LaserScan fields) as a dict.

@@ -88,45 +88,53 @@ impl PyWorld {
     }
 
     #[staticmethod]
-    fn builtin_names() -> Vec<&'static str> {
-        builtin_names()
+    fn builtin_names() -> PyResult<Vec<&'static str>> {
+        crate::errors::guard(|| Ok(builtin_names()))
     }
 
     #[getter]
-    fn name(&self) -> String {
-        self.scene.world.name.clone()
+    fn name(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(self.scene.world.name.clone()))
     }
     #[getter]
-    fn description(&self) -> String {
-        self.scene.world.description.clone()
+    fn description(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(self.scene.world.description.clone()))
     }
     #[getter]
-    fn source(&self) -> Option<String> {
-        self.scene.world.source.clone()
+    fn source(&self) -> PyResult<Option<String>> {
+        crate::errors::guard(|| Ok(self.scene.world.source.clone()))
     }
     #[getter]
-    fn ceiling_m(&self) -> f64 {
-        self.scene.world.ceiling_m
+    fn ceiling_m(&self) -> PyResult<f64> {
+        crate::errors::guard(|| Ok(self.scene.world.ceiling_m))
     }
     /// (x, y, yaw) of the start pose.
     #[getter]
-    fn start(&self) -> (f64, f64, f64) {
-        let s = self.scene.world.start;
-        (s.x, s.y, s.yaw)
+    fn start(&self) -> PyResult<(f64, f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let s = self.scene.world.start;
+                (s.x, s.y, s.yaw)
+            })
+        })
     }
     #[getter]
-    fn tour(&self) -> Vec<(f64, f64)> {
-        self.scene.world.tour.iter().map(|p| (p.x, p.y)).collect()
+    fn tour(&self) -> PyResult<Vec<(f64, f64)>> {
+        crate::errors::guard(|| Ok(self.scene.world.tour.iter().map(|p| (p.x, p.y)).collect()))
     }
     /// (xmin, ymin, xmax, ymax) [m].
     #[getter]
-    fn bounds(&self) -> (f64, f64, f64, f64) {
-        let b = self.scene.world.bounds();
-        (b.min.x, b.min.y, b.max.x, b.max.y)
+    fn bounds(&self) -> PyResult<(f64, f64, f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let b = self.scene.world.bounds();
+                (b.min.x, b.min.y, b.max.x, b.max.y)
+            })
+        })
     }
     /// The world as JSON (the simulator's serde form; for inspection).
-    fn to_json(&self) -> String {
-        serde_json::to_string(&self.scene.world).unwrap_or_default()
+    fn to_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(&self.scene.world).unwrap_or_default()))
     }
 
     /// True occupancy raster: (cells (H, W) int8 with 100/0/-1, row 0 = lowest y; origin x, y).
@@ -165,12 +173,14 @@ impl PyCamera {
 
     /// The default wide-angle camera at a resolution, as JSON.
     #[staticmethod]
-    fn default_json(width: usize, height: usize) -> String {
-        serde_json::to_string(&Camera::wide_angle(width, height)).unwrap_or_default()
+    fn default_json(width: usize, height: usize) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok(serde_json::to_string(&Camera::wide_angle(width, height)).unwrap_or_default())
+        })
     }
 
-    fn to_json(&self) -> String {
-        serde_json::to_string(&self.rays.camera).unwrap_or_default()
+    fn to_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(&self.rays.camera).unwrap_or_default()))
     }
 
     /// Exact ground points (camera ground frame) of pixels: two float64 arrays, NaN where none.
@@ -258,8 +268,8 @@ pub struct PyTruth {
 
 #[pymethods]
 impl PyTruth {
-    fn __len__(&self) -> usize {
-        self.frames.len()
+    fn __len__(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.frames.len()))
     }
 
     /// The truth as a dict of numpy arrays, shapes (N, W) or (N, W, 2) or (N, 3).
