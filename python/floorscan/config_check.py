@@ -45,8 +45,7 @@ def check_ranger(cfg: Config) -> None:
 def check_calibration(cfg: Config) -> None:
     from .calibration.options import CalibrationOptions
 
-    c = cfg.calibration
-    CalibrationOptions(spacing_px=c.spacing_px, extrapolate=c.extrapolate)
+    CalibrationOptions(**cfg.calibration.kwargs())
 
 
 def check_config(cfg: Config) -> Config:
