@@ -68,7 +68,7 @@ class CalibrationConfig:
         _CAL.min_error_m,
     )
     max_range_m: float = doc("no ground beyond this range [m]", _CAL.max_range_m)
-    extrapolate: bool = doc("older spelling of coverage = \"all\"", False)
+    extrapolate: bool = doc('older spelling of coverage = "all"', False)
 
     def kwargs(self) -> Dict[str, Any]:
         """The keyword options of :func:`floorscan.calibrate`."""

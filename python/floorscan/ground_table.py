@@ -187,7 +187,8 @@ class GroundTable:
         """
         e = np.asarray(error_m, dtype=np.float64)
         nu, nv = self.node_shape_for(
-            image_width=self.image_width, image_height=self.image_height,
+            image_width=self.image_width,
+            image_height=self.image_height,
             spacing_px=self.spacing_px,
         )
         if e.shape != (nv, nu):

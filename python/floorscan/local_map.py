@@ -29,7 +29,8 @@ class LocalMap(GridViews):
         pose: the robot's starting pose in the local frame ``(x, y, yaw)``; default the
             origin (a fresh odometry frame).
         cell_size_m, origin_m, clamp_min_nats, clamp_max_nats, occupied_threshold,
-        free_threshold, visual, laser, sonar, too_close: as :class:`~floorscan.OccupancyGrid`.
+        free_threshold, visual, laser, sonar, too_close, max_cells: as
+            :class:`~floorscan.OccupancyGrid`.
 
     Arrays, images and queries (:meth:`raw`, :meth:`probabilities`, :meth:`is_free`,
     :meth:`distance_to_nearest_occupied`, ...) are in the local frame over the window.

@@ -173,6 +173,7 @@ def choose(
     least = min(c.held_out_px for c in cands)
     near = [c for c in cands if c.held_out_px <= PARSIMONY * least]
     fewest = min(len(c.fit.model.family.terms) for c in near)
-    best = min((c for c in near if len(c.fit.model.family.terms) == fewest),
-               key=lambda c: c.held_out_px)
+    best = min(
+        (c for c in near if len(c.fit.model.family.terms) == fewest), key=lambda c: c.held_out_px
+    )
     return Choice(best, cands, used, folds)

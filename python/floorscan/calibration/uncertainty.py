@@ -127,9 +127,7 @@ def node_errors(
     scales the first two (:func:`inflation`)."""
     sigma = SIGMAS * parameter_sigma(fit, u, v, min_depression_rad=min_depression_rad)
     spread = model_spread(fit.model, plausible, u, v, min_depression_rad=min_depression_rad)
-    interp = interpolation_error(
-        fit.model, spacing_px, u, v, min_depression_rad=min_depression_rad
-    )
+    interp = interpolation_error(fit.model, spacing_px, u, v, min_depression_rad=min_depression_rad)
     return alpha * np.hypot(sigma, spread) + interp, sigma, spread, interp
 
 
