@@ -26,6 +26,8 @@ OUTLIER_PX = 1.0
 OUTLIER_SIGMAS = 4.0
 """... nor those within this many robust standard deviations."""
 MAX_OUTLIER_FRACTION = 0.2
+CV_RMS_FACTOR = 2.0
+"""Families whose residual RMS exceeds the best's by this factor are not cross-validated."""
 HOLD_OUT = 0.15
 """Fraction of the points in each cross-validation block."""
 
@@ -163,6 +165,10 @@ def choose(
             n: refine(f.model, uv[used], ground[used], image_size, fix_lens=lens is not None)
             for n, f in fits.items()
         }
+    # Families that reproduce the points far worse than the best cannot be chosen nor be
+    # plausible: no cross-validation for them.
+    best_rms = min(f.rms_px for f in fits.values())
+    fits = {n: f for n, f in fits.items() if f.rms_px <= CV_RMS_FACTOR * best_rms}
     u_uv, u_g = uv[used], ground[used]
     centre = next(iter(fits.values())).model.centre_m[:2]
     folds = blocks(u_g, centre)
