@@ -1,0 +1,125 @@
+"""A costmap with inflation (ROS costmap_2d's inflation layer) and a navigation function over
+it (the wavefront/Dijkstra potential of ROS navfn), from the avoidance map.
+
+Costs follow costmap_2d: 254 lethal (an occupied cell), 253 inscribed (the robot's centre
+there puts its footprint on an obstacle), and beyond the inscribed radius
+252 exp(-cost_scaling_factor (d - inscribed_radius)) up to ``inflation_radius_m``.
+Unknown cells cost nothing (the local costmap's ``track_unknown_space: false``).
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import OptionError
+
+LETHAL = 254
+INSCRIBED = 253
+
+
+@dataclass(frozen=True)
+class CostmapOptions:
+    """- ``robot_radius_m`` [m]: the circular footprint's radius. Default 0.18 (a TurtleBot 2 /
+      Kobuki base, 0.354 m across).
+    - ``inflation_radius_m`` [m]: default 0.55 (costmap_2d's default).
+    - ``cost_scaling_factor`` [1/m]: default 10 (costmap_2d's default).
+    - ``plan_cell_m`` [m]: cell of the navigation function, a multiple of the map's cell.
+      Default 0.1.
+    - ``goal_seed_radius_m`` [m]: when the map blocks the goal's cell, the plan leads to the
+      nearest free cell within this distance of it. Default 0.6.
+    """
+
+    robot_radius_m: float = 0.18
+    inflation_radius_m: float = 0.55
+    cost_scaling_factor: float = 10.0
+    plan_cell_m: float = 0.1
+    goal_seed_radius_m: float = 0.6
+
+    def __post_init__(self) -> None:
+        for name in ("robot_radius_m", "inflation_radius_m", "cost_scaling_factor", "plan_cell_m",
+                     "goal_seed_radius_m"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise OptionError(f"invalid option `{name}`: must be a number > 0, got {v!r}")
+        if self.inflation_radius_m < self.robot_radius_m:
+            raise OptionError("invalid option `inflation_radius_m`: must be >= robot_radius_m")
+
+
+def inflate(occupied: np.ndarray, cell_size_m: float, options: CostmapOptions) -> np.ndarray:
+    """(H, W) uint8 costs from a boolean occupied mask."""
+    import cv2
+
+    if not occupied.any():
+        return np.zeros(occupied.shape, np.uint8)
+    free = np.where(occupied, 0, 255).astype(np.uint8)
+    d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * cell_size_m
+    cost = np.zeros(occupied.shape, np.float64)
+    r_in = options.robot_radius_m
+    band = (d > r_in) & (d <= options.inflation_radius_m)
+    cost[band] = 252.0 * np.exp(-options.cost_scaling_factor * (d[band] - r_in))
+    cost[d <= r_in] = INSCRIBED
+    cost[occupied] = LETHAL
+    return cost.astype(np.uint8)
+
+
+def navigation_function(cost: np.ndarray, cell_size_m: float, origin_m, goal_xy, options):
+    """Geodesic cost-to-goal [m] over the costmap at ``plan_cell_m``, as a function
+    f(x, y) of world points (arrays) [m]. Cells at or above INSCRIBED are impassable; a
+    cell's step costs its length times (1 + cost / 64) (navfn's neutral cost of 50 over
+    lethal 253, rounded). A goal outside the window (or blocked) is reached through the
+    window's border: each border cell starts at its straight-line distance to the goal."""
+    f = max(1, int(round(options.plan_cell_m / cell_size_m)))
+    h, w = cost.shape[0] // f, cost.shape[1] // f
+    c = cost[: h * f, : w * f].reshape(h, f, w, f).max(axis=(1, 3)).astype(np.float64)
+    step = f * cell_size_m
+    blocked = c >= INSCRIBED
+    weight = 1.0 + c / 64.0
+    ox, oy = origin_m
+    gx, gy = goal_xy
+    gi, gj = int((gx - ox) // step), int((gy - oy) // step)
+    dist = np.full((h, w), np.inf)
+    heap = []
+    jj, ii = np.nonzero(~blocked)
+    cx, cy = ox + (ii + 0.5) * step, oy + (jj + 0.5) * step
+    d0 = np.hypot(cx - gx, cy - gy)
+    if 0 <= gi < w and 0 <= gj < h:
+        # the goal's cell, or (when the map blocks it) the free cells around it
+        sel = d0 <= max(d0.min() if d0.size else 0.0, step) + 1e-9
+        if not (d0.size and d0.min() <= options.goal_seed_radius_m):
+            sel = np.zeros(d0.shape, bool)
+    else:
+        sel = (ii == 0) | (ii == w - 1) | (jj == 0) | (jj == h - 1)
+    dist[jj[sel], ii[sel]] = d0[sel]
+    heap = list(zip(d0[sel].tolist(), jj[sel].tolist(), ii[sel].tolist()))
+    heapq.heapify(heap)
+    nbrs = [(-1, 0, 1.0), (1, 0, 1.0), (0, -1, 1.0), (0, 1, 1.0)]
+    nbrs += [(a, b, math.sqrt(2)) for a in (-1, 1) for b in (-1, 1)]
+    bl = blocked.tolist()
+    wt = weight.tolist()
+    dl = dist.tolist()
+    while heap:
+        d, j, i = heapq.heappop(heap)
+        if d > dl[j][i]:
+            continue
+        for dj, di, ln in nbrs:
+            jn, inn = j + dj, i + di
+            if 0 <= jn < h and 0 <= inn < w and not bl[jn][inn]:
+                nd = d + ln * step * 0.5 * (wt[j][i] + wt[jn][inn])
+                if nd < dl[jn][inn]:
+                    dl[jn][inn] = nd
+                    heapq.heappush(heap, (nd, jn, inn))
+    dist = np.array(dl)
+
+    def at(x, y):
+        i = np.floor((np.asarray(x) - ox) / step).astype(np.int64)
+        j = np.floor((np.asarray(y) - oy) / step).astype(np.int64)
+        inside = (i >= 0) & (i < w) & (j >= 0) & (j < h)
+        out = np.full(np.shape(i), np.inf)
+        out[inside] = dist[j[inside], i[inside]]
+        return out
+
+    return at
