@@ -32,7 +32,7 @@ class AvoidanceMapOptions:
     - ``clamp_nats``: (min, max) log odds, min < 0 < max. Default (-2.0, 3.5), the local
       map's clamps (OctoMap's 0.12 / 0.97).
     - ``half_life_s``: evidence halves every this many seconds without new readings
-      (forgetting), > 0 or None (never). Default 8 s: long enough to remember an obstacle
+      (forgetting), > 0 or None (never). Default 3 s: long enough to remember an obstacle
       that left the camera's view while the robot turns past it, short enough that a moved
       obstacle the camera no longer sees fades within a corridor's length.
     - ``occupied_threshold``, ``free_threshold``: class thresholds on the probability.
@@ -42,7 +42,7 @@ class AvoidanceMapOptions:
     size_m: float = 8.0
     cell_size_m: float = 0.05
     clamp_nats: Tuple[float, float] = (-2.0, 3.5)
-    half_life_s: Optional[float] = 8.0
+    half_life_s: Optional[float] = 3.0
     occupied_threshold: float = 0.65
     free_threshold: float = 0.196
 
@@ -145,12 +145,20 @@ class AvoidanceMap:
             L[h] += hit_nats[h]
         np.clip(L, lo, hi, out=L)
 
-    def _fan(self, near_c, end_c, valid) -> np.ndarray:
-        """Mask of the quadrilaterals between neighbouring valid readings (cell coordinates)."""
+    def _fan(self, near_c, end_c, valid, cam_c) -> np.ndarray:
+        """Mask of the quadrilaterals between neighbouring valid readings (cell coordinates).
+        Each quadrilateral ends at the nearer of its two readings on both rays, so the floor
+        seen past an obstacle's corner by one ray never clears the corner's cells."""
         mask = np.zeros(self.log_odds.shape, np.uint8)
         k = np.nonzero(valid[:-1] & valid[1:])[0]
         if k.size:
-            quads = np.stack([near_c[k], near_c[k + 1], end_c[k + 1], end_c[k]], axis=1)
+            cam = np.asarray(cam_c, np.float64)[None, :]
+            d0, d1 = end_c[k] - cam, end_c[k + 1] - cam
+            r0, r1 = np.hypot(*d0.T), np.hypot(*d1.T)
+            r = np.minimum(r0, r1)
+            e0 = cam + d0 * (r / np.maximum(r0, 1e-9))[:, None]
+            e1 = cam + d1 * (r / np.maximum(r1, 1e-9))[:, None]
+            quads = np.stack([near_c[k], near_c[k + 1], e1, e0], axis=1)
             pts = np.round(quads * (1 << _SHIFT)).astype(np.int32)
             import cv2
 
@@ -206,7 +214,7 @@ class AvoidanceMap:
         ncx, ncy = self.to_cells(*world(nx, ny))
         ecx, ecy = self.to_cells(*world(ex, ey))
         cam_c = self.to_cells(cam[0], cam[1])
-        mask = self._fan(np.stack([ncx, ncy], 1), np.stack([ecx, ecy], 1), valid)
+        mask = self._fan(np.stack([ncx, ncy], 1), np.stack([ecx, ecy], 1), valid, cam_c)
         r_img = self._range_image(mask, cam_c)
         free_nats = model.fusion_weight * model.free_logit(r_img)
         hit = np.full(mask.shape, np.nan, np.float32)
@@ -251,7 +259,7 @@ class AvoidanceMap:
         pc = self.to_cells(pose[0], pose[1])
         near = np.tile(np.array(pc, np.float64), (len(r), 1))
         valid = np.isfinite(ecx + ecy)
-        mask = self._fan(near, np.stack([ecx, ecy], 1), valid)
+        mask = self._fan(near, np.stack([ecx, ecy], 1), valid, pc)
         hit = np.full(mask.shape, np.nan, np.float32)
         h = np.isfinite(r)
         hx, hy = ecx[h].astype(int), ecy[h].astype(int)
