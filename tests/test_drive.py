@@ -11,7 +11,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from floorscan import OptionError
 from floorscan.drive import AvoidanceMap, DriveOptions, Solids, drive, make_table
 from floorscan.ranger import VisualRanger
@@ -81,9 +80,7 @@ def test_world_solids_leave_out_table_tops_above_the_robot():
     w = World.from_toml(HALL + "\n[[tables]]\ncenter = [3.0, 1.5]\nsize = [1.0, 0.6]\n")
     s = Solids.of_world(w)
     # under the top, between the legs (inset 5 cm, 5 cm wide): 0.2 m to the nearest leg side
-    assert s.clearance(3.0, 1.5) == pytest.approx(
-        math.hypot(0.5 - 0.1, 0.3 - 0.1), abs=1e-6
-    )
+    assert s.clearance(3.0, 1.5) == pytest.approx(math.hypot(0.5 - 0.1, 0.3 - 0.1), abs=1e-6)
 
 
 @pytest.mark.parametrize("sensor", ["laser", "camera"])
@@ -107,8 +104,12 @@ def test_the_robot_steers_around_a_box_on_the_route(sensor):
 
 def test_the_robot_stops_before_a_wall_across_the_route():
     world = World.from_toml(HALL + "\n[[boxes]]\nrect = [2.5, 0.0, 2.6, 3.0]\nheight_m = 1.0\n")
-    result = drive(world, DriveOptions(seconds=25, table="exact", sensor="camera",
-                                       keep_frames=0, waypoint_timeout_s=10))
+    result = drive(
+        world,
+        DriveOptions(
+            seconds=25, table="exact", sensor="camera", keep_frames=0, waypoint_timeout_s=10
+        ),
+    )
     s = result.summary()
     assert s["collisions"] == 0
     assert s["waypoints_reached"] == 0
@@ -120,8 +121,14 @@ def test_summary_fields_agree_with_the_record():
     world = World.from_toml(HALL)
     r = drive(world, DriveOptions(seconds=10, sensor="laser", keep_frames=0))
     s = r.summary()
-    for key in ("collisions", "distance_m", "waypoints_reached", "waypoints_total",
-                "min_clearance_m", "mean_speed_m_s"):
+    for key in (
+        "collisions",
+        "distance_m",
+        "waypoints_reached",
+        "waypoints_total",
+        "min_clearance_m",
+        "mean_speed_m_s",
+    ):
         assert key in s
     poses = np.asarray(r.record.poses)
     d = np.hypot(*np.diff(poses[:, :2], axis=0).T).sum()
@@ -168,13 +175,26 @@ def test_cli_drive_end_to_end(tmp_path):
     world = tmp_path / "hall.toml"
     world.write_text(HALL + BOX)
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "floorscan", "drive", "--world", str(world), "--seconds", "3",
-           "--table", "exact", "-o", str(out)]
+    cmd = [
+        sys.executable,
+        "-m",
+        "floorscan",
+        "drive",
+        "--world",
+        str(world),
+        "--seconds",
+        "3",
+        "--table",
+        "exact",
+        "-o",
+        str(out),
+    ]
     subprocess.run(cmd, check=True, capture_output=True)
     s = json.loads((out / "summary.json").read_text())
     assert s["collisions"] == 0 and s["waypoints_total"] == 1 and s["distance_m"] > 0.3
     for name in ("map.yaml", "map.pgm", "path.png", "drive.gif"):
         assert (out / name).stat().st_size > 0
-    bad = subprocess.run(cmd[:-2] + ["--speed", "-1", "-o", str(tmp_path / "x")],
-                         capture_output=True, text=True)
+    bad = subprocess.run(
+        cmd[:-2] + ["--speed", "-1", "-o", str(tmp_path / "x")], capture_output=True, text=True
+    )
     assert bad.returncode != 0 and "speed" in bad.stderr

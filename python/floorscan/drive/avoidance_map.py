@@ -178,7 +178,7 @@ class AvoidanceMap:
         *,
         mount=(0.0, 0.0, 0.0),
         table=None,
-        model: VisualSensorModel = VisualSensorModel(),
+        model: Optional[VisualSensorModel] = None,
     ) -> None:
         """Adds one visual :class:`~floorscan.Scan` seen from ``pose`` (world_from_robot in
         the odometry frame), the camera at ``mount`` (robot_from_camera), with the evidence of
@@ -186,6 +186,7 @@ class AvoidanceMap:
         errors."""
         import cv2
 
+        model = VisualSensorModel() if model is None else model
         cam = _compose(pose, mount)
         c, s = math.cos(cam[2]), math.sin(cam[2])
         status = np.asarray(scan.status_codes)
@@ -235,7 +236,9 @@ class AvoidanceMap:
         if tc.any():
             tx, ty = self.to_cells(*world(nx[tc], ny[tc]))
             ok = (tx >= 0) & (tx < self.n) & (ty >= 0) & (ty < self.n)
-            hit[ty[ok].astype(int), tx[ok].astype(int)] = model.fusion_weight * model.too_close_logit
+            hit[ty[ok].astype(int), tx[ok].astype(int)] = (
+                model.fusion_weight * model.too_close_logit
+            )
         self._apply(mask, free_nats, hit)
 
     def insert_laser(

@@ -40,8 +40,13 @@ class CostmapOptions:
     goal_seed_radius_m: float = 0.6
 
     def __post_init__(self) -> None:
-        for name in ("robot_radius_m", "inflation_radius_m", "cost_scaling_factor", "plan_cell_m",
-                     "goal_seed_radius_m"):
+        for name in (
+            "robot_radius_m",
+            "inflation_radius_m",
+            "cost_scaling_factor",
+            "plan_cell_m",
+            "goal_seed_radius_m",
+        ):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise OptionError(f"invalid option `{name}`: must be a number > 0, got {v!r}")

@@ -78,7 +78,8 @@ def choose_velocity(
     o = options
     v0, w0 = velocity
     vs = np.linspace(
-        max(0.0, v0 - o.acc_lim_x * dt_s), min(o.max_speed_m_s, v0 + o.acc_lim_x * dt_s),
+        max(0.0, v0 - o.acc_lim_x * dt_s),
+        min(o.max_speed_m_s, v0 + o.acc_lim_x * dt_s),
         o.vx_samples,
     )
     ws = np.linspace(
@@ -122,8 +123,9 @@ def choose_velocity(
     n_fwd = np.where(np.isfinite(n_fwd), n_fwd, far + np.hypot(fx - goal_xy[0], fy - goal_xy[1]))
     if math.hypot(x0 - goal_xy[0], y0 - goal_xy[1]) < o.forward_point_distance_m * 2:
         # arriving (as dwa_local_planner's goal latch): the end point alone, to the metre
-        n_end = np.where(np.isfinite(nav(ex, ey)), np.hypot(ex - goal_xy[0], ey - goal_xy[1]),
-                         n_end)
+        n_end = np.where(
+            np.isfinite(nav(ex, ey)), np.hypot(ex - goal_xy[0], ey - goal_xy[1]), n_end
+        )
         n_fwd = n_end
     score = (
         o.path_distance_bias * n_fwd / cell_size_m
@@ -134,6 +136,9 @@ def choose_velocity(
         k = int(np.argmin(np.where(ok, score, np.inf)))
         return float(V[k]), float(W[k]), True
     # recovery: turn on the spot towards the cheaper side
-    ahead = nav(x0 + 0.3 * np.cos(th0 + np.array([0.5, -0.5])), y0 + 0.3 * np.sin(th0 + np.array([0.5, -0.5])))
+    ahead = nav(
+        x0 + 0.3 * np.cos(th0 + np.array([0.5, -0.5])),
+        y0 + 0.3 * np.sin(th0 + np.array([0.5, -0.5])),
+    )
     sign = 1.0 if ahead[0] <= ahead[1] else -1.0
     return 0.0, sign * min(o.max_turn_rad_s, 0.6), False

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import List, Optional, Sequence
+from typing import TYPE_CHECKING, List, Sequence
 
 import numpy as np
 
@@ -19,6 +19,9 @@ from .costmap import CostmapOptions, inflate, navigation_function
 from .dwa import DwaOptions, choose_velocity
 from .sensor_model import VisualSensorModel
 from .solids import Solids
+
+if TYPE_CHECKING:
+    from .result import DriveResult
 
 SENSORS = ("camera", "laser")
 TABLES = ("calibrated", "exact")
@@ -67,17 +70,25 @@ class DriveOptions:
 
     def __post_init__(self) -> None:
         if not (0 < self.speed_m_s <= 3):
-            raise OptionError(f"invalid option `speed`: must be in (0, 3] m/s, got {self.speed_m_s}")
+            raise OptionError(
+                f"invalid option `speed`: must be in (0, 3] m/s, got {self.speed_m_s}"
+            )
         if not (0 < self.seconds <= 1e5):
             raise OptionError(f"invalid option `seconds`: must be in (0, 1e5], got {self.seconds}")
         if self.sensor not in SENSORS:
-            raise OptionError(f"invalid option `sensor`: expected one of {SENSORS}, got {self.sensor!r}")
+            raise OptionError(
+                f"invalid option `sensor`: expected one of {SENSORS}, got {self.sensor!r}"
+            )
         if self.table not in TABLES:
-            raise OptionError(f"invalid option `table`: expected one of {TABLES}, got {self.table!r}")
+            raise OptionError(
+                f"invalid option `table`: expected one of {TABLES}, got {self.table!r}"
+            )
         if not 2 <= int(self.columns) <= 4096:
             raise OptionError(f"invalid option `columns`: must be in 2..=4096, got {self.columns}")
         if not 1 <= int(self.laser_beams) <= 10000:
-            raise OptionError(f"invalid option `laser_beams`: must be in 1..=10000, got {self.laser_beams}")
+            raise OptionError(
+                f"invalid option `laser_beams`: must be in 1..=10000, got {self.laser_beams}"
+            )
 
 
 @dataclass
@@ -142,15 +153,24 @@ class Stepper:
     def step(self, pose, v: float, w: float, k: int):
         """(true poses along the period (M, 3), odometry increment robot_before_from_after)."""
         tr = self.robot.drive(
-            start=pose, seconds=self.dt, commands=[[self.dt, v, w]],
+            start=pose,
+            seconds=self.dt,
+            commands=[[self.dt, v, w]],
             seed=self.seed * 1_000_003 + k,
         )
         odo = tr.odometry
         return tr.poses, _between(tuple(odo[0]), tuple(odo[-1]))
 
 
-def drive(world, options: DriveOptions = DriveOptions(), *, camera=None, waypoints=None,
-          changes=None, table=None) -> "DriveResult":
+def drive(
+    world,
+    options: DriveOptions = DriveOptions(),
+    *,
+    camera=None,
+    waypoints=None,
+    changes=None,
+    table=None,
+) -> DriveResult:
     """Drives the world's tour once (or ``waypoints`` (K, 2) [m, world frame]) in closed loop.
 
     ``changes``: optional list of (time [s], World) switching the world the robot moves in
@@ -219,11 +239,16 @@ def drive(world, options: DriveOptions = DriveOptions(), *, camera=None, waypoin
         goal = tuple(tour[target])
         reached = math.dist(goal, odo_pose[:2]) < o.goal_tolerance_m
         if reached or t - target_since > budget:
-            rec.waypoints.append({
-                "index": target, "x": goal[0], "y": goal[1], "time_s": round(t, 3),
-                "reached": bool(reached),
-                "true_error_m": round(math.dist(goal, true_pose[:2]), 4),
-            })
+            rec.waypoints.append(
+                {
+                    "index": target,
+                    "x": goal[0],
+                    "y": goal[1],
+                    "time_s": round(t, 3),
+                    "reached": bool(reached),
+                    "true_error_m": round(math.dist(goal, true_pose[:2]), 4),
+                }
+            )
             target, target_since = target + 1, t
             nav = None
             if target >= len(tour):
@@ -238,13 +263,15 @@ def drive(world, options: DriveOptions = DriveOptions(), *, camera=None, waypoin
             tp = time.perf_counter()
             nav = navigation_function(cost, amap.cell, amap.origin_m, goal, o.costmap)
             rec.plan_s.append(time.perf_counter() - tp)
-        v, w, _ = choose_velocity(odo_pose, velocity, cost, amap.origin_m, amap.cell, nav,
-                                  goal, dt, dwa)
+        v, w, _ = choose_velocity(
+            odo_pose, velocity, cost, amap.origin_m, amap.cell, nav, goal, dt, dwa
+        )
         rec.step_s.append(time.perf_counter() - t0)
         rec.commands.append((v, w))
         if o.keep_frames and k % o.keep_frames == 0 and len(rec.frames) < 400:
-            rec.frames.append((image, amap.probabilities().astype(np.float32), odo_pose,
-                               amap.origin_m))
+            rec.frames.append(
+                (image, amap.probabilities().astype(np.float32), odo_pose, amap.origin_m)
+            )
         # --- act, and judge contact from truth ----------------------------------------
         poses, inc = stepper.step(true_pose, v, w, k)
         blocked = False
@@ -254,8 +281,9 @@ def drive(world, options: DriveOptions = DriveOptions(), *, camera=None, waypoin
                 break
         if blocked:
             if not in_contact:
-                rec.contacts.append({"time_s": round(t, 3), "x": float(true_pose[0]),
-                                     "y": float(true_pose[1])})
+                rec.contacts.append(
+                    {"time_s": round(t, 3), "x": float(true_pose[0]), "y": float(true_pose[1])}
+                )
             in_contact = True
             velocity = (0.0, 0.0)  # a bumper stop: the robot does not enter the solid
             continue
@@ -264,7 +292,16 @@ def drive(world, options: DriveOptions = DriveOptions(), *, camera=None, waypoin
         odo_pose = _compose(odo_pose, inc)
         velocity = (v, w)
     for i in range(target, len(tour)):
-        rec.waypoints.append({"index": i, "x": float(tour[i][0]), "y": float(tour[i][1]),
-                              "time_s": None, "reached": False, "true_error_m": None})
-    return DriveResult(world=world, final_world=current, options=o, record=rec, map=amap,
-                       camera=camera)
+        rec.waypoints.append(
+            {
+                "index": i,
+                "x": float(tour[i][0]),
+                "y": float(tour[i][1]),
+                "time_s": None,
+                "reached": False,
+                "true_error_m": None,
+            }
+        )
+    return DriveResult(
+        world=world, final_world=current, options=o, record=rec, map=amap, camera=camera
+    )

@@ -15,15 +15,21 @@ KINDS = ("box", "chair", "table", "bin")
 
 def _snippet(kind: str, x: float, y: float, yaw: float) -> str:
     if kind == "box":
-        return (f"\n[[boxes]]\ncenter = [{x:.3f}, {y:.3f}]\nsize = [0.40, 0.40]\n"
-                f"yaw = {yaw:.3f}\nheight_m = 0.50\nappearance = \"wood\"\n")
+        return (
+            f"\n[[boxes]]\ncenter = [{x:.3f}, {y:.3f}]\nsize = [0.40, 0.40]\n"
+            f'yaw = {yaw:.3f}\nheight_m = 0.50\nappearance = "wood"\n'
+        )
     if kind == "bin":
-        return (f"\n[[boxes]]\ncenter = [{x:.3f}, {y:.3f}]\nradius = 0.15\n"
-                "height_m = 0.35\nappearance = \"metal\"\n")
+        return (
+            f"\n[[boxes]]\ncenter = [{x:.3f}, {y:.3f}]\nradius = 0.15\n"
+            'height_m = 0.35\nappearance = "metal"\n'
+        )
     if kind == "chair":
         return f"\n[[chairs]]\ncenter = [{x:.3f}, {y:.3f}]\nyaw = {yaw:.3f}\n"
-    return (f"\n[[tables]]\ncenter = [{x:.3f}, {y:.3f}]\nsize = [0.6, 0.6]\n"
-            f"yaw = {yaw:.3f}\nheight_m = 0.72\n")
+    return (
+        f"\n[[tables]]\ncenter = [{x:.3f}, {y:.3f}]\nsize = [0.6, 0.6]\n"
+        f"yaw = {yaw:.3f}\nheight_m = 0.72\n"
+    )
 
 
 def _passable(world, a, b, clearance_m: float) -> bool:
@@ -52,7 +58,11 @@ def _passable(world, a, b, clearance_m: float) -> bool:
 
 
 def with_obstacles(
-    world, *, count: int = 3, min_leg_m: float = 2.0, clearance_m: float = 0.25,
+    world,
+    *,
+    count: int = 3,
+    min_leg_m: float = 2.0,
+    clearance_m: float = 0.25,
     kinds=KINDS,
 ) -> Tuple[object, List[dict]]:
     """A copy of ``world`` (a :class:`floorscan.sim.World` read from TOML) with up to
@@ -84,8 +94,15 @@ def with_obstacles(
             cand = World.from_toml(cand_text, source_name=f"{world.name}+obstacles")
             if _passable(cand, a, b, clearance_m):
                 chosen, text = cand, cand_text
-                placed.append({"kind": kind, "x": round(float(p[0]), 3),
-                               "y": round(float(p[1]), 3), "offset_m": off, "leg": n})
+                placed.append(
+                    {
+                        "kind": kind,
+                        "x": round(float(p[0]), 3),
+                        "y": round(float(p[1]), 3),
+                        "offset_m": off,
+                        "leg": n,
+                    }
+                )
                 break
         if chosen is not None:
             current = chosen

@@ -74,8 +74,9 @@ class DriveResult:
         cells = np.full(c.shape, -1, np.int8)
         cells[c == 0] = 0
         cells[c == 2] = 100
-        OccupancyRaster(cells=cells, origin=self.map.origin_m,
-                        resolution_m=self.map.cell).write_map_server(path)
+        OccupancyRaster(
+            cells=cells, origin=self.map.origin_m, resolution_m=self.map.cell
+        ).write_map_server(path)
 
     def _write_path(self, path: Path) -> None:
         from ..image_io import write_png
@@ -95,7 +96,9 @@ class DriveResult:
         if len(pts) > 1:
             cv2.polylines(img, [pts], False, (0, 160, 0), 2)
         for w in self.record.waypoints:
-            cv2.circle(img, px(w["x"], w["y"]), 5, (0, 0, 255) if w["reached"] else (255, 140, 0), 2)
+            cv2.circle(
+                img, px(w["x"], w["y"]), 5, (0, 0, 255) if w["reached"] else (255, 140, 0), 2
+            )
         for c in self.record.contacts:
             cv2.circle(img, px(c["x"], c["y"]), 8, (255, 0, 0), 2)
         write_png(path, img)
@@ -128,7 +131,8 @@ class DriveResult:
                 frames.append(panel)
         write_atomic_with(
             path,
-            lambda f: frames[0].save(f, format="GIF", save_all=True, append_images=frames[1:],
-                                     duration=500, loop=0),
+            lambda f: frames[0].save(
+                f, format="GIF", save_all=True, append_images=frames[1:], duration=500, loop=0
+            ),
             suffix=".gif",
         )

@@ -73,8 +73,8 @@ class Solids:
         dx, dy = np.cos(ang)[:, None], np.sin(ang)[:, None]
         ex = (self.b - self.a)[None, :, 0]
         ey = (self.b - self.a)[None, :, 1]
-        wx = (self.a[None, :, 0] - x)
-        wy = (self.a[None, :, 1] - y)
+        wx = self.a[None, :, 0] - x
+        wy = self.a[None, :, 1] - y
         den = dx * ey - dy * ex
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (wx * ey - wy * ex) / den

@@ -18,8 +18,13 @@ SUITE_SPEEDS = (0.3, 0.5, 0.8)
 
 
 def run_suite(
-    out, *, worlds: Sequence[str] = SUITE_WORLDS, speeds: Sequence[float] = SUITE_SPEEDS,
-    seeds: Sequence[int] = (0, 1), seconds: float = 90.0, table: str = "exact",
+    out,
+    *,
+    worlds: Sequence[str] = SUITE_WORLDS,
+    speeds: Sequence[float] = SUITE_SPEEDS,
+    seeds: Sequence[int] = (0, 1),
+    seconds: float = 90.0,
+    table: str = "exact",
     progress=print,
 ) -> List[Dict]:
     """Runs every (world, speed, seed, sensor) for at most ``seconds`` [s] each; writes
@@ -36,16 +41,24 @@ def run_suite(
         for speed in speeds:
             for seed in seeds:
                 for sensor in ("camera", "laser"):
-                    o = DriveOptions(speed_m_s=speed, seconds=seconds, seed=seed,
-                                     sensor=sensor, table=table, keep_frames=0)
+                    o = DriveOptions(
+                        speed_m_s=speed,
+                        seconds=seconds,
+                        seed=seed,
+                        sensor=sensor,
+                        table=table,
+                        keep_frames=0,
+                    )
                     s = drive(world, o, camera=camera, table=tbl).summary()
                     s.pop("waypoints")
                     s["obstacles"] = placed
                     rows.append(s)
                     if progress:
-                        progress(f"{name} {speed} m/s seed {seed} {sensor}: "
-                                 f"{s['collisions']} contacts, {s['waypoints_reached']}/"
-                                 f"{s['waypoints_total']} waypoints, {s['duration_s']} s")
+                        progress(
+                            f"{name} {speed} m/s seed {seed} {sensor}: "
+                            f"{s['collisions']} contacts, {s['waypoints_reached']}/"
+                            f"{s['waypoints_total']} waypoints, {s['duration_s']} s"
+                        )
     write_atomic(out / "suite.json", json.dumps(rows, indent=1) + "\n")
     write_atomic(out / "suite.md", suite_table(rows))
     return rows
