@@ -53,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     from ..sim import World
 
     if args.suite:
-        seconds = args.seconds if args.seconds != 600.0 else 90.0
+        seconds = args.seconds if args.seconds != 600.0 else 150.0
         run_suite(args.out, seeds=range(args.seeds), seconds=seconds, table=args.table)
         print(open(f"{args.out}/suite.md").read())
         return 0

@@ -241,6 +241,14 @@ class AvoidanceMap:
             )
         self._apply(mask, free_nats, hit)
 
+    def mark_bump(self, pose, bearing_rad: float, distance_m: float) -> None:
+        """A bumper contact: cells on an arc of +-0.6 rad around ``bearing_rad`` (robot frame)
+        at ``distance_m`` from ``pose`` become certainly occupied."""
+        a = pose[2] + bearing_rad + np.linspace(-0.6, 0.6, 13)
+        cx, cy = self.to_cells(pose[0] + distance_m * np.cos(a), pose[1] + distance_m * np.sin(a))
+        ok = (cx >= 0) & (cx < self.n) & (cy >= 0) & (cy < self.n)
+        self.log_odds[cy[ok].astype(int), cx[ok].astype(int)] = self.options.clamp_nats[1]
+
     def insert_laser(
         self,
         ranges: np.ndarray,

@@ -207,6 +207,7 @@ def drive(
     velocity = (0.0, 0.0)
     target, target_since = 0, 0.0
     in_contact = False
+    backup = 0
     nav = None
     steps = int(round(o.seconds * frame_rate))
     budget = o.waypoint_timeout_s + 3 * math.dist(tour[0], true_pose[:2]) / o.speed_m_s
@@ -263,9 +264,13 @@ def drive(
             tp = time.perf_counter()
             nav = navigation_function(cost, amap.cell, amap.origin_m, goal, o.costmap)
             rec.plan_s.append(time.perf_counter() - tp)
-        v, w, _ = choose_velocity(
-            odo_pose, velocity, cost, amap.origin_m, amap.cell, nav, goal, dt, dwa
-        )
+        if backup > 0:
+            backup -= 1
+            v, w = -0.1, 0.0
+        else:
+            v, w, _ = choose_velocity(
+                odo_pose, velocity, cost, amap.origin_m, amap.cell, nav, goal, dt, dwa
+            )
         rec.step_s.append(time.perf_counter() - t0)
         rec.commands.append((v, w))
         if o.keep_frames and k % o.keep_frames == 0 and len(rec.frames) < 400:
@@ -280,6 +285,10 @@ def drive(
                 blocked = True
                 break
         if blocked:
+            # the robot's bumper: it knows it touched something ahead (or behind when
+            # reversing), marks it in its map and backs off
+            amap.mark_bump(odo_pose, 0.0 if v >= 0 else math.pi, radius + 0.03)
+            backup = 5 if v >= 0 else 0
             if not in_contact:
                 rec.contacts.append(
                     {"time_s": round(t, 3), "x": float(true_pose[0]), "y": float(true_pose[1])}

@@ -1,7 +1,7 @@
 """Obstacles placed on a world's route, for the drive suite: boxes, bins, chairs and small
 tables (four legs under an overhanging top) at the middle of the tour's longer legs, shifted
 sideways as little as needed to leave a way past for the robot (checked on the true
-occupancy, the robot's footprint plus 5 cm)."""
+occupancy: a 0.35 m clearance, the robot's radius plus its planner's padding and 10 cm)."""
 
 from __future__ import annotations
 
@@ -62,7 +62,7 @@ def with_obstacles(
     *,
     count: int = 3,
     min_leg_m: float = 2.0,
-    clearance_m: float = 0.25,
+    clearance_m: float = 0.35,
     kinds=KINDS,
 ) -> Tuple[object, List[dict]]:
     """A copy of ``world`` (a :class:`floorscan.sim.World` read from TOML) with up to
