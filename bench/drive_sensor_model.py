@@ -120,7 +120,7 @@ def main() -> None:
     model, counts = fit_sensor_model(train, table)
     model, loss = fit_fusion_weight(train, table, model)
     test = simulate_run(World.from_toml(HELD_OUT), camera=camera, seconds=args.seconds, seed=3)
-    raster = test.world.occupancy(resolution_m=0.025)
+    raster = test.world.occupancy(resolution_m=0.05)
     constant = VisualSensorModel(
         free_a=-0.4,
         free_b=0.0,

@@ -79,7 +79,7 @@ def fit_sensor_model(
     ranger = VisualRanger(table, columns=160)
     fr, fy, hr, hy = [], [], [], []
     for run in runs:
-        raster = run.world.occupancy(resolution_m=cell_size_m / 2)
+        raster = run.world.occupancy(resolution_m=cell_size_m)
         for k in range(0, len(run.timestamps), every):
             scan = ranger.scan(run.images[k], timestamp=float(run.timestamps[k]))
             (a, b), (c, d) = _frame_samples(run, k, scan, table, raster, cell_size_m)
@@ -147,7 +147,7 @@ def log_loss(amap: AvoidanceMap, raster) -> float:
 
 
 def fit_fusion_weight(
-    runs, table, model, *, weights=(0.3, 0.4, 0.5, 0.6, 0.7, 0.85, 1.0), cell_size_m=0.05
+    runs, table, model, *, weights=(0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.85, 1.0), cell_size_m=0.05
 ):
     """The fusion weight with the lowest log loss of the fused maps."""
     best = None
@@ -155,7 +155,7 @@ def fit_fusion_weight(
         m2 = model.with_(fusion_weight=w)
         loss = 0.0
         for run in runs:
-            raster = run.world.occupancy(resolution_m=cell_size_m / 2)
+            raster = run.world.occupancy(resolution_m=cell_size_m)
             loss += log_loss(fused_map(run, table, m2, cell_size_m=cell_size_m), raster)
         if best is None or loss < best[1]:
             best = (w, loss)
