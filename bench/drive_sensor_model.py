@@ -11,9 +11,9 @@ import argparse
 import json
 
 import numpy as np
-from floorscan.drive import VisualSensorModel, make_table
+from floorscan.drive import AvoidanceMapOptions, VisualSensorModel, make_table
 from floorscan.drive.sensor_fit import (
-    fit_fusion_weight,
+    fit_probability_calibration,
     fit_sensor_model,
     fused_map,
     log_loss,
@@ -64,8 +64,8 @@ appearance = "metal"
 """
 
 
-def frames_to_reliable_view(run, table, model, starts, max_frames=10, cell=0.05):
-    from floorscan.drive.avoidance_map import AvoidanceMap, AvoidanceMapOptions, _compose
+def frames_to_reliable_view(run, table, model, starts, max_frames=10, cell=0.05, map_options=None):
+    from floorscan.drive.avoidance_map import AvoidanceMap, _compose
     from floorscan.evaluation.map_metrics import RELIABLE_AGREEMENT, agreement_at, view_cells
     from floorscan.ranger import VisualRanger
     from floorscan.scoring import sample_truth
@@ -76,8 +76,11 @@ def frames_to_reliable_view(run, table, model, starts, max_frames=10, cell=0.05)
     out = []
     for k0 in starts:
         pose0 = tuple(run.poses[k0])
+        from dataclasses import replace
+
         m = AvoidanceMap(
-            AvoidanceMapOptions(size_m=3.84, cell_size_m=cell, half_life_s=None), center=pose0[:2]
+            replace(map_options, size_m=3.84, cell_size_m=cell, half_life_s=None),
+            center=pose0[:2],
         )
         (x0, y0), (x1, y1) = m.extent.bounds_m
         vx, vy = view_cells(
@@ -117,8 +120,7 @@ def main() -> None:
         simulate_run(World.builtin(n), camera=camera, seconds=args.seconds, seed=1)
         for n in ("corridor", "room")
     ]
-    model, counts = fit_sensor_model(train, table)
-    model, loss = fit_fusion_weight(train, table, model)
+    fitted, counts = fit_sensor_model(train, table)
     test = simulate_run(World.from_toml(HELD_OUT), camera=camera, seconds=args.seconds, seed=3)
     raster = test.world.occupancy(resolution_m=0.05)
     constant = VisualSensorModel(
@@ -131,13 +133,28 @@ def main() -> None:
         margin_sigmas=0.5,
     )
     starts = np.linspace(0, len(test.timestamps) - 11, 8).astype(int).tolist()
-    report = {"model": model.as_dict(), "fit_counts": counts, "train_log_loss": loss}
-    for name, m in (("calibrated", model), ("octomap_constant", constant)):
-        fm = fused_map(test, table, m)
-        frames = frames_to_reliable_view(test, table, m, starts)
+    report = {"fitted_model": fitted.as_dict(), "fit_counts": counts}
+    cases = (
+        ("default", VisualSensorModel(), True),
+        ("fitted", fitted, True),
+        ("octomap_constant", constant, False),
+    )
+    for name, m, calibrate_output in cases:
+        if calibrate_output:
+            scale, offset = fit_probability_calibration(train, table, m)
+        else:
+            scale, offset = 1.0, 0.0
+        mo = AvoidanceMapOptions(probability_scale=scale, probability_offset=offset)
+        fm = fused_map(test, table, m, map_options=mo)
+        frames = frames_to_reliable_view(test, table, m, starts, map_options=mo)
         finite = sorted(f if f is not None else 99 for f in frames)
+        rel = reliability(fm, raster)
         report[name] = {
-            "reliability": reliability(fm, raster),
+            "model": m.as_dict(),
+            "probability_scale": scale,
+            "probability_offset": offset,
+            "reliability": rel,
+            "max_gap_points": max(100 * abs(r["predicted"] - r["observed"]) for r in rel),
             "log_loss": log_loss(fm, raster),
             "frames_to_reliable": frames,
             "median_frames": float(np.median(finite)),

@@ -22,7 +22,10 @@ def test_logistic_fit_recovers_known_parameters():
 
 
 def test_reliability_diagram_of_a_hand_made_map():
-    m = AvoidanceMap(AvoidanceMapOptions(size_m=2.0, cell_size_m=0.1), center=(1.0, 1.0))
+    opts = AvoidanceMapOptions(
+        size_m=2.0, cell_size_m=0.1, probability_scale=1.0, probability_offset=0.0
+    )
+    m = AvoidanceMap(opts, center=(1.0, 1.0))
     n = m.n
     cells = np.zeros((n, n), np.int8)  # truth: free except where set below
     # predicted 0.8 on 10 cells of which 8 are occupied; 0.15 on 20 cells of which 3 are
@@ -54,3 +57,19 @@ def test_model_options_are_validated():
         VisualSensorModel(margin_sigmas=-1)
     with pytest.raises(OptionError):
         VisualSensorModel(free_a=float("nan"))
+
+
+def test_output_calibration_maps_log_odds_to_probabilities_and_classes():
+    opts = AvoidanceMapOptions(
+        size_m=1.0, cell_size_m=0.1, probability_scale=0.5, probability_offset=-1.0
+    )
+    m = AvoidanceMap(opts)
+    m.log_odds[0, 0] = 4.0
+    m.log_odds[0, 1] = 1.0
+    p = m.probabilities()
+    assert p[0, 0] == pytest.approx(1 / (1 + np.exp(-(0.5 * 4.0 - 1.0))))
+    classes = m.occupancy_classes()
+    # logistic(0.5 * 4 - 1) = 0.73 > 0.65: occupied; logistic(0.5 - 1) = 0.38: unknown
+    assert classes[0, 0] == 2 and classes[0, 1] == 1
+    # the planner reads the raw evidence: one confident reading is an obstacle
+    assert m.occupied()[0, 1]

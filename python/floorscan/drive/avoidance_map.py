@@ -30,13 +30,20 @@ class AvoidanceMapOptions:
     - ``cell_size_m``: [m/cell], in [0.01, 0.5]. Default 0.05 (the ROS navigation stack's
       local costmap resolution).
     - ``clamp_nats``: (min, max) log odds, min < 0 < max. Default (-2.0, 3.5), the local
-      map's clamps (OctoMap's 0.12 / 0.97).
+      map's clamps (OctoMap's 0.12 / 0.97): a cell seen free a few times still turns
+      occupied within two frames when an obstacle appears (wider clamps made the closed
+      loop hesitate). The output calibration maps the clamped values to probabilities.
     - ``half_life_s``: evidence halves every this many seconds without new readings
       (forgetting), > 0 or None (never). Default 3 s: long enough to remember an obstacle
       that left the camera's view while the robot turns past it, short enough that a moved
       obstacle the camera no longer sees fades within a corridor's length.
     - ``occupied_threshold``, ``free_threshold``: class thresholds on the probability.
       Defaults 0.65 / 0.196 (map_server's).
+    - ``probability_scale``, ``probability_offset``: the map's probability of a cell is
+      logistic(scale * log_odds + offset), a Platt calibration of the fused evidence
+      (successive frames are correlated, so summed evidence overstates certainty). Defaults
+      0.45 / -0.55, fitted by ``bench/drive_sensor_model.py`` on the corridor and room
+      (EVALUATION.md); (1, 0) reads the log odds as they are (the laser robot).
     """
 
     size_m: float = 8.0
@@ -45,6 +52,8 @@ class AvoidanceMapOptions:
     half_life_s: Optional[float] = 3.0
     occupied_threshold: float = 0.65
     free_threshold: float = 0.196
+    probability_scale: float = 0.45
+    probability_offset: float = -0.55
 
     def __post_init__(self) -> None:
         if not 1.0 <= self.size_m <= 100.0:
@@ -58,6 +67,10 @@ class AvoidanceMapOptions:
             raise OptionError(f"invalid option `clamp_nats`: need min < 0 < max, got {lo, hi}")
         if self.half_life_s is not None and not self.half_life_s > 0:
             raise OptionError(f"invalid option `half_life_s`: must be > 0, got {self.half_life_s}")
+        if not (0 < self.probability_scale <= 10 and abs(self.probability_offset) <= 10):
+            raise OptionError(
+                "invalid probability calibration: need 0 < scale <= 10, |offset| <= 10"
+            )
         if not 0 < self.free_threshold < 0.5 < self.occupied_threshold < 1:
             raise OptionError("invalid thresholds: need 0 < free < 0.5 < occupied < 1")
 
@@ -82,8 +95,11 @@ class AvoidanceMap:
         self.x_cell = 0
         self.y_cell = 0
         self.recenter(*center[:2])
-        self._occ = _logit(options.occupied_threshold)
-        self._free = _logit(options.free_threshold)
+        self._plan_occ = _logit(options.occupied_threshold)
+        a, b = options.probability_scale, options.probability_offset
+        # class thresholds on the raw log odds
+        self._occ = (_logit(options.occupied_threshold) - b) / a
+        self._free = (_logit(options.free_threshold) - b) / a
 
     # --- geometry -------------------------------------------------------------------------
     @property
@@ -116,7 +132,10 @@ class AvoidanceMap:
 
     # --- views ----------------------------------------------------------------------------
     def probabilities(self) -> np.ndarray:
-        return 1.0 / (1.0 + np.exp(-self.log_odds.astype(np.float64)))
+        """Calibrated occupancy probabilities (see ``probability_scale``); cells without
+        evidence read logistic(offset)."""
+        a, b = self.options.probability_scale, self.options.probability_offset
+        return 1.0 / (1.0 + np.exp(-(a * self.log_odds.astype(np.float64) + b)))
 
     def occupancy_classes(self) -> np.ndarray:
         """(H, W) uint8: 0 free, 1 unknown, 2 occupied (the thresholds of the options)."""
@@ -126,7 +145,10 @@ class AvoidanceMap:
         return c
 
     def occupied(self) -> np.ndarray:
-        return self.log_odds > self._occ
+        """The planner's obstacles: raw evidence above logit(occupied_threshold), before the
+        output calibration (one confident reading suffices: for avoidance a missed obstacle
+        costs more than a detour)."""
+        return self.log_odds > self._plan_occ
 
     # --- updates --------------------------------------------------------------------------
     def decay(self, dt_s: float) -> None:

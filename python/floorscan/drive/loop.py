@@ -201,7 +201,12 @@ def drive(
     angles = np.linspace(-o.laser_fov_rad / 2, o.laser_fov_rad / 2, int(o.laser_beams))
     true_pose = tuple(world.start)
     odo_pose = tuple(world.start)  # the odometry frame starts at the true start pose
-    amap = AvoidanceMap(o.map, center=odo_pose[:2])
+    map_options = o.map
+    if o.sensor == "laser":  # the laser's evidence is read as it is (no visual calibration)
+        from dataclasses import replace
+
+        map_options = replace(o.map, probability_scale=1.0, probability_offset=0.0)
+    amap = AvoidanceMap(map_options, center=odo_pose[:2])
     dwa = DwaOptions(max_speed_m_s=o.speed_m_s)
     rec = DriveRecord()
     velocity = (0.0, 0.0)

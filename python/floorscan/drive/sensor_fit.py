@@ -46,7 +46,12 @@ def _frame_samples(run, k, scan, table, raster, cell):
         free_a=-1.0, free_b=0.0, hit_a=1.0, hit_b=0.0, too_close_logit=0.0, fusion_weight=1.0
     )
     pose = tuple(run.poses[k])
-    m = AvoidanceMap(AvoidanceMapOptions(cell_size_m=cell, clamp_nats=(-5, 5)), center=pose[:2])
+    m = AvoidanceMap(
+        AvoidanceMapOptions(
+            cell_size_m=cell, clamp_nats=(-5, 5), probability_scale=1.0, probability_offset=0.0
+        ),
+        center=pose[:2],
+    )
     m.insert_visual(scan, pose, mount=run.camera.robot_from_camera, table=table, model=unit)
     truth = _cells_truth(m, raster)
     from .avoidance_map import _compose
@@ -97,15 +102,18 @@ def fit_sensor_model(
     }
 
 
-def fused_map(run, table, model, *, cell_size_m=0.05, frames=None) -> AvoidanceMap:
+def fused_map(
+    run, table, model, *, cell_size_m=0.05, frames=None, map_options=None
+) -> AvoidanceMap:
     """The avoidance map (no forgetting) after ``frames`` of ``run`` with true poses."""
     from ..ranger import VisualRanger
 
     ranger = VisualRanger(table, columns=160)
-    m = AvoidanceMap(
-        AvoidanceMapOptions(cell_size_m=cell_size_m, size_m=40.0, half_life_s=None),
-        center=tuple(run.poses[0])[:2],
-    )
+    from dataclasses import replace
+
+    base = map_options or AvoidanceMapOptions(probability_scale=1.0, probability_offset=0.0)
+    opts = replace(base, cell_size_m=cell_size_m, size_m=40.0, half_life_s=None)
+    m = AvoidanceMap(opts, center=tuple(run.poses[0])[:2])
     for k in range(len(run.timestamps)) if frames is None else frames:
         pose = tuple(run.poses[k])
         m.recenter(*pose[:2])
@@ -144,6 +152,21 @@ def log_loss(amap: AvoidanceMap, raster) -> float:
     sel = (np.abs(amap.log_odds) > 0.05) & (truth >= 0)
     y = truth[sel] == 100
     return float(-np.mean(np.where(y, np.log(p[sel]), np.log(1 - p[sel]))))
+
+
+def fit_probability_calibration(runs, table, model, *, cell_size_m=0.05):
+    """Platt scaling: (scale, offset) with P(occupied) = logistic(scale * L + offset) over
+    the fused maps' cells with evidence, against the truth."""
+    xs, ys = [], []
+    for run in runs:
+        raster = run.world.occupancy(resolution_m=cell_size_m)
+        m = fused_map(run, table, model, cell_size_m=cell_size_m)
+        truth = _cells_truth(m, raster)
+        sel = (np.abs(m.log_odds) > 0.05) & (truth >= 0)
+        xs.append(m.log_odds[sel].astype(np.float64))
+        ys.append((truth[sel] == 100).astype(np.float64))
+    b, a = _logistic_fit(np.concatenate(xs), np.concatenate(ys))
+    return a, b
 
 
 def fit_fusion_weight(

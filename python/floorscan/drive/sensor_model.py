@@ -14,15 +14,21 @@ sigma = sqrt(e^2 + (f / 2)^2 + (cell / 2)^2). The model then says:
 - ``too_close`` columns mark the near edge of view occupied with P = logistic(too_close_logit);
 - ``invalid`` columns say nothing.
 
-Each probability becomes evidence (log odds against an even prior) times ``fusion_weight``,
-which discounts successive frames of a moving camera for being correlated (they see the same
-carpet with the same errors, so they are not independent observations).
+Each probability becomes evidence (log odds against an even prior) times ``fusion_weight``.
+Successive frames of a moving camera are correlated (the same carpet, the same errors), so
+summed evidence overstates certainty; the avoidance map corrects that on its output with a
+Platt calibration (``AvoidanceMapOptions.probability_scale`` / ``probability_offset``).
 
-The defaults below were estimated by :func:`floorscan.drive.fit_sensor_model` on the built-in
-``corridor`` and ``room`` worlds (the simulator's truth, 300 frames each, seed 1, exact table
-with the calibration's error bars of 1 cm); the command is in EVALUATION.md. ``floorscan tune``
-is the paper's increments for OctoMap-style constant evidence; this model replaces them for
-the avoidance map.
+Where the defaults come from: :func:`floorscan.drive.sensor_fit.fit_sensor_model` estimates
+the four logits from simulator truth (``bench/drive_sensor_model.py``: corridor and room,
+30 s each, seed 1, exact table), giving free -2.97 - 0.07 r and hit 2.0 - 0.99 r. Driven in
+closed loop, those fitted values make the robot hesitate (hits beyond 2 m add free evidence
+to the obstacle's cell, and the room's tour is not finished in 120 s), so the defaults are
+the hand-set values below, chosen before the fit and checked in the closed loop (room tour:
+0 contacts, 4 of 4 waypoints, 42 s); their map is then made to mean what it says by the
+avoidance map's Platt calibration, fitted on the same truth. EVALUATION.md has both models'
+reliability diagrams. ``floorscan tune`` keeps tuning the ranger and OctoMap-style constant
+evidence; this model is the avoidance map's.
 """
 
 from __future__ import annotations
@@ -41,17 +47,18 @@ class VisualSensorModel:
     """Parameters (logits are natural-log odds of the cell being occupied).
 
     - ``free_a``, ``free_b`` [1, 1/m]: logit P(occupied | seen free at range r) = a + b r.
-      Defaults -3.2, 0.55 (fitted, see the module docstring).
+      Defaults -3.2, 0.55 (see the module docstring).
     - ``hit_a``, ``hit_b`` [1, 1/m]: logit P(occupied | boundary cell at range r) = a + b r.
-      Defaults 2.0, -0.45 (fitted).
+      Defaults 2.0, -0.45 (see the module docstring).
     - ``too_close_logit``: logit P(occupied) at the near edge of a ``too_close`` column.
       Default 1.0 (fitted share of too_close near edges that touch an obstacle).
     - ``margin_sigmas``: floor left unobserved before a boundary, in sigmas, in [0, 10].
       Default 2 (95 % of the boundary's position errors lie within 2 sigma).
     - ``default_error_m`` [m]: e where the table predicts none, > 0. Default 0.01 (the
       calibration's typical error bar inside the pattern, docs/calibration.md).
-    - ``fusion_weight``: evidence multiplier per frame, in (0, 1]. Default 0.7 (fitted so the
-      fused map's probabilities are calibrated).
+    - ``fusion_weight``: evidence multiplier per frame, in (0, 1]. Default 0.7; the
+      correlation of successive frames is corrected once more on the map's output
+      (``AvoidanceMapOptions.probability_scale``).
     """
 
     free_a: float = -3.2
