@@ -1,6 +1,7 @@
 """Obstacles placed on a world's route, for the drive suite: boxes, bins, chairs and small
 tables (four legs under an overhanging top) at the middle of the tour's longer legs, shifted
-sideways as little as needed to leave a way past for the robot (checked on the true
+sideways as little as needed to leave a way past for the robot no more than 1.5 m
+(4-connected) longer than the leg (checked on the true
 occupancy: a 0.35 m clearance, the robot's radius plus its planner's padding and 10 cm)."""
 
 from __future__ import annotations
@@ -32,29 +33,58 @@ def _snippet(kind: str, x: float, y: float, yaw: float) -> str:
     )
 
 
-def _passable(world, a, b, clearance_m: float) -> bool:
-    """True when a circle of radius ``clearance_m`` can travel from a to b (true map)."""
+def _passable(world, a, b, clearance_m: float, *, detour_m: float = 1.5) -> bool:
+    """True when a circle of radius ``clearance_m`` can travel from a to b (true map) within
+    ``detour_m`` [m] more than the straight line, inside a box 1.5 m around the leg."""
+    from collections import deque
+
     import cv2
 
     res = 0.05
     r = world.occupancy(resolution_m=res)
     free = (r.cells == 0).astype(np.uint8) * 255
     d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * res
-    ok = (d > clearance_m).astype(np.uint8)
-    _, labels = cv2.connectedComponents(ok, connectivity=8)
+    ok = d > clearance_m
+    h, w = ok.shape
 
-    def label(p):
-        i = int((p[0] - r.origin[0]) / res)
-        j = int((p[1] - r.origin[1]) / res)
-        if not (0 <= j < labels.shape[0] and 0 <= i < labels.shape[1]):
-            return 0
-        # the nearest labelled cell within 0.3 m (waypoints may sit near a wall)
-        win = labels[max(j - 6, 0) : j + 7, max(i - 6, 0) : i + 7]
-        vals = win[win > 0]
-        return int(np.bincount(vals).argmax()) if vals.size else 0
+    def cell(p):
+        return int((p[0] - r.origin[0]) / res), int((p[1] - r.origin[1]) / res)
 
-    la, lb = label(a), label(b)
-    return la > 0 and la == lb
+    (ia, ja), (ib, jb) = cell(a), cell(b)
+    pad = int(1.5 / res)
+    i0, i1 = max(min(ia, ib) - pad, 0), min(max(ia, ib) + pad, w - 1)
+    j0, j1 = max(min(ja, jb) - pad, 0), min(max(ja, jb) + pad, h - 1)
+
+    def nearest_ok(i, j):
+        # waypoints may sit nearer a wall than the clearance: the nearest passable cell
+        best = None
+        for dj in range(-6, 7):
+            for di in range(-6, 7):
+                ii, jj = i + di, j + dj
+                if i0 <= ii <= i1 and j0 <= jj <= j1 and ok[jj, ii]:
+                    if best is None or di * di + dj * dj < best[0]:
+                        best = (di * di + dj * dj, ii, jj)
+        return None if best is None else best[1:]
+
+    sa, sb = nearest_ok(ia, ja), nearest_ok(ib, jb)
+    if sa is None or sb is None:
+        return False
+    limit = (math.dist(a, b) + detour_m) / res
+    dist = {sa: 0}
+    q = deque([sa])
+    while q:
+        c = q.popleft()
+        if c == sb:
+            return True
+        dc = dist[c]
+        if dc > limit:
+            continue
+        for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            n = (c[0] + di, c[1] + dj)
+            if i0 <= n[0] <= i1 and j0 <= n[1] <= j1 and ok[n[1], n[0]] and n not in dist:
+                dist[n] = dc + 1
+                q.append(n)
+    return False
 
 
 def with_obstacles(
