@@ -135,6 +135,7 @@ def main() -> None:
     starts = np.linspace(0, len(test.timestamps) - 11, 8).astype(int).tolist()
     report = {"fitted_model": fitted.as_dict(), "fit_counts": counts}
     cases = (
+        ("default_raw", VisualSensorModel(), False),
         ("default", VisualSensorModel(), True),
         ("fitted", fitted, True),
         ("octomap_constant", constant, False),

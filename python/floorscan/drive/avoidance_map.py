@@ -21,6 +21,7 @@ from ..grid_views import GridExtent
 from .sensor_model import VisualSensorModel
 
 _SHIFT = 4  # sub-cell precision of rasterised polygons: 1 / 16 cell
+_NO_EVIDENCE = 0.05  # |log odds| below this: no evidence (unknown), whatever the calibration
 
 
 @dataclass(frozen=True)
@@ -135,13 +136,16 @@ class AvoidanceMap:
         """Calibrated occupancy probabilities (see ``probability_scale``); cells without
         evidence read logistic(offset)."""
         a, b = self.options.probability_scale, self.options.probability_offset
-        return 1.0 / (1.0 + np.exp(-(a * self.log_odds.astype(np.float64) + b)))
+        p = 1.0 / (1.0 + np.exp(-(a * self.log_odds.astype(np.float64) + b)))
+        p[np.abs(self.log_odds) < _NO_EVIDENCE] = 0.5
+        return p
 
     def occupancy_classes(self) -> np.ndarray:
         """(H, W) uint8: 0 free, 1 unknown, 2 occupied (the thresholds of the options)."""
         c = np.ones(self.log_odds.shape, np.uint8)
-        c[self.log_odds < self._free] = 0
-        c[self.log_odds > self._occ] = 2
+        evidence = np.abs(self.log_odds) >= _NO_EVIDENCE
+        c[(self.log_odds < self._free) & evidence] = 0
+        c[(self.log_odds > self._occ) & evidence] = 2
         return c
 
     def occupied(self) -> np.ndarray:
