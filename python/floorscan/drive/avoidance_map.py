@@ -93,6 +93,7 @@ class AvoidanceMap:
         self.cell = options.cell_size_m
         self.n = int(round(options.size_m / self.cell))
         self.log_odds = np.zeros((self.n, self.n), np.float32)
+        self.bumps = np.zeros((self.n, self.n), np.float32)
         self.x_cell = 0
         self.y_cell = 0
         self.recenter(*center[:2])
@@ -119,12 +120,15 @@ class AvoidanceMap:
         if abs(cx - self.x_cell) <= self.n // 4 and abs(cy - self.y_cell) <= self.n // 4:
             return
         dx, dy = cx - self.x_cell, cy - self.y_cell
-        out = np.zeros_like(self.log_odds)
         n = self.n
-        if abs(dx) < n and abs(dy) < n:
-            src = self.log_odds[max(dy, 0) : n + min(dy, 0), max(dx, 0) : n + min(dx, 0)]
-            out[max(-dy, 0) : n + min(-dy, 0), max(-dx, 0) : n + min(-dx, 0)] = src
-        self.log_odds = out
+        layers = []
+        for layer in (self.log_odds, self.bumps):
+            out = np.zeros_like(layer)
+            if abs(dx) < n and abs(dy) < n:
+                src = layer[max(dy, 0) : n + min(dy, 0), max(dx, 0) : n + min(dx, 0)]
+                out[max(-dy, 0) : n + min(-dy, 0), max(-dx, 0) : n + min(-dx, 0)] = src
+            layers.append(out)
+        self.log_odds, self.bumps = layers
         self.x_cell, self.y_cell = cx, cy
 
     def to_cells(self, x, y):
@@ -152,7 +156,7 @@ class AvoidanceMap:
         """The planner's obstacles: raw evidence above logit(occupied_threshold), before the
         output calibration (one confident reading suffices: for avoidance a missed obstacle
         costs more than a detour)."""
-        return self.log_odds > self._plan_occ
+        return (self.log_odds > self._plan_occ) | (self.bumps > 0.5)
 
     # --- updates --------------------------------------------------------------------------
     def decay(self, dt_s: float) -> None:
@@ -160,6 +164,7 @@ class AvoidanceMap:
         hl = self.options.half_life_s
         if hl is not None and dt_s > 0:
             self.log_odds *= np.float32(0.5 ** (dt_s / hl))
+            self.bumps *= np.float32(0.5 ** (dt_s / (10 * hl)))
 
     def _apply(self, free_mask, free_nats, hit_nats) -> None:
         lo, hi = self.options.clamp_nats
@@ -269,11 +274,13 @@ class AvoidanceMap:
 
     def mark_bump(self, pose, bearing_rad: float, distance_m: float) -> None:
         """A bumper contact: cells on an arc of +-0.6 rad around ``bearing_rad`` (robot frame)
-        at ``distance_m`` from ``pose`` become certainly occupied."""
+        at ``distance_m`` from ``pose`` become obstacles in a separate bumper layer, which the
+        camera cannot clear (it may not see what the bumper felt) and which forgets ten times
+        slower than the evidence."""
         a = pose[2] + bearing_rad + np.linspace(-0.6, 0.6, 13)
         cx, cy = self.to_cells(pose[0] + distance_m * np.cos(a), pose[1] + distance_m * np.sin(a))
         ok = (cx >= 0) & (cx < self.n) & (cy >= 0) & (cy < self.n)
-        self.log_odds[cy[ok].astype(int), cx[ok].astype(int)] = self.options.clamp_nats[1]
+        self.bumps[cy[ok].astype(int), cx[ok].astype(int)] = 1.0
 
     def insert_laser(
         self,

@@ -34,6 +34,9 @@ class CostmapOptions:
       Default 0.1.
     - ``goal_seed_radius_m`` [m]: when the map blocks the goal's cell, the plan leads to the
       nearest free cell within this distance of it. Default 0.6.
+    - ``unknown_cost``: extra cost per metre of planning through cells without evidence, in
+      units of a metre of known floor. Default 2 (an unseen route must be three times
+      shorter to win).
     """
 
     robot_radius_m: float = 0.18
@@ -42,6 +45,7 @@ class CostmapOptions:
     cost_scaling_factor: float = 10.0
     plan_cell_m: float = 0.1
     goal_seed_radius_m: float = 0.6
+    unknown_cost: float = 2.0
 
     def __post_init__(self) -> None:
         for name in (
@@ -50,6 +54,7 @@ class CostmapOptions:
             "cost_scaling_factor",
             "plan_cell_m",
             "goal_seed_radius_m",
+            "unknown_cost",
         ):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
@@ -80,7 +85,9 @@ def inflate(occupied: np.ndarray, cell_size_m: float, options: CostmapOptions) -
     return cost.astype(np.uint8)
 
 
-def navigation_function(cost: np.ndarray, cell_size_m: float, origin_m, goal_xy, options):
+def navigation_function(
+    cost: np.ndarray, cell_size_m: float, origin_m, goal_xy, options, known=None
+):
     """Geodesic cost-to-goal [m] over the costmap at ``plan_cell_m``, as a function
     f(x, y) of world points (arrays) [m]. Coarse cells all of whose cells are at or above INSCRIBED are impassable; a
     cell's step costs its length times (1 + cost / 64) (navfn's neutral cost of 50 over
@@ -94,6 +101,11 @@ def navigation_function(cost: np.ndarray, cell_size_m: float, origin_m, goal_xy,
     # checks every trajectory on the fine costmap); it costs its cells' mean
     blocked = blocks.min(axis=(1, 3)) >= INSCRIBED
     weight = 1.0 + np.minimum(blocks.mean(axis=(1, 3)), INSCRIBED) / 64.0
+    if known is not None:
+        # unknown space costs more to plan through than floor seen free (navfn's
+        # allow_unknown with a penalty): detours through unseen rooms lose to known floor
+        k = known[: h * f, : w * f].reshape(h, f, w, f).mean(axis=(1, 3))
+        weight = weight + options.unknown_cost * (1.0 - k)
     ox, oy = origin_m
     gx, gy = goal_xy
     gi, gj = int((gx - ox) // step), int((gy - oy) // step)

@@ -267,7 +267,14 @@ def drive(
         cost = inflate(amap.occupied(), amap.cell, o.costmap)
         if nav is None or k % o.replan_every == 0:
             tp = time.perf_counter()
-            nav = navigation_function(cost, amap.cell, amap.origin_m, goal, o.costmap)
+            nav = navigation_function(
+                cost,
+                amap.cell,
+                amap.origin_m,
+                goal,
+                o.costmap,
+                known=np.abs(amap.log_odds) >= 0.05,
+            )
             rec.plan_s.append(time.perf_counter() - tp)
         if backup > 0:
             backup -= 1
