@@ -59,17 +59,18 @@ def test_model_options_are_validated():
         VisualSensorModel(free_a=float("nan"))
 
 
-def test_output_calibration_maps_log_odds_to_probabilities_and_classes():
+def test_output_calibration_maps_log_odds_to_probabilities_not_decisions():
     opts = AvoidanceMapOptions(
         size_m=1.0, cell_size_m=0.1, probability_scale=0.5, probability_offset=-1.0
     )
     m = AvoidanceMap(opts)
     m.log_odds[0, 0] = 4.0
     m.log_odds[0, 1] = 1.0
+    m.log_odds[0, 2] = -1.5
     p = m.probabilities()
     assert p[0, 0] == pytest.approx(1 / (1 + np.exp(-(0.5 * 4.0 - 1.0))))
+    assert p[5, 5] == 0.5  # no evidence: unknown, whatever the calibration
     classes = m.occupancy_classes()
-    # logistic(0.5 * 4 - 1) = 0.73 > 0.65: occupied; logistic(0.5 - 1) = 0.38: unknown
-    assert classes[0, 0] == 2 and classes[0, 1] == 1
-    # the planner reads the raw evidence: one confident reading is an obstacle
+    # decisions come from the raw evidence: logit(0.65) = 0.62, logit(0.196) = -1.41
+    assert classes[0].tolist()[:3] == [2, 2, 0] and classes[5, 5] == 1
     assert m.occupied()[0, 1]

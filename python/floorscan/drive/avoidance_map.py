@@ -43,7 +43,7 @@ class AvoidanceMapOptions:
     - ``probability_scale``, ``probability_offset``: the map's probability of a cell is
       logistic(scale * log_odds + offset), a Platt calibration of the fused evidence
       (successive frames are correlated, so summed evidence overstates certainty). Defaults
-      0.45 / -0.55, fitted by ``bench/drive_sensor_model.py`` on the corridor and room
+      0.612 / -1.581, fitted by ``bench/drive_sensor_model.py`` on the corridor and room
       (EVALUATION.md); (1, 0) reads the log odds as they are (the laser robot).
     """
 
@@ -53,8 +53,8 @@ class AvoidanceMapOptions:
     half_life_s: Optional[float] = 3.0
     occupied_threshold: float = 0.65
     free_threshold: float = 0.196
-    probability_scale: float = 0.45
-    probability_offset: float = -0.55
+    probability_scale: float = 0.612
+    probability_offset: float = -1.581
 
     def __post_init__(self) -> None:
         if not 1.0 <= self.size_m <= 100.0:
@@ -98,10 +98,7 @@ class AvoidanceMap:
         self.y_cell = 0
         self.recenter(*center[:2])
         self._plan_occ = _logit(options.occupied_threshold)
-        a, b = options.probability_scale, options.probability_offset
-        # class thresholds on the raw log odds
-        self._occ = (_logit(options.occupied_threshold) - b) / a
-        self._free = (_logit(options.free_threshold) - b) / a
+        self._plan_free = _logit(options.free_threshold)
 
     # --- geometry -------------------------------------------------------------------------
     @property
@@ -145,11 +142,14 @@ class AvoidanceMap:
         return p
 
     def occupancy_classes(self) -> np.ndarray:
-        """(H, W) uint8: 0 free, 1 unknown, 2 occupied (the thresholds of the options)."""
+        """(H, W) uint8: 0 free, 1 unknown, 2 occupied: the planner's decisions, from the raw
+        evidence against logit(free_threshold) / logit(occupied_threshold) (the calibrated
+        probabilities of :meth:`probabilities` say how often such a decision is right; a
+        single calibrated reading never reaches 0.65, and the map must still show it)."""
         c = np.ones(self.log_odds.shape, np.uint8)
         evidence = np.abs(self.log_odds) >= _NO_EVIDENCE
-        c[(self.log_odds < self._free) & evidence] = 0
-        c[(self.log_odds > self._occ) & evidence] = 2
+        c[(self.log_odds < self._plan_free) & evidence] = 0
+        c[self.occupied()] = 2
         return c
 
     def occupied(self) -> np.ndarray:
