@@ -19,7 +19,11 @@ def main() -> None:
     ap.add_argument("--height", type=int, default=480)
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--sensor", default="camera")
+    ap.add_argument("--stages", action="store_true", help="time each stage on a fixed frame")
     a = ap.parse_args()
+    if a.stages:
+        print(json.dumps({"resolution": f"{a.width}x{a.height}", **stages(a.width, a.height)}))
+        return
     cam = Camera(width=a.width, height=a.height)
     r = drive(
         World.builtin("corridor"),
@@ -39,6 +43,55 @@ def main() -> None:
             }
         )
     )
+
+
+def stages(width: int = 640, height: int = 480, repeats: int = 50) -> dict:
+    """Median time [ms] of each stage of one closed-loop step on a fixed corridor frame."""
+    import time
+
+    import numpy as np
+    from floorscan.drive import (
+        AvoidanceMap,
+        CostmapOptions,
+        DwaOptions,
+        choose_velocity,
+        inflate,
+        make_table,
+        navigation_function,
+    )
+    from floorscan.ranger import VisualRanger
+    from floorscan.sim import render_image
+
+    world, cam = World.builtin("corridor"), Camera(width=width, height=height)
+    table = make_table(cam, "exact")
+    ranger = VisualRanger(table, columns=width // 2)
+    pose = tuple(world.start)
+    image = render_image(world, cam, pose)
+    m = AvoidanceMap(center=pose[:2])
+    co, dwa = CostmapOptions(), DwaOptions()
+    out: dict = {"ranging": [], "map": [], "costmap": [], "dwa": [], "plan": []}
+    nav = None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        scan = ranger.scan(image)
+        t1 = time.perf_counter()
+        m.decay(0.1)
+        m.insert_visual(scan, pose, mount=cam.robot_from_camera, table=table)
+        t2 = time.perf_counter()
+        cost = inflate(m.occupied(), m.cell, co)
+        t3 = time.perf_counter()
+        nav = navigation_function(
+            cost, m.cell, m.origin_m, (3.95, 0.0), co, known=np.abs(m.log_odds) >= 0.05
+        )
+        t4 = time.perf_counter()
+        choose_velocity(pose, (0.3, 0.0), cost, m.origin_m, m.cell, nav, (3.95, 0.0), 0.1, dwa)
+        t5 = time.perf_counter()
+        for k, dt in zip(
+            ("ranging", "map", "costmap", "plan", "dwa"),
+            (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4),
+        ):
+            out[k].append(1e3 * dt)
+    return {k: round(float(np.median(v)), 3) for k, v in out.items()}
 
 
 if __name__ == "__main__":

@@ -253,16 +253,21 @@ class AvoidanceMap:
         bcx, bcy = self.to_cells(*world(px, py))
         hit_nats = model.fusion_weight * model.hit_logit(rng)
         sub = 1 << _SHIFT
-        for k in np.nonzero(bnd & np.isfinite(bcx + bcy))[0]:
-            rad = max(int(round(sigma[k] / self.cell * sub)), sub // 2)
-            p = (int(round(bcx[k] * sub)), int(round(bcy[k] * sub)))
-            cv2.circle(hit, p, rad, float(hit_nats[k]), -1, shift=_SHIFT)
-            j = k + 1
-            if j < len(status) and bnd[j] and np.isfinite(bcx[j] + bcy[j]):
-                gap = math.hypot(px[j] - px[k], py[j] - py[k])
-                if gap < 2.0 * (sigma[k] + sigma[j]) + 2 * self.cell:
-                    q = (int(round(bcx[j] * sub)), int(round(bcy[j] * sub)))
-                    cv2.line(hit, p, q, float(min(hit_nats[k], hit_nats[j])), 1, shift=_SHIFT)
+        ok = bnd & np.isfinite(bcx + bcy)
+        # integer drawing arguments computed once (numpy), python ints for OpenCV
+        rad = np.maximum(np.round(np.nan_to_num(sigma) / self.cell * sub), sub // 2)
+        ix = np.round(np.nan_to_num(bcx) * sub).astype(np.int64).tolist()
+        iy = np.round(np.nan_to_num(bcy) * sub).astype(np.int64).tolist()
+        rad, hn = rad.astype(np.int64).tolist(), hit_nats.tolist()
+        gap = np.hypot(np.diff(px), np.diff(py))
+        near = np.zeros(len(status), bool)
+        near[:-1] = ok[:-1] & ok[1:] & (gap < 2.0 * (sigma[:-1] + sigma[1:]) + 2 * self.cell)
+        near = near.tolist()
+        for k in np.nonzero(ok)[0].tolist():
+            p = (ix[k], iy[k])
+            cv2.circle(hit, p, rad[k], hn[k], -1, shift=_SHIFT)
+            if near[k]:
+                cv2.line(hit, p, (ix[k + 1], iy[k + 1]), min(hn[k], hn[k + 1]), 1, shift=_SHIFT)
         tc = (status == 2) & np.isfinite(nx + ny)
         if tc.any():
             tx, ty = self.to_cells(*world(nx[tc], ny[tc]))
