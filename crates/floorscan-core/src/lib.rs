@@ -3,7 +3,8 @@
 //! An implementation of Howard & Kitchen, *Fast Visual Mapping for Mobile Robot Navigation*:
 //! the visual range subsystem ([`edge`], [`ground_table`], [`ranger`], [`scan`]) and the lens
 //! models and mounts ([`lens`], [`mount`]) used to build and check calibration tables; the map
-//! builder: log-odds maths ([`log_odds`]), grids ([`grid_options`], [`grid`], [`queries`]),
+//! builder: log-odds maths ([`log_odds`]), grids ([`grid_options`], [`grid`], [`queries`],
+//! the unclamped, mergeable [`evidence`] layer),
 //! the exact ray walk ([`raycast`]), updates from visual scans, lasers and sonars
 //! ([`inserter`], [`ray_update`], [`laser`], [`sonar`]) and the robot-centred [`local_map`].
 //!
@@ -13,6 +14,7 @@
 pub mod branchless;
 pub mod edge;
 pub mod error;
+pub mod evidence;
 pub mod grid;
 pub mod grid_options;
 pub mod ground_table;
@@ -34,6 +36,7 @@ pub mod sonar;
 
 pub use edge::Refinement;
 pub use error::{Error, Result};
+pub use evidence::EvidenceRaster;
 pub use grid::{CellRect, Grid};
 pub use grid_options::{Bounds, GridOptions, Occupancy};
 pub use ground_table::GroundTable;

@@ -5,6 +5,7 @@
 use pyo3::prelude::*;
 
 mod errors;
+mod evidence;
 mod grid;
 mod ground_table;
 mod image;
@@ -22,5 +23,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<grid::PyOccupancyGrid>()?;
     m.add_class::<local_map::PyLocalMap>()?;
     sim::register(m)?;
+    evidence::register(m)?;
     Ok(())
 }

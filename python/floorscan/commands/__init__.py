@@ -11,4 +11,6 @@ COMMAND_MODULES = [
     "floorscan.commands.sim",
     "floorscan.commands.eval",
     "floorscan.commands.tune",
+    "floorscan.commands.merge",
+    "floorscan.commands.fleet",
 ]
