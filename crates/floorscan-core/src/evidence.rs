@@ -180,7 +180,7 @@ impl EvidenceRaster {
             )));
         }
         let finite = self.cell_size_m.is_finite() && self.cell_size_m > 0.0;
-        if !finite || !(self.origin_m.x.is_finite() && self.origin_m.y.is_finite()) {
+        if !(finite && self.origin_m.x.is_finite() && self.origin_m.y.is_finite()) {
             return Err(Error::InvalidGeometry(format!(
                 "evidence map {k}: cell size and origin must be finite (cell size > 0)"
             )));

@@ -19,6 +19,9 @@ pub fn check_size(width: usize, height: usize) -> PyResult<()> {
     Ok(())
 }
 
+/// The merged origin [m] and evidence array.
+type Merged<'py> = ((f64, f64), Bound<'py, PyArray2<i32>>);
+
 /// Sums evidence maps on one cell lattice: `cell_sizes_m[k]`, `origins_m[k]` (corner of
 /// cell [0, 0]) and `arrays[k]` ((H, W) int32, row 0 the lowest y). Returns the merged
 /// origin and array.
@@ -28,7 +31,7 @@ fn merge_evidence<'py>(
     cell_sizes_m: Vec<f64>,
     origins_m: Vec<(f64, f64)>,
     arrays: Vec<PyReadonlyArray2<'py, i32>>,
-) -> PyResult<((f64, f64), Bound<'py, PyArray2<i32>>)> {
+) -> PyResult<Merged<'py>> {
     if cell_sizes_m.len() != arrays.len() || origins_m.len() != arrays.len() {
         return Err(error(
             "LengthMismatchError",
