@@ -206,9 +206,8 @@ fn clamping_once_differs_from_clamping_every_scan() {
         hit: true,
         ..free[0]
     }];
-    let seq: Vec<Vec<Ray>> = std::iter::repeat(free.clone())
-        .take(10)
-        .chain(std::iter::repeat(hit.clone()).take(5))
+    let seq: Vec<Vec<Ray>> = std::iter::repeat_n(free.clone(), 10)
+        .chain(std::iter::repeat_n(hit.clone(), 5))
         .collect();
     let rev: Vec<Vec<Ray>> = seq.iter().rev().cloned().collect();
     let (mut g1, mut g2) = (grid_with_evidence(), grid_with_evidence());
