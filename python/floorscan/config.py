@@ -16,7 +16,10 @@ from typing import Any, Dict, Optional, Union, get_args, get_origin, get_type_hi
 
 from ._atomic import PathLike, write_atomic
 from ._toml import dumps_toml, load_toml, loads_toml
+from .calibration.options import CalibrationOptions
 from .errors import ConfigError
+
+_CAL = CalibrationOptions()
 
 
 def doc(text: str, default: Any = dataclasses.MISSING, **kw):
@@ -49,8 +52,33 @@ class RangerConfig:
 
 @dataclass
 class CalibrationConfig:
-    spacing_px: int = doc("ground table node spacing [px]", 8)
-    extrapolate: bool = doc("trust the fitted model beyond the margin around the pattern", False)
+    # Defaults from floorscan.calibration.CalibrationOptions (validated there when built).
+    spacing_px: int = doc("ground table node spacing [px]", _CAL.spacing_px)
+    coverage: str = doc(
+        "nodes with ground: trusted (predicted error within max_error_fraction of the range) | "
+        "pattern (around the pattern only) | all (wherever the fitted camera sees floor)",
+        _CAL.coverage.value,
+    )
+    max_error_fraction: float = doc(
+        "largest predicted floor error a trusted node may have, fraction of its range",
+        _CAL.max_error_fraction,
+    )
+    min_error_m: float = doc(
+        "a node whose predicted error is at most this [m] is trusted at any range",
+        _CAL.min_error_m,
+    )
+    max_range_m: float = doc("no ground beyond this range [m]", _CAL.max_range_m)
+    extrapolate: bool = doc("older spelling of coverage = \"all\"", False)
+
+    def kwargs(self) -> Dict[str, Any]:
+        """The keyword options of :func:`floorscan.calibrate`."""
+        return {
+            "spacing_px": self.spacing_px,
+            "coverage": "all" if self.extrapolate else self.coverage,
+            "max_error_fraction": self.max_error_fraction,
+            "min_error_m": self.min_error_m,
+            "max_range_m": self.max_range_m,
+        }
 
 
 @dataclass

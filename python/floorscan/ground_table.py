@@ -2,14 +2,14 @@
 frame (x forward, y left, metres), by bilinear interpolation of a regular grid of nodes.
 
 File format: JSON, documented in ``docs/formats.md`` (``format = "floorscan.ground_table"``,
-``version = 1``).
+``version = 1``, or ``2`` when the table carries per-node predicted errors).
 """
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Callable, Dict, Tuple
+from typing import Any, Callable, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -167,6 +167,41 @@ class GroundTable:
         ub, vb = np.broadcast_arrays(ua, va)
         x, y = self._native.lookup(ub.ravel().copy(), vb.ravel().copy())
         return x.reshape(ub.shape), y.reshape(ub.shape)
+
+    @property
+    def error_m(self) -> Optional[np.ndarray]:
+        """Predicted floor-position error of each node [m] ((nodes_v, nodes_u), NaN where
+        unknown or no ground), the calibration's error bar (file version 2); None when the
+        table carries none."""
+        return self._native.node_errors()
+
+    def with_errors(self, error_m: np.ndarray) -> GroundTable:
+        """A copy carrying ``error_m`` ((nodes_v, nodes_u) [m], NaN unknown) per node.
+
+        >>> import numpy as np
+        >>> t = GroundTable.from_arrays(np.ones((3, 5)), np.zeros((3, 5)),
+        ...                             image_width=33, image_height=17, spacing_px=8)
+        >>> t = t.with_errors(np.full((3, 5), 0.02))
+        >>> float(t.lookup_error(10.0, 5.0))
+        0.02
+        """
+        e = np.asarray(error_m, dtype=np.float64)
+        nu, nv = self.node_shape_for(
+            image_width=self.image_width, image_height=self.image_height,
+            spacing_px=self.spacing_px,
+        )
+        if e.shape != (nv, nu):
+            raise TableError(f"error_m must have shape ({nv}, {nu}), got {e.shape}")
+        return GroundTable(self._native.with_errors(e.ravel().copy()))
+
+    def lookup_error(self, u, v):
+        """Predicted floor-position error(s) [m] at pixel(s) (u, v), bilinear between nodes:
+        a float (NaN where unknown or no ground) for scalars, else an array."""
+        ua = np.ascontiguousarray(u, dtype=np.float64)
+        va = np.ascontiguousarray(v, dtype=np.float64)
+        ub, vb = np.broadcast_arrays(ua, va)
+        e = self._native.lookup_error(ub.ravel().copy(), vb.ravel().copy()).reshape(ub.shape)
+        return float(e) if e.ndim == 0 else e
 
     # --- files --------------------------------------------------------------------------
     def to_json(self) -> str:

@@ -14,8 +14,11 @@ use crate::pose::Point2;
 
 /// Identifies floorscan ground table files.
 pub const GROUND_TABLE_FORMAT: &str = "floorscan.ground_table";
-/// The schema version written by this build (and the only one it reads).
-pub const GROUND_TABLE_VERSION: u32 = 1;
+/// The newest schema version: 2 adds the optional per-node predicted error `error_m`. A table
+/// without errors is still written as version 1, so older readers keep reading it; both are read.
+pub const GROUND_TABLE_VERSION: u32 = 2;
+/// The oldest schema version this build reads.
+pub const GROUND_TABLE_MIN_VERSION: u32 = 1;
 
 /// Image-to-ground lookup table for images of `image_width` x `image_height` pixels.
 ///
@@ -30,6 +33,9 @@ pub struct GroundTable {
     nodes_v: usize,
     /// Ground points of the nodes, row-major (v outer); `None` is "no ground".
     nodes: Vec<Option<Point2>>,
+    /// Predicted floor-position error of each node [m] (a calibration's error bar), row-major
+    /// like `nodes`; `None` for the whole table when unknown, or for one node without ground.
+    errors: Option<Vec<Option<f64>>>,
     /// Free-form provenance (source, calibration report summary). Saved with the table.
     pub metadata: BTreeMap<String, serde_json::Value>,
 }
@@ -82,8 +88,40 @@ impl GroundTable {
             nodes_u,
             nodes_v,
             nodes,
+            errors: None,
             metadata: BTreeMap::new(),
         })
+    }
+
+    /// The same table with a predicted floor-position error [m] per node (row-major, one per
+    /// node; NaN or `None` where unknown). Errors must be finite and >= 0 where given.
+    pub fn with_errors(mut self, errors_m: &[f64]) -> Result<Self> {
+        if errors_m.len() != self.nodes.len() {
+            return Err(Error::LengthMismatch(format!(
+                "the table has {} nodes, {} errors given",
+                self.nodes.len(),
+                errors_m.len()
+            )));
+        }
+        if errors_m.iter().any(|&e| e < 0.0 || e == f64::INFINITY) {
+            return Err(Error::InvalidTable(
+                "node errors must be finite and >= 0 (NaN for unknown)".into(),
+            ));
+        }
+        self.errors = Some(
+            errors_m
+                .iter()
+                .zip(&self.nodes)
+                .map(|(&e, p)| (p.is_some() && e.is_finite()).then_some(e))
+                .collect(),
+        );
+        Ok(self)
+    }
+
+    /// Predicted floor-position errors of the nodes [m], row-major; `None` when the table
+    /// carries none.
+    pub fn errors(&self) -> Option<&[Option<f64>]> {
+        self.errors.as_deref()
     }
 
     /// A table from separate x and y arrays [m]; a NaN in either marks "no ground".
@@ -148,13 +186,9 @@ impl GroundTable {
         &self.nodes
     }
 
-    fn node(&self, i: usize, j: usize) -> Option<Point2> {
-        self.nodes[j * self.nodes_u + i]
-    }
-
-    /// Ground point [m] seen at pixel (u, v), by bilinear interpolation of the four nodes around
-    /// it; `None` if any of them is "no ground" or the pixel is outside the image.
-    pub fn lookup(&self, u: f64, v: f64) -> Option<Point2> {
+    /// The cell (i, j) whose four nodes surround pixel (u, v) and the fractions (fu, fv)
+    /// across it; `None` outside the image.
+    fn cell(&self, u: f64, v: f64) -> Option<(usize, usize, f64, f64)> {
         let max_u = (self.image_width - 1) as f64;
         let max_v = (self.image_height - 1) as f64;
         // Half a pixel of slack: a pixel's area extends 0.5 px around its centre.
@@ -166,7 +200,17 @@ impl GroundTable {
         let gv = (v.max(0.0) / s).min((self.nodes_v - 1) as f64);
         let i = (gu.floor() as usize).min(self.nodes_u - 2);
         let j = (gv.floor() as usize).min(self.nodes_v - 2);
-        let (fu, fv) = (gu - i as f64, gv - j as f64);
+        Some((i, j, gu - i as f64, gv - j as f64))
+    }
+
+    fn node(&self, i: usize, j: usize) -> Option<Point2> {
+        self.nodes[j * self.nodes_u + i]
+    }
+
+    /// Ground point [m] seen at pixel (u, v), by bilinear interpolation of the four nodes around
+    /// it; `None` if any of them is "no ground" or the pixel is outside the image.
+    pub fn lookup(&self, u: f64, v: f64) -> Option<Point2> {
+        let (i, j, fu, fv) = self.cell(u, v)?;
         let p00 = self.node(i, j)?;
         let p10 = self.node(i + 1, j)?;
         let p01 = self.node(i, j + 1)?;
@@ -181,11 +225,30 @@ impl GroundTable {
         ))
     }
 
+    /// Predicted floor-position error [m] at pixel (u, v): the bilinear interpolation of the
+    /// four surrounding nodes' errors; `None` where the table has no ground there or carries
+    /// no errors.
+    pub fn lookup_error(&self, u: f64, v: f64) -> Option<f64> {
+        let errors = self.errors.as_ref()?;
+        let (i, j, fu, fv) = self.cell(u, v)?;
+        let e = |i: usize, j: usize| errors[j * self.nodes_u + i];
+        Some(
+            (1.0 - fu) * (1.0 - fv) * e(i, j)?
+                + fu * (1.0 - fv) * e(i + 1, j)?
+                + (1.0 - fu) * fv * e(i, j + 1)?
+                + fu * fv * e(i + 1, j + 1)?,
+        )
+    }
+
     /// Serialises to the documented JSON file format (see docs/formats.md).
     pub fn to_json(&self) -> String {
         let file = GroundTableFile {
             format: GROUND_TABLE_FORMAT.to_string(),
-            version: GROUND_TABLE_VERSION,
+            version: if self.errors.is_some() {
+                GROUND_TABLE_VERSION
+            } else {
+                GROUND_TABLE_MIN_VERSION
+            },
             image_width: self.image_width,
             image_height: self.image_height,
             spacing_px: self.spacing_px,
@@ -193,6 +256,7 @@ impl GroundTable {
             nodes_v: self.nodes_v,
             x_m: self.nodes.iter().map(|p| p.map(|p| p.x)).collect(),
             y_m: self.nodes.iter().map(|p| p.map(|p| p.y)).collect(),
+            error_m: self.errors.clone(),
             metadata: self.metadata.clone(),
         };
         serde_json::to_string(&file).expect("ground table serialisation cannot fail")
@@ -218,7 +282,7 @@ impl GroundTable {
             .get("version")
             .and_then(|v| v.as_u64())
             .ok_or_else(|| malformed("missing integer field `version`".into()))?;
-        if version != GROUND_TABLE_VERSION as u64 {
+        if !(GROUND_TABLE_MIN_VERSION as u64..=GROUND_TABLE_VERSION as u64).contains(&version) {
             return Err(Error::UnsupportedVersion {
                 kind: "ground table",
                 found: version.min(u32::MAX as u64) as u32,
@@ -249,6 +313,22 @@ impl GroundTable {
         let mut table =
             Self::from_nodes(file.image_width, file.image_height, file.spacing_px, nodes)
                 .map_err(|e| malformed(e.to_string()))?;
+        if let Some(errors) = file.error_m {
+            if version < 2 {
+                return Err(malformed("field `error_m` needs version 2".into()));
+            }
+            if errors.len() != table.nodes.len() {
+                return Err(malformed(format!(
+                    "error_m has {} values for {} nodes",
+                    errors.len(),
+                    table.nodes.len()
+                )));
+            }
+            let values: Vec<f64> = errors.iter().map(|e| e.unwrap_or(f64::NAN)).collect();
+            table = table
+                .with_errors(&values)
+                .map_err(|e| malformed(e.to_string()))?;
+        }
         table.metadata = file.metadata;
         Ok(table)
     }
@@ -266,6 +346,9 @@ struct GroundTableFile {
     nodes_v: usize,
     x_m: Vec<Option<f64>>,
     y_m: Vec<Option<f64>>,
+    /// Version 2: predicted floor-position error per node [m], `null` where unknown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    error_m: Option<Vec<Option<f64>>>,
     #[serde(default)]
     metadata: BTreeMap<String, serde_json::Value>,
 }
@@ -346,10 +429,20 @@ mod tests {
             GroundTable::from_json(truncated),
             Err(Error::Malformed { .. })
         ));
-        let v2 = json.replace("\"version\":1", "\"version\":2");
+        let v3 = json.replace("\"version\":1", "\"version\":3");
         assert!(matches!(
-            GroundTable::from_json(&v2),
-            Err(Error::UnsupportedVersion { found: 2, .. })
+            GroundTable::from_json(&v3),
+            Err(Error::UnsupportedVersion { found: 3, .. })
+        ));
+        let v1_with_errors = t
+            .clone()
+            .with_errors(&vec![0.01; 30])
+            .unwrap()
+            .to_json()
+            .replace("\"version\":2", "\"version\":1");
+        assert!(matches!(
+            GroundTable::from_json(&v1_with_errors),
+            Err(Error::Malformed { .. })
         ));
         let foreign = json.replace(GROUND_TABLE_FORMAT, "something.else");
         assert!(matches!(
@@ -361,6 +454,33 @@ mod tests {
             GroundTable::from_json(&short),
             Err(Error::Malformed { .. })
         ));
+    }
+
+    #[test]
+    fn node_errors_interpolate_round_trip_and_follow_the_ground() {
+        // Errors affine in the node position interpolate exactly; a table without errors
+        // writes version 1, one with errors version 2, and both read back equal.
+        let t = GroundTable::from_fn(40, 30, 8, |u, v| (v > 8.0).then(|| affine(u, v))).unwrap();
+        assert!(t.lookup_error(20.0, 20.0).is_none());
+        assert!(t.to_json().contains("\"version\":1"));
+        let (nu, nv) = t.node_shape();
+        let e: Vec<f64> = (0..nv)
+            .flat_map(|j| (0..nu).map(move |i| 0.01 + 0.001 * i as f64 + 0.002 * j as f64))
+            .collect();
+        let te = t.clone().with_errors(&e).unwrap();
+        let got = te.lookup_error(12.0, 20.0).unwrap();
+        let want = 0.01 + 0.001 * 12.0 / 8.0 + 0.002 * 20.0 / 8.0;
+        assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        // No ground above v = 8 means no error there either.
+        assert!(te.lookup_error(12.0, 4.0).is_none());
+        assert!(te.errors().unwrap()[0].is_none());
+        let json = te.to_json();
+        assert!(json.contains("\"version\":2") && json.contains("error_m"));
+        assert_eq!(GroundTable::from_json(&json).unwrap(), te);
+        assert!(t.clone().with_errors(&e[1..]).is_err());
+        let mut negative = e.clone();
+        negative[7] = -1.0;
+        assert!(t.with_errors(&negative).is_err());
     }
 
     #[test]

@@ -102,6 +102,51 @@ impl PyGroundTable {
         Ok((PyArray1::from_vec(py, xs), PyArray1::from_vec(py, ys)))
     }
 
+    /// A copy carrying a predicted floor-position error [m] per node (row-major; NaN unknown).
+    fn with_errors(&self, errors_m: PyReadonlyArray1<'_, f64>) -> PyResult<Self> {
+        let e = errors_m.as_array().to_vec();
+        Ok(Self {
+            inner: self.inner.clone().with_errors(&e).py()?,
+        })
+    }
+
+    /// Node errors as a (nodes_v, nodes_u) float64 array [m], NaN unknown; None if the table
+    /// carries none.
+    fn node_errors<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        let (nu, nv) = self.inner.node_shape();
+        match self.inner.errors() {
+            None => Ok(None),
+            Some(e) => {
+                let v: Vec<f64> = e.iter().map(|e| e.unwrap_or(f64::NAN)).collect();
+                Ok(Some(PyArray1::from_vec(py, v).reshape([nv, nu])?))
+            }
+        }
+    }
+
+    /// Predicted errors [m] at pixels (u, v), NaN where unknown or no ground.
+    fn lookup_error<'py>(
+        &self,
+        py: Python<'py>,
+        u: PyReadonlyArray1<'py, f64>,
+        v: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (u, v) = (u.as_array(), v.as_array());
+        if u.len() != v.len() {
+            return Err(error(
+                "LengthMismatchError",
+                format!("u has {} values, v has {}", u.len(), v.len()),
+            ));
+        }
+        let (u, v) = (u.to_vec(), v.to_vec());
+        let out: Vec<f64> = py.detach(|| {
+            u.iter()
+                .zip(&v)
+                .map(|(&u, &v)| self.inner.lookup_error(u, v).unwrap_or(f64::NAN))
+                .collect()
+        });
+        Ok(PyArray1::from_vec(py, out))
+    }
+
     #[getter]
     fn image_width(&self) -> usize {
         self.inner.image_width()

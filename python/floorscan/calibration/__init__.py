@@ -1,5 +1,6 @@
-"""Calibration (paper III.B): from one image of a known floor pattern to a ground lookup table,
-with an error report and an overlay picture (the paper's Fig. 1c).
+"""Calibration (paper III.B): from images of a known floor pattern to a ground lookup table
+(a physical camera model fitted, with a predicted error per node), with an error report and an
+overlay picture (the paper's Fig. 1c); and checking a table on another image.
 
 >>> from floorscan.calibration import calibrate            # doctest: +SKIP
 >>> table, report = calibrate(image, "pattern.toml")       # doctest: +SKIP
@@ -7,23 +8,33 @@ with an error report and an overlay picture (the paper's Fig. 1c).
 """
 
 from .build import calibrate
+from .camera_model import CameraModel
+from .check import TableCheck, check_table
 from .detect import Detection, detect
-from .model import RadialPlaneModel
-from .options import CalibrationOptions
+from .intrinsics import Intrinsics
+from .lens_family import FAMILIES, LensFamily
+from .options import CalibrationOptions, Coverage
 from .overlay import draw_calibration_overlay
 from .pattern import Pattern, PatternKind
 from .region import FieldOfView, field_of_view
-from .report import CalibrationReport
+from .report import CalibrationReport, RangeRing
 
 __all__ = [
+    "FAMILIES",
     "CalibrationOptions",
     "CalibrationReport",
+    "CameraModel",
+    "Coverage",
     "Detection",
     "FieldOfView",
+    "Intrinsics",
+    "LensFamily",
     "Pattern",
     "PatternKind",
-    "RadialPlaneModel",
+    "RangeRing",
+    "TableCheck",
     "calibrate",
+    "check_table",
     "detect",
     "draw_calibration_overlay",
     "field_of_view",

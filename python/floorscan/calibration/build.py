@@ -1,133 +1,260 @@
-"""From one image of a known floor pattern to a ground lookup table (paper III.B): detect the
-pattern's points, fit the image-to-floor model, evaluate it on the table's nodes within the region
-it can be trusted, and measure the result."""
+"""From images of a known floor pattern to a ground lookup table (paper III.B): detect the
+pattern's points, fit a physical camera model (lens family + pose above the floor,
+:mod:`.camera_fit`, chosen by held-out error, :mod:`.model_choice`), fill the table's nodes from
+it out to the range sensor's maximum range, with a predicted error per node
+(:mod:`.uncertainty`), keep the nodes it can be trusted at, and measure the result."""
 
 from __future__ import annotations
 
 import time
-from typing import Dict, Optional, Tuple, Union
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from .._atomic import PathLike
-from ..errors import CalibrationError
+from ..errors import CalibrationError, ImageError
 from ..ground_table import GroundTable
+from .camera_fit import refine
 from .detect import Detection, detect, to_uint8
-from .fit import Fit, fit_robust, fit_spec
-from .options import CalibrationOptions
+from .intrinsics import Intrinsics
+from .model_choice import Choice, choose
+from .options import CalibrationOptions, Coverage
 from .pattern import Pattern
-from .region import convex_hull, field_of_view, model_nodes, near_region, node_grid
-from .report import CalibrationReport
+from .region import convex_hull, field_of_view, near_region, node_grid
+from .report import CalibrationReport, RangeRing, range_rings
+from .uncertainty import inflation, node_errors
+
+ImageOrImages = Union[np.ndarray, Sequence[np.ndarray]]
+
+
+@dataclass
+class Views:
+    """The pattern points of every image, together: ``image_points`` (M, 2) [px],
+    ``ground_points`` (M, 2) [m], ``indices`` (M, 2) (i across, j away), ``view`` (M,) the
+    image each came from, and the detections."""
+
+    image_points: np.ndarray
+    ground_points: np.ndarray
+    indices: np.ndarray
+    view: np.ndarray
+    detections: List[Detection]
+    image_size: Tuple[int, int]
+
+
+def detect_views(
+    images: Sequence[np.ndarray], patterns: Sequence[Pattern], offsets_m: Sequence[float]
+) -> Views:
+    """Detects the pattern in each image; the pattern of image k lies ``offsets_m[k]`` [m]
+    further away (+x) than its file says (the robot backed up by that much)."""
+    dets, uvs, gs, idx, view = [], [], [], [], []
+    size = None
+    for k, (image, pattern, off) in enumerate(zip(images, patterns, offsets_m)):
+        grey = to_uint8(image)
+        h, w = grey.shape
+        if size is not None and (w, h) != size:
+            raise ImageError(
+                f"calibration image {k + 1} is {w} x {h}, image 1 is {size[0]} x {size[1]}: all "
+                "must come from the same camera at the same resolution"
+            )
+        size = (w, h)
+        try:
+            det = detect(grey, pattern)
+        except CalibrationError as e:
+            if len(images) == 1:
+                raise
+            raise CalibrationError(f"calibration image {k + 1}: {e}") from None
+        dets.append(det)
+        uvs.append(det.image_points)
+        gs.append(det.ground_points + np.array([float(off), 0.0]))
+        idx.append(det.indices)
+        view.append(np.full(len(det.image_points), k))
+    assert size is not None
+    return Views(
+        np.vstack(uvs), np.vstack(gs), np.vstack(idx), np.concatenate(view), dets, size
+    )
 
 
 def calibrate(
-    image: np.ndarray,
-    pattern: Union[Pattern, PathLike],
+    image: ImageOrImages,
+    pattern: Union[Pattern, PathLike, Sequence[Union[Pattern, PathLike]]],
     *,
     spacing_px: int = 8,
+    coverage: Union[str, Coverage] = Coverage.TRUSTED,
+    max_error_fraction: float = 0.03,
+    min_error_m: float = 0.02,
+    max_range_m: float = 3.0,
+    horizon_margin_rad: float = 0.02,
+    families: Optional[Sequence[str]] = None,
+    intrinsics: Optional[Union[Intrinsics, PathLike]] = None,
+    offsets_m: Optional[Sequence[float]] = None,
     extrapolate: bool = False,
     margin_m: Optional[float] = None,
     near_field: bool = True,
-    max_range_m: float = 10.0,
     leave_one_out: bool = True,
 ) -> Tuple[GroundTable, CalibrationReport]:
-    """Builds a ground table from one image of a calibration pattern lying on the floor.
+    """Builds a ground table from one or more images of a calibration pattern on the floor.
 
     Args:
-        image: (H, W) uint8 or uint16 grey image (or (H, W, 3) colour) from the robot's camera.
-        pattern: a :class:`Pattern` or the path of its ``pattern.toml``.
-        spacing_px, extrapolate, margin_m, near_field, max_range_m, leave_one_out: see
-            :class:`CalibrationOptions`.
+        image: (H, W) uint8 or uint16 grey image (or (H, W, 3) colour) from the robot's
+            camera, or a list of them (the pattern moved, or the robot backed up).
+        pattern: a :class:`Pattern` or the path of its ``pattern.toml``; or one per image.
+        offsets_m: per image, how much further away (+x) [m] than its pattern file says the
+            pattern lay (the robot backed up by that distance). Default: 0 for every image.
+        intrinsics: known lens intrinsics (an :class:`Intrinsics` or the path of an OpenCV
+            FileStorage YAML/XML or ROS camera_info YAML): only the camera's pose is fitted.
+        spacing_px, coverage, max_error_fraction, min_error_m, max_range_m,
+            horizon_margin_rad, families,
+            margin_m, near_field, leave_one_out: see :class:`CalibrationOptions`.
+        extrapolate: True is ``coverage="all"`` (kept for older callers).
 
     Returns:
         ``(table, report)``: a :class:`floorscan.GroundTable` for images of this size (pixel ->
-        ground point in the camera ground frame, x forward, y left [m]; "no ground" outside the
-        calibrated region unless ``extrapolate``) carrying ``report.metadata()`` under
-        ``metadata["calibration"]``, and the :class:`CalibrationReport`.
+        ground point in the camera ground frame, x forward, y left [m]) with a predicted error
+        per node (``table.error_m``), carrying ``report.metadata()`` under
+        ``metadata["calibration"]``; and the :class:`CalibrationReport`.
 
     Raises:
         floorscan.CalibrationError: pattern not found (the message says how many points were
-            found and what to check), too few points, or a fit that mirrors the floor.
+            found and what to check), too few points, a mirrored pattern, intrinsics for
+            another image size.
         floorscan.ConfigError: a pattern file with missing, unknown or ill-typed keys.
-        floorscan.ImageError: not an image.
-
-    The model is a central camera with free radial distortion looking at a plane (no pinhole
-    assumption: fisheye lenses work); see :mod:`floorscan.calibration.model`.
+        floorscan.ImageError: not an image, or images of different sizes.
     """
     opts = CalibrationOptions(
         spacing_px=spacing_px,
-        extrapolate=extrapolate,
+        coverage=Coverage.ALL if extrapolate else coverage,
+        max_error_fraction=max_error_fraction,
+        min_error_m=min_error_m,
+        max_range_m=max_range_m,
+        horizon_margin_rad=horizon_margin_rad,
+        families=tuple(families) if families is not None else CalibrationOptions.families,
         margin_m=margin_m,
         near_field=near_field,
-        max_range_m=max_range_m,
         leave_one_out=leave_one_out,
     )
-    pattern = Pattern.resolve(pattern)
+    images = [image] if isinstance(image, np.ndarray) else list(image)
+    if not images:
+        raise ImageError("no calibration image given")
+    patterns = _patterns(pattern, len(images))
+    offsets = [0.0] * len(images) if offsets_m is None else [float(o) for o in offsets_m]
+    if len(offsets) != len(images) or not all(np.isfinite(offsets)):
+        raise CalibrationError(
+            f"offsets_m needs one finite value per image ({len(images)}), got {offsets_m!r}"
+        )
     clock = _Clock()
-    grey = to_uint8(image)
-    h, w = grey.shape
-    det = detect(grey, pattern)
+    views = detect_views(images, patterns, offsets)
+    w, h = views.image_size
     clock.lap("detect")
-    best, fits, used = fit_robust(det.image_points, det.ground_points, (w, h))
-    chirality = _check_chirality(best, det)
-    clock.lap("fit")
-    margin = pattern.extent_m if opts.margin_m is None else float(opts.margin_m)
-    u, v = node_grid((w, h), opts.spacing_px)
-    x, y = model_nodes(
-        best.model, u, v, image_size=(w, h), chirality=chirality, max_range_m=opts.max_range_m
+    known = _intrinsics(intrinsics)
+    if known is not None:
+        known.check_size((w, h))
+    uv, g = views.image_points, views.ground_points
+    choice = choose(
+        uv,
+        g,
+        (w, h),
+        (known.family.name,) if known is not None else opts.families,
+        lens=None if known is None else known.params,
     )
-    if not opts.extrapolate:
-        outline = det.ground_points
+    model = choice.best.fit.model
+    chirality = _check_chirality(model, uv[choice.used])
+    clock.lap("fit")
+    u, v = node_grid((w, h), opts.spacing_px)
+    margin = opts.horizon_margin_rad
+    x, y = model.ground(u, v, min_depression_rad=margin)
+    det = model.jacobian_det(u, v)
+    valid = np.isfinite(x) & (np.sign(det) == chirality)
+    valid &= np.hypot(x - model.centre_m[0], y - model.centre_m[1]) <= opts.max_range_m
+    alpha = inflation(choice, uv, g)
+    others = [c.fit.model for c in choice.plausible if c is not choice.best]
+    bar, _sigma, _spread, _interp = node_errors(
+        choice.best.fit, others, u, v, opts.spacing_px, min_depression_rad=margin, alpha=alpha
+    )
+    rng = np.hypot(np.nan_to_num(x), np.nan_to_num(y))
+    trusted = valid & (bar <= np.maximum(opts.max_error_fraction * rng, opts.min_error_m))
+    pattern_margin = patterns[0].extent_m if opts.margin_m is None else float(opts.margin_m)
+    if opts.coverage is Coverage.TRUSTED:
+        keep = trusted
+    elif opts.coverage is Coverage.ALL:
+        keep = valid
+    else:
+        outline = g[choice.used]
         if opts.near_field:
-            outline = np.vstack([outline, [[0.0, 0.0]]])
-        keep = near_region(x, y, convex_hull(outline), margin)
-        x, y = np.where(keep, x, np.nan), np.where(keep, y, np.nan)
+            outline = np.vstack([outline, model.centre_m[None, :2]])
+        keep = valid & near_region(x, y, convex_hull(outline), pattern_margin)
+    x, y = np.where(keep, x, np.nan), np.where(keep, y, np.nan)
     table = GroundTable.from_arrays(x, y, image_width=w, image_height=h, spacing_px=opts.spacing_px)
+    table = table.with_errors(np.where(keep & np.isfinite(bar), bar, np.nan))
     clock.lap("table")
-    tx, ty = table.lookup(det.image_points[:, 0], det.image_points[:, 1])
-    residual = np.hypot(tx - det.ground_points[:, 0], ty - det.ground_points[:, 1])
-    # The table's own interpolation error at each point, added to the leave-one-out
-    # prediction of the model, so both figures describe the table.
-    mx, my = best.model.ground(det.image_points[:, 0], det.image_points[:, 1])
+    tx, ty = table.lookup(uv[:, 0], uv[:, 1])
+    residual = np.hypot(tx - g[:, 0], ty - g[:, 1])
+    mx, my = model.ground(uv[:, 0], uv[:, 1])
     interpolation = np.column_stack([np.nan_to_num(tx - mx), np.nan_to_num(ty - my)])
     if opts.leave_one_out:
-        loo, loo_kind = _refit_loo(best, det, used, (w, h), interpolation), "refit"
+        loo, loo_kind = _refit_loo(choice, uv, g, (w, h), interpolation, known), "refit"
     else:
-        loo = residual.copy()
-        loo[used] = best.loo_px * _metres_per_px(best, det)[used]
-        loo_kind = "linearised"
+        loo, loo_kind = residual.copy(), "residual"
     clock.lap("leave_one_out")
     fov = field_of_view(table)
+    all_bar = np.where(valid, bar, np.nan)
+    rings = range_rings(rng, all_bar, valid, keep, opts.max_range_m)
     clock.lap("report")
     report = CalibrationReport(
-        pattern=pattern,
-        method=det.method,
+        pattern=patterns[0],
+        method=", ".join(sorted({d.method for d in views.detections})),
         image_size=(w, h),
-        points_expected=pattern.point_count,
-        image_points=det.image_points,
-        ground_points=det.ground_points,
-        indices=det.indices,
+        points_expected=sum(p.point_count for p in patterns),
+        image_points=uv,
+        ground_points=g,
+        indices=views.indices,
         residual_m=residual,
         loo_m=loo,
-        used=used,
-        model=best.model,
-        model_name=best.spec.name,
-        candidates=[(f.spec.name, _rms(f.loo_px)) for f in fits],
+        used=choice.used,
+        model=model,
+        model_name=choice.best.name,
+        candidates=[(c.name, c.held_out_px) for c in choice.candidates],
+        plausible=[c.name for c in choice.plausible],
+        error_inflation=alpha,
+        noise_px=choice.best.fit.noise_px,
         field_of_view=fov,
         spacing_px=opts.spacing_px,
-        extrapolate=opts.extrapolate,
-        margin_m=margin,
+        coverage=opts.coverage.value,
+        max_error_fraction=opts.max_error_fraction,
+        max_range_m=opts.max_range_m,
+        rings=rings,
+        intrinsics_given=known is not None,
+        views=len(images),
+        margin_m=pattern_margin,
         near_field=opts.near_field,
         loo_kind=loo_kind,
         timings_s=clock.laps,
         notes=[
-            f"point (i={i}, j={j}) left out of the fit as an outlier" for i, j in det.indices[~used]
+            f"point (i={i}, j={j}) of image {k + 1} left out of the fit as an outlier"
+            for (i, j), k in zip(views.indices[~choice.used], views.view[~choice.used])
         ],
     )
     meta = dict(table.metadata)
     meta["source"] = "floorscan calibrate"
     meta["calibration"] = report.metadata()
     return table.with_metadata(meta), report
+
+
+def _patterns(pattern, n: int) -> List[Pattern]:
+    if isinstance(pattern, (list, tuple)):
+        if len(pattern) not in (1, n):
+            raise CalibrationError(
+                f"{n} calibration images need one pattern or one per image, got {len(pattern)}"
+            )
+        ps = [Pattern.resolve(p) for p in pattern]
+        return ps * n if len(ps) == 1 else ps
+    return [Pattern.resolve(pattern)] * n
+
+
+def _intrinsics(intrinsics) -> Optional[Intrinsics]:
+    if intrinsics is None or isinstance(intrinsics, Intrinsics):
+        return intrinsics
+    return Intrinsics.load(intrinsics)
 
 
 class _Clock:
@@ -143,18 +270,12 @@ class _Clock:
         self._t = now
 
 
-def _rms(a: np.ndarray) -> float:
-    return float(np.sqrt(np.mean(np.asarray(a) ** 2)))
-
-
-def _check_chirality(fit: Fit, det: Detection) -> float:
+def _check_chirality(model, uv: np.ndarray) -> float:
     """Sign of the image-to-floor Jacobian determinant at the pattern. A camera above the floor
     sees it mirrored (image right is ground right, image down is towards the camera): the sign
     is negative. A positive sign means the pattern file describes a mirror image."""
-    jac = fit.model.jacobian(det.image_points[:, 0], det.image_points[:, 1])
-    det_sign = np.sign(jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0])
-    s = float(np.sign(np.sum(det_sign)))
-    if s >= 0:
+    s = float(np.sign(np.nansum(np.sign(model.jacobian_det(uv[:, 0], uv[:, 1])))))
+    if s >= 0 or model.height_m <= 0:
         raise CalibrationError(
             "the fitted floor is mirrored: the pattern's points run the wrong way round for a "
             "camera looking down at the floor; check `near_left`, `yaw` and the pattern's "
@@ -163,35 +284,34 @@ def _check_chirality(fit: Fit, det: Detection) -> float:
     return s
 
 
-def _metres_per_px(fit: Fit, det: Detection) -> np.ndarray:
-    jac = fit.model.jacobian(det.image_points[:, 0], det.image_points[:, 1])
-    return np.sqrt(np.abs(jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]))
-
-
 def _refit_loo(
-    best: Fit, det: Detection, used: np.ndarray, image_size: Tuple[int, int], offset: np.ndarray
+    choice: Choice,
+    uv: np.ndarray,
+    g: np.ndarray,
+    image_size: Tuple[int, int],
+    offset: np.ndarray,
+    known: Optional[Intrinsics],
 ) -> np.ndarray:
-    """Ground error [m] at each point of the model refitted without it (plus ``offset``
-    (M, 2) [m], the table's interpolation error there); points left out of the fit as
-    outliers get the fitted model's error."""
-    uv, g = det.image_points, det.ground_points
+    """Floor error [m] at each point of the model refitted without it (plus ``offset`` (M, 2)
+    [m], the table's interpolation error there); outliers get the fitted model's error."""
+    fit = choice.best.fit
     out = np.empty(len(uv))
     for i in range(len(uv)):
-        if not used[i]:
-            x, y = best.model.ground(uv[i, 0], uv[i, 1])
-            out[i] = float(np.hypot(x + offset[i, 0] - g[i, 0], y + offset[i, 1] - g[i, 1]))
-            continue
-        keep = used & (np.arange(len(uv)) != i)
-        f = fit_spec(
-            uv[keep],
-            g[keep],
-            image_size,
-            best.spec,
-            best.model,
-            max_iterations=20,
-            rounds=1,
-            with_loo=False,
-        )
-        x, y = f.model.ground(uv[i, 0], uv[i, 1])
+        model = fit.model
+        if choice.used[i]:
+            keep = choice.used & (np.arange(len(uv)) != i)
+            model = refine(
+                fit.model,
+                uv[keep],
+                g[keep],
+                image_size,
+                fix_lens=known is not None,
+                max_iterations=15,
+                noise_px=fit.noise_px,
+            ).model
+        x, y = model.ground(uv[i, 0], uv[i, 1])
         out[i] = float(np.hypot(x + offset[i, 0] - g[i, 0], y + offset[i, 1] - g[i, 1]))
     return np.where(np.isfinite(out), out, np.inf)
+
+
+__all__ = ["RangeRing", "Views", "calibrate", "detect_views"]

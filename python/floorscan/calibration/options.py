@@ -1,45 +1,68 @@
 """Options of a calibration (one validated structure; the ``[calibration]`` table of the
-configuration file holds ``spacing_px`` and ``extrapolate``)."""
+configuration file holds these fields)."""
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Optional
+from enum import Enum
+from typing import Optional, Tuple
 
 from ..errors import OptionError
+from .lens_family import DEFAULT_FAMILIES, FAMILIES
+
+
+class Coverage(str, Enum):
+    """Which table nodes claim ground.
+
+    - ``trusted`` (default): wherever the fitted camera model sees floor within
+      ``max_range_m`` and its predicted error is at most ``max_error_fraction`` of the range.
+    - ``pattern``: only around the pattern (the paper's calibrated region: the points found,
+      the floor between them and the camera with ``near_field``, plus ``margin_m``).
+    - ``all``: wherever the model sees floor within ``max_range_m`` (the old
+      ``extrapolate``), whatever its predicted error.
+    """
+
+    TRUSTED = "trusted"
+    PATTERN = "pattern"
+    ALL = "all"
 
 
 @dataclass(frozen=True)
 class CalibrationOptions:
-    """How a ground table is built from a pattern image.
+    """How a ground table is built from pattern images.
 
     - ``spacing_px``: table node spacing [px], 1..64. Default 8.
-    - ``extrapolate``: trust the fitted model beyond the margin around the pattern (still only
-      below the horizon, where the model is valid and within ``max_range_m``). Default False:
-      the table says "no ground" outside the calibrated region, as the paper does.
-    - ``margin_m``: [m] how far beyond the detected points' outline the table still claims
-      ground without extrapolating, in [0, 10]. Default None: as far as the pattern itself
-      reaches (one square beyond a checkerboard's inner corners, half a spacing beyond the
-      outermost crossings of a line grid).
-    - ``near_field``: count the floor between the camera and the pattern as calibrated (the
-      region is the outline of the pattern's points and the camera's ground origin, plus the
-      margin), so the bottom rows of the image, where the range sensor starts each column, have
-      ground although the pattern lies further out. Rays there are steep and interpolate the
-      calibrated ones in image radius; measured on the simulator within 0.8 cm of the truth for
-      its default patterns. Default True; False keeps the pattern's own outline only.
+    - ``coverage``: :class:`Coverage` (``"trusted"``, ``"pattern"``, ``"all"``). Default
+      ``"trusted"``. ``extrapolate = True`` is the older spelling of ``"all"``.
+    - ``max_error_fraction``: with ``trusted``, the largest predicted floor error a node may
+      have, as a fraction of its range, in (0, 1]. Default 0.03 (3 cm at 1 m, 9 cm at 3 m:
+      about the floor one pixel row covers at 3 m for a 640 x 480 camera 0.3 m up).
+    - ``min_error_m``: [m] with ``trusted``, a node is kept whatever its range if its
+      predicted error is at most this, in [0, 1]. Default 0.02 (half a 4 cm map cell): the
+      steep floor just in front of the camera, where the range sensor starts its columns.
     - ``max_range_m``: [m] no ground beyond this distance from the camera, in (0, 1000].
-      Default 10.
-    - ``leave_one_out``: refit without each point in turn to report its prediction error
-      (exact, about 63 small refits); False reports the linearised estimate instead. Default
-      True.
+      Default 3.0, the range sensor's default maximum range.
+    - ``horizon_margin_rad``: [rad] no ground on rays less than this far below the horizon,
+      in [0, 0.5]. Default 0.02 (about a degree).
+    - ``families``: lens families tried (names of :data:`lens_family.FAMILIES`). Default all.
+    - ``margin_m``, ``near_field``: the calibrated region of ``coverage = "pattern"``: [m]
+      how far beyond the points' outline (default: the pattern's own reach: a square beyond a
+      checkerboard's inner corners, half a spacing beyond a line grid's crossings), and
+      whether the floor between the camera and the pattern counts (default True).
+    - ``leave_one_out``: refit without each point in turn for its held-out error (default
+      True; False reports the residual instead).
     """
 
     spacing_px: int = 8
-    extrapolate: bool = False
+    coverage: Coverage = Coverage.TRUSTED
+    max_error_fraction: float = 0.03
+    min_error_m: float = 0.02
+    max_range_m: float = 3.0
+    horizon_margin_rad: float = 0.02
+    families: Tuple[str, ...] = DEFAULT_FAMILIES
     margin_m: Optional[float] = None
     near_field: bool = True
-    max_range_m: float = 10.0
     leave_one_out: bool = True
 
     def __post_init__(self) -> None:
@@ -51,25 +74,41 @@ class CalibrationOptions:
             raise OptionError(
                 f"invalid option `spacing_px`: must be in 1..64, got {self.spacing_px}"
             )
-        if not isinstance(self.extrapolate, bool):
+        try:
+            object.__setattr__(self, "coverage", Coverage(self.coverage))
+        except ValueError:
             raise OptionError(
-                f"invalid option `extrapolate`: must be true or false, got {self.extrapolate!r}"
+                "invalid option `coverage`: expected one of "
+                f"{[c.value for c in Coverage]}, got {self.coverage!r}"
+            ) from None
+        _number("max_error_fraction", self.max_error_fraction, 0.0, 1.0, low_open=True)
+        _number("min_error_m", self.min_error_m, 0.0, 1.0)
+        _number("max_range_m", self.max_range_m, 0.0, 1000.0, low_open=True)
+        _number("horizon_margin_rad", self.horizon_margin_rad, 0.0, 0.5)
+        families = (self.families,) if isinstance(self.families, str) else tuple(self.families)
+        unknown = [f for f in families if f not in FAMILIES]
+        if unknown or not families:
+            raise OptionError(
+                f"invalid option `families`: unknown {unknown or 'empty list'}; "
+                f"known: {sorted(FAMILIES)}"
             )
+        object.__setattr__(self, "families", families)
         if not isinstance(self.near_field, bool):
             raise OptionError(
                 f"invalid option `near_field`: must be true or false, got {self.near_field!r}"
             )
-        if self.margin_m is not None and not (
-            isinstance(self.margin_m, (int, float)) and 0 <= self.margin_m <= 10
-        ):
-            raise OptionError(
-                f"invalid option `margin_m`: must be in [0, 10] m, got {self.margin_m!r}"
-            )
-        if not (
-            isinstance(self.max_range_m, (int, float))
-            and math.isfinite(self.max_range_m)
-            and 0 < self.max_range_m <= 1000
-        ):
-            raise OptionError(
-                f"invalid option `max_range_m`: must be in (0, 1000] m, got {self.max_range_m!r}"
-            )
+        if self.margin_m is not None:
+            _number("margin_m", self.margin_m, 0.0, 10.0)
+
+
+def _number(name: str, value, low: float, high: float, *, low_open: bool = False) -> None:
+    ok = (
+        isinstance(value, (int, float))
+        and not isinstance(value, bool)
+        and math.isfinite(value)
+        and (low < value if low_open else low <= value)
+        and value <= high
+    )
+    if not ok:
+        lo = "(" if low_open else "["
+        raise OptionError(f"invalid option `{name}`: must be in {lo}{low}, {high}], got {value!r}")

@@ -20,6 +20,9 @@ if TYPE_CHECKING:  # pragma: no cover
 LINE_COLOUR = (40, 255, 40)  # the estimated pattern
 POINT_COLOUR = (255, 40, 40)  # the detected points
 NO_GROUND_TINT = np.array([40, 60, 160], float)  # where the table has no ground
+UNTRUSTED_TINT = np.array([230, 120, 20], float)  # floor the model sees but does not trust
+RING_COLOUR = (255, 230, 40)  # range rings
+RING_STEP_M = 0.5
 
 
 def draw_calibration_overlay(
@@ -32,10 +35,15 @@ def draw_calibration_overlay(
 ) -> np.ndarray:
     """An RGB (H, W, 3) uint8 picture: ``image`` with the estimated pattern (its lines,
     computed from ``table``) in green, ``points`` ((M, 2) [px]; by default the detected points
-    when ``pattern`` is a :class:`CalibrationReport`) as red circles, and the pixels where the
-    table has no ground tinted blue. ``pattern``: a :class:`Pattern`, or the report of the
-    calibration that made ``table``."""
+    when ``pattern`` is a :class:`CalibrationReport`) as red circles, range rings every
+    ``RING_STEP_M`` [m] in yellow, the pixels where the table has no ground tinted blue, and,
+    given the report, the floor its camera model sees within the maximum range but does not
+    trust (predicted error above the bound) tinted orange. ``pattern``: a :class:`Pattern`,
+    or the report of the calibration that made ``table``."""
+    model_floor = None
+    report = None
     if not isinstance(pattern, Pattern):
+        report = pattern
         if points is None:
             points = pattern.image_points
         pattern = pattern.pattern
@@ -70,8 +78,17 @@ def draw_calibration_overlay(
         )
     rgb = np.repeat(grey[..., None], 3, axis=2).astype(np.float64)
     no_ground = ~np.isfinite(x)
-    rgb[no_ground] = 0.6 * rgb[no_ground] + 0.4 * NO_GROUND_TINT
+    if report is not None:
+        mx, my = report.model.ground(u, v)
+        c = report.model.centre_m
+        model_floor = np.isfinite(mx) & (np.hypot(mx - c[0], my - c[1]) <= report.max_range_m)
+    untrusted = no_ground & model_floor if model_floor is not None else np.zeros_like(no_ground)
+    rgb[no_ground & ~untrusted] = 0.6 * rgb[no_ground & ~untrusted] + 0.4 * NO_GROUND_TINT
+    rgb[untrusted] = 0.6 * rgb[untrusted] + 0.4 * UNTRUSTED_TINT
     out = np.clip(rgb, 0, 255).astype(np.uint8)
+    rings = np.hypot(x, y) / RING_STEP_M
+    ring_mask = _crossings(rings, 1, 1e9, rings, 0, 1e9)
+    out[ring_mask] = RING_COLOUR
     out[mask] = LINE_COLOUR
     if points is not None:
         radius = max(2, round(min(w, h) / 160))

@@ -1,8 +1,5 @@
-"""Where a calibrated table may claim ground: the calibrated region (the detected pattern plus a
-margin, unless extrapolating), the model's domain of validity (below the horizon, where its
-radial polynomial is monotonic and the mapping does not fold over), and a range limit; and the
-field of view the finished table covers.
-"""
+"""The pattern's calibrated region (the detected points plus a margin: ``coverage =
+"pattern"``), the table's node grid, and the field of view a finished table covers."""
 
 from __future__ import annotations
 
@@ -13,7 +10,6 @@ import cv2
 import numpy as np
 
 from ..ground_table import GroundTable
-from .model import RadialPlaneModel
 
 
 def convex_hull(points: np.ndarray) -> np.ndarray:
@@ -49,33 +45,6 @@ def node_grid(image_size: Tuple[int, int], spacing_px: int) -> Tuple[np.ndarray,
     )
     v, u = np.mgrid[0:nv, 0:nu].astype(np.float64) * spacing_px
     return u, v
-
-
-def model_nodes(
-    model: RadialPlaneModel,
-    u: np.ndarray,
-    v: np.ndarray,
-    *,
-    image_size: Tuple[int, int],
-    chirality: float,
-    max_range_m: float,
-) -> Tuple[np.ndarray, np.ndarray]:
-    """The model's ground (x, y) [m] at node pixels (u, v), NaN where the model is not valid:
-    above the horizon, past the radius where its radial polynomial stops being monotonic,
-    where the mapping's orientation differs from the pattern's (``chirality``: sign of the
-    Jacobian determinant at the pattern; the mapping folds over there), or beyond
-    ``max_range_m`` [m] from the camera."""
-    x, y = model.ground(u, v)
-    w, h = image_size
-    corners = np.array([[0, 0], [w - 1, 0], [0, h - 1], [w - 1, h - 1]], float)
-    reach = float(np.max(np.hypot(*(corners - np.asarray(model.centre_px)).T)))
-    r_ok = model.monotonic_radius_px(reach * 1.01)
-    radius = np.hypot(u - model.centre_px[0], v - model.centre_px[1])
-    jac = model.jacobian(u, v)
-    det = jac[..., 0, 0] * jac[..., 1, 1] - jac[..., 0, 1] * jac[..., 1, 0]
-    ok = np.isfinite(x) & (radius < r_ok) & (np.sign(det) == np.sign(chirality))
-    ok &= np.hypot(x, y) <= max_range_m
-    return np.where(ok, x, np.nan), np.where(ok, y, np.nan)
 
 
 GROWTH_LIMIT = 2.0

@@ -1,63 +1,133 @@
-"""``floorscan calibrate``: one image of a known floor pattern to a ground lookup table, with an
-overlay picture (the paper's Fig. 1c) and an error report."""
+"""``floorscan calibrate``: images of a known floor pattern to a ground lookup table (a physical
+camera model with a predicted error per node), with an overlay picture (the paper's Fig. 1c) and
+an error report; ``--check TABLE`` scores an existing table on an image instead."""
 
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from pathlib import Path
 
+from ..calibration.options import CalibrationOptions, Coverage
+
 
 def register(sub) -> None:
-    p = sub.add_parser("calibrate", help="build a ground table from an image of a floor pattern")
-    p.add_argument("image", help="calibration image (the robot's camera, pattern on the floor)")
-    p.add_argument(
-        "--pattern", help="pattern TOML (docs/calibration.md); default: pattern.toml beside IMAGE"
+    d = CalibrationOptions()
+    p = sub.add_parser(
+        "calibrate",
+        help="build a ground table from images of a floor pattern, or --check a table",
     )
-    p.add_argument("-o", "--output", required=True, help="ground table JSON to write")
+    p.add_argument(
+        "images",
+        nargs="+",
+        metavar="IMAGE",
+        help="calibration image(s) (the robot's camera, pattern on the floor)",
+    )
+    p.add_argument(
+        "--pattern",
+        action="append",
+        help="pattern TOML (docs/calibration.md), once or once per image; default: "
+        "pattern.toml beside each IMAGE",
+    )
+    p.add_argument(
+        "--offset",
+        type=float,
+        action="append",
+        metavar="M",
+        help="per image: the pattern lay this much further away (+x) than its file says, "
+        "e.g. the robot backed up by M metres (default 0)",
+    )
+    p.add_argument("-o", "--output", help="ground table JSON to write")
+    p.add_argument("--intrinsics", help="known intrinsics: OpenCV FileStorage YAML/XML or ROS "
+                   "camera_info YAML; only the camera's pose is fitted")
+    p.add_argument("--check", metavar="TABLE", help="score TABLE on IMAGE (no fit, no table "
+                   "written)")
     p.add_argument("--overlay", help="PNG to write: the pattern as the table sees it, over IMAGE")
     p.add_argument("--report", help="JSON to write: every point's errors, the model, the view")
-    p.add_argument("--spacing", type=int, default=8, help="table node spacing [px] (default 8)")
+    p.add_argument("--spacing", type=int, default=d.spacing_px,
+                   help=f"table node spacing [px] (default {d.spacing_px})")
     p.add_argument(
-        "--extrapolate",
-        action="store_true",
-        help="trust the fitted model beyond the pattern (below the horizon, within --max-range)",
+        "--coverage",
+        choices=[c.value for c in Coverage],
+        default=d.coverage.value,
+        help="nodes with ground: trusted = predicted error within --max-error of the range "
+        "(default); pattern = around the pattern only; all = wherever the model sees floor",
     )
+    p.add_argument("--max-error", type=float, default=d.max_error_fraction,
+                   help="largest predicted error kept, fraction of the range "
+                   f"(default {d.max_error_fraction})")
+    p.add_argument("--extrapolate", action="store_true", help="same as --coverage all")
     p.add_argument(
         "--margin",
         type=float,
-        help="ground beyond the pattern's outline kept without --extrapolate [m] (default: one square / line spacing)",
+        help="--coverage pattern: ground kept beyond the points' outline [m] (default: one "
+        "square / half a line spacing)",
     )
     p.add_argument(
         "--no-near-field",
         action="store_true",
-        help="without --extrapolate, leave out the floor between the camera and the pattern",
+        help="--coverage pattern: leave out the floor between the camera and the pattern",
     )
-    p.add_argument(
-        "--max-range", type=float, default=10.0, help="no ground beyond this range [m] (default 10)"
-    )
+    p.add_argument("--max-range", type=float, default=d.max_range_m,
+                   help=f"no ground beyond this range [m] (default {d.max_range_m})")
+    p.add_argument("--families", help="comma-separated lens families to try (default: all; "
+                   "docs/calibration.md)")
     p.set_defaults(run=run)
 
 
+def _patterns(args, images):
+    if args.pattern:
+        return [Path(p) for p in args.pattern]
+    return [Path(i).with_name("pattern.toml") for i in images]
+
+
 def run(args: argparse.Namespace) -> int:
-    from ..calibration import calibrate, draw_calibration_overlay
+    from ..calibration import calibrate, check_table, draw_calibration_overlay
+    from ..errors import OptionError
+    from ..ground_table import GroundTable
     from ..image_io import read_grey, write_png
 
-    image_path = Path(args.image)
-    pattern = Path(args.pattern) if args.pattern else image_path.with_name("pattern.toml")
-    image = read_grey(image_path)
+    images = [read_grey(Path(p)) for p in args.images]
+    patterns = _patterns(args, args.images)
+    if args.check:
+        if len(images) != 1:
+            raise OptionError("--check scores one image at a time")
+        table = GroundTable.load(args.check)
+        result = check_table(table, images[0], patterns[0])
+        print(result.summary())
+        for ring in result.by_range():
+            print(
+                f"  {ring['near_m']:.1f}-{ring['far_m']:.1f} m: {ring['covered']}/"
+                f"{ring['points']} points, RMS {ring['rms_cm']} cm, max {ring['max_cm']} cm"
+            )
+        if args.report:
+            from .._atomic import write_atomic
+
+            write_atomic(args.report, json.dumps(result.as_dict(), indent=1) + "\n")
+            print(f"wrote {args.report}", file=sys.stderr)
+        return 0
+    if not args.output:
+        raise OptionError("give -o TABLE.json (or --check TABLE to score a table)")
     table, report = calibrate(
-        image,
-        pattern,
+        images if len(images) > 1 else images[0],
+        patterns,
+        offsets_m=args.offset,
+        intrinsics=args.intrinsics,
         spacing_px=args.spacing,
+        coverage=args.coverage,
+        max_error_fraction=args.max_error,
         extrapolate=args.extrapolate,
         margin_m=args.margin,
         near_field=not args.no_near_field,
         max_range_m=args.max_range,
+        families=args.families.split(",") if args.families else None,
     )
     written = [str(table.save(args.output))]
     if args.overlay:
-        written.append(str(write_png(args.overlay, draw_calibration_overlay(image, table, report))))
+        written.append(
+            str(write_png(args.overlay, draw_calibration_overlay(images[0], table, report)))
+        )
     if args.report:
         written.append(str(report.save(args.report)))
     print(report.summary())

@@ -87,8 +87,7 @@ def _dataset_record(args: argparse.Namespace, cfg) -> dict:
     table, cal = table_for_dataset(
         dataset,
         truth,
-        spacing_px=cfg.calibration.spacing_px,
-        extrapolate=cfg.calibration.extrapolate,
+        calibration=cfg.calibration.kwargs(),
         table_path=args.table,
     )
     case = case_from_dataset(dataset, truth, table)

@@ -99,8 +99,7 @@ def load_table(args: argparse.Namespace, source: FrameSource, cfg: Config) -> Gr
     table, report = calibrate(
         read_grey(image_path),
         pattern,
-        spacing_px=cfg.calibration.spacing_px,
-        extrapolate=cfg.calibration.extrapolate,
+        **cfg.calibration.kwargs(),
     )
     print(f"calibrated from {image_path}: {report.summary()}", file=sys.stderr)
     return table

@@ -64,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
     dataset = Path(args.dataset)
     truth = Path(args.truth) if args.truth else dataset / "truth"
     table, _ = table_for_dataset(
-        dataset, truth, spacing_px=cfg.calibration.spacing_px, table_path=args.table
+        dataset, truth, calibration=cfg.calibration.kwargs(), table_path=args.table
     )
     entries = read_images_txt(dataset)
     names = [

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import tempfile
 from pathlib import Path
-from typing import Any, Dict, Tuple
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -53,11 +53,14 @@ def table_error(
 
 
 def calibrated_table(
-    camera, *, spacing_px: int = 8, extrapolate: bool = False
+    camera, *, calibration: Optional[Dict[str, Any]] = None
 ) -> Tuple[GroundTable, Dict[str, Any]]:
     """The ground table ranging uses: calibrated from the simulated checkerboard scene when
-    :mod:`floorscan.calibration` is available (with its error against the exact mapping), else
-    the camera's exact table (error reported as not available)."""
+    :mod:`floorscan.calibration` is available (with its error against the exact mapping, to
+    3 m), else the camera's exact table (error reported as not available). ``calibration``:
+    keyword options of :func:`floorscan.calibrate` (default: its defaults)."""
+    calibration = dict(calibration or {})
+    spacing_px = calibration.get("spacing_px", 8)
     if not calibration_available():
         return camera.ground_table(spacing_px=spacing_px), {"status": NOT_AVAILABLE}
     from ..calibration import calibrate
@@ -67,7 +70,7 @@ def calibrated_table(
     with tempfile.TemporaryDirectory(prefix="floorscan-eval-") as tmp:
         path = Path(tmp) / "pattern.toml"
         path.write_text(pattern.to_toml(), encoding="utf-8")
-        table, _report = calibrate(image, path, spacing_px=spacing_px, extrapolate=extrapolate)
+        table, _report = calibrate(image, path, **calibration)
     return table, table_error(table, camera)
 
 
@@ -75,8 +78,7 @@ def table_for_dataset(
     dataset: Path,
     truth_dir: Path,
     *,
-    spacing_px: int = 8,
-    extrapolate: bool = False,
+    calibration: Optional[Dict[str, Any]] = None,
     table_path=None,
 ) -> Tuple[GroundTable, Dict[str, Any]]:
     """The table to range a dataset with, and its calibration error when measurable: a given
@@ -86,6 +88,8 @@ def table_for_dataset(
     from ..errors import DatasetError
     from ..sim import Camera
 
+    calibration = dict(calibration or {})
+    spacing_px = calibration.get("spacing_px", 8)
     dataset, truth_dir = Path(dataset), Path(truth_dir)
     camera = (
         Camera.load(truth_dir / "camera.json") if (truth_dir / "camera.json").is_file() else None
@@ -99,8 +103,7 @@ def table_for_dataset(
         table, _ = calibrate(
             read_grey(dataset / "calibration" / "pattern.png"),
             dataset / "calibration" / "pattern.toml",
-            spacing_px=spacing_px,
-            extrapolate=extrapolate,
+            **calibration,
         )
     elif camera is not None:
         return camera.ground_table(spacing_px=spacing_px), {

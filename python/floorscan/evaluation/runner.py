@@ -141,9 +141,7 @@ def simulate_scenario(scenario: Scenario, cfg: Config, *, threads: int = 2):
         threads=threads,
     )
     try:
-        table, cal = calibrated_table(
-            camera, spacing_px=cfg.calibration.spacing_px, extrapolate=cfg.calibration.extrapolate
-        )
+        table, cal = calibrated_table(camera, calibration=cfg.calibration.kwargs())
     except FloorscanError as e:
         table = camera.ground_table(spacing_px=cfg.calibration.spacing_px)
         cal = {"status": f"failed ({e}); ranged with the exact table"}
