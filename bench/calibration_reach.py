@@ -121,7 +121,7 @@ def main(argv=None):
     )
     ap.add_argument(
         "--views", type=int, default=1,
-        help="images of the board, the robot backed up by 0.5 m between them",
+        help="images of the board, the robot backed up by 0.3 m between them",
     )
     a = ap.parse_args(argv)
     cams = cameras()
@@ -139,12 +139,12 @@ def main(argv=None):
         for k in range(a.views):
             shifted = CalibrationPattern(
                 kind="checkerboard",
-                near_left=(near_x + 0.5 * k, pattern.near_left[1]),
+                near_left=(near_x + 0.3 * k, pattern.near_left[1]),
                 inner_corners=corners,
                 square=square,
             )
             images.append(render_calibration(cam, shifted, seed=1 + k)[0])
-            offsets.append(0.5 * k)
+            offsets.append(0.3 * k)
         kwargs = json.loads(a.kwargs)
         if a.intrinsics:
             kwargs["intrinsics"] = true_intrinsics(cam)

@@ -66,7 +66,7 @@ def assert_within_1_cm(e: np.ndarray, min_pixels: int) -> None:
 )
 def test_default_spacing_within_1_cm(lens, kind, pattern):
     cam, image, pat = scene(lens, kind, **pattern)
-    table, report = calibrate(image, pat, near_field=False)  # 8 px nodes, the CLI default
+    table, report = calibrate(image, pat, near_field=False, coverage="pattern")  # 8 px nodes
     assert report.points_found >= pat.point_count - 6
     assert_within_1_cm(errors(cam, table), 30_000)
 

@@ -63,6 +63,10 @@ class LensFamily:
                 ok = z > 1e-9
                 xn = np.where(ok, x / np.where(ok, z, 1.0), np.nan)
                 yn = np.where(ok, y / np.where(ok, z, 1.0), np.nan)
+                # Past the radius where the radial factor folds back, the model means nothing.
+                r_max = _radial_monotonic_limit([t.get(k, 0.0) for k in ("k1", "k2", "k3")])
+                inside = np.hypot(xn, yn) < r_max
+                xn, yn = np.where(inside, xn, np.nan), np.where(inside, yn, np.nan)
                 xd, yd = _plumb_bob(xn, yn, t)
             elif self.kind == "kannala_brandt":
                 r = np.hypot(x, y)
