@@ -22,6 +22,7 @@ from .errors import (
     UnsupportedVersionError,
     WorldError,
 )
+from .evidence import EvidenceMap, merge_evidence
 from .grid import InsertStats, OccupancyGrid
 from .grid_options import Evidence
 from .grid_views import GridExtent
@@ -39,6 +40,7 @@ __all__ = [
     "ConfigError",
     "DatasetError",
     "Evidence",
+    "EvidenceMap",
     "FileFormatError",
     "FloorscanError",
     "GeometryError",
@@ -58,6 +60,7 @@ __all__ = [
     "TableError",
     "UnsupportedVersionError",
     "VisualRanger",
+    "merge_evidence",
     "read_scans_csv",
     "write_scans_csv",
     "WorldError",

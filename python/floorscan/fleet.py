@@ -53,7 +53,7 @@ def map_recording(recording: Recording, out_dir: str) -> Dict[str, Any]:
         )
     except KeyboardInterrupt:
         result.update(status="interrupted")
-    except (FloorscanError, OSError, ValueError) as e:
+    except Exception as e:  # any failure of one recording is reported; the fleet goes on
         result.update(status="failed", error=f"{type(e).__name__}: {e}".splitlines()[0])
     except SystemExit as e:  # argparse refusing the command line
         result.update(status="failed", error=f"bad command line ({e}): {log.getvalue().strip()}")
