@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import statistics
 import subprocess
 import sys
@@ -116,6 +117,7 @@ def main() -> int:
 
     import ray
 
+    load_before = os.getloadavg()[0]
     warm_up = ray.remote(_warm_up)
     wall = {
         "plain loop of floorscan run (in-process)": min(
@@ -159,7 +161,9 @@ def main() -> int:
     # cores at the scaling efficiency measured here (I/O and scheduling assumed to keep up).
     estimate = {f"{n} nodes x 32 cores": cpu_s / (n * 32 * efficiency) / 60 for n in (1, 10, 100)}
     ev = evidence_overhead(out / "loop0" / recs[0].name, recs[0], 3)
+    load = (load_before, os.getloadavg()[0])
     result = {
+        "load_average_1min_before_after": load,
         "recordings": len(recs),
         "frames": frames,
         "ray_start_and_warm_up_s": ray_start,
@@ -177,6 +181,9 @@ def main() -> int:
     print(
         f"{len(recs)} recordings, {frames} frames ({args.world}, {args.seconds:g} s each); "
         f"Ray start + worker warm-up {ray_start[1]:.1f} s (1 worker), {ray_start[2]:.1f} s (2)"
+    )
+    print(
+        f"machine load average (1 min) before / after: {load[0]:.1f} / {load[1]:.1f} on {os.cpu_count()} cores"
     )
     print("| run | wall [s] | vs plain loop |\n|---|---:|---:|")
     for k, v in wall.items():
