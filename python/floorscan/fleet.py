@@ -41,8 +41,8 @@ def map_recording(recording: Recording, out_dir: str) -> Dict[str, Any]:
     log = io.StringIO()
     result: Dict[str, Any] = {"name": recording.name, "input": recording.input}
     try:
-        args = build_parser().parse_args(recording.run_argv(out))
         with redirect_stdout(log), redirect_stderr(log):
+            args = build_parser().parse_args(recording.run_argv(out))
             rc = run_command.main(args)
         summary = json.loads((out / "summary.json").read_text())
         counts = summary.get("counts", {})
