@@ -144,3 +144,23 @@ def test_opencv_board_photos_agree_with_opencvs_multi_view_calibration():
         assert e.size > 2000, path.name
         assert e.max() <= OPENCV_AGREEMENT_MAX_SQUARES, (path.name, e.max())
         assert np.sqrt(np.mean(e**2)) <= OPENCV_AGREEMENT_RMS_SQUARES, (path.name, e)
+
+
+def test_duckietown_with_its_own_intrinsics():
+    """The camera's published pinhole calibration (data README) as known intrinsics: only the
+    pose is fitted, and the principal point lands where OpenCV's own pose puts it (measured
+    (0.390, -0.018) m, 2.0 cm from the hand measurement, which is good to 3 cm)."""
+    from floorscan.calibration import Intrinsics
+
+    folder = require_shared_data("calibration", "duckietown")
+    k = Intrinsics.pinhole(
+        fx=295.80, fy=299.54, cx=321.26, cy=241.74,
+        distortion=[-0.2354, 0.0364, -0.0033, -0.0012, 0.0], image_size=(640, 480),
+    )
+    table, report = calibrate(read_grey(folder / "image1.jpg"), folder / "pattern.toml",
+                              intrinsics=k)
+    assert report.intrinsics_given and report.residual_max_cm < 1.0
+    x, y = table.lookup(321.26, 241.74)
+    assert math.hypot(x - 0.40, y - 0.00) <= 0.025, (x, y)
+    # The camera's height from the pose alone: a Duckiebot's camera is about 0.1 m up.
+    assert 0.07 < report.model.height_m < 0.13

@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from .._atomic import PathLike
-from ..errors import CalibrationError, ImageError
+from ..errors import CalibrationError, ImageError, OptionError
 from ..ground_table import GroundTable
 from .camera_fit import refine
 from .detect import Detection, detect, to_uint8
@@ -23,7 +23,7 @@ from .options import CalibrationOptions, Coverage
 from .pattern import Pattern
 from .region import convex_hull, field_of_view, near_region, node_grid
 from .report import CalibrationReport, RangeRing, range_rings
-from .uncertainty import inflation, node_errors
+from .uncertainty import family_weights, inflation, node_errors
 
 ImageOrImages = Union[np.ndarray, Sequence[np.ndarray]]
 
@@ -79,19 +79,10 @@ def calibrate(
     image: ImageOrImages,
     pattern: Union[Pattern, PathLike, Sequence[Union[Pattern, PathLike]]],
     *,
-    spacing_px: int = 8,
-    coverage: Union[str, Coverage] = Coverage.TRUSTED,
-    max_error_fraction: float = 0.03,
-    min_error_m: float = 0.02,
-    max_range_m: float = 3.0,
-    horizon_margin_rad: float = 0.02,
-    families: Optional[Sequence[str]] = None,
     intrinsics: Optional[Union[Intrinsics, PathLike]] = None,
     offsets_m: Optional[Sequence[float]] = None,
     extrapolate: bool = False,
-    margin_m: Optional[float] = None,
-    near_field: bool = True,
-    leave_one_out: bool = True,
+    **options: Any,
 ) -> Tuple[GroundTable, CalibrationReport]:
     """Builds a ground table from one or more images of a calibration pattern on the floor.
 
@@ -103,9 +94,10 @@ def calibrate(
             pattern lay (the robot backed up by that distance). Default: 0 for every image.
         intrinsics: known lens intrinsics (an :class:`Intrinsics` or the path of an OpenCV
             FileStorage YAML/XML or ROS camera_info YAML): only the camera's pose is fitted.
-        spacing_px, coverage, max_error_fraction, min_error_m, max_range_m,
-            horizon_margin_rad, families,
-            margin_m, near_field, leave_one_out: see :class:`CalibrationOptions`.
+        options: the fields of :class:`CalibrationOptions` as keywords (``spacing_px``,
+            ``coverage``, ``max_error_fraction``, ``min_error_m``, ``max_range_m``,
+            ``horizon_margin_rad``, ``families``, ``margin_m``, ``near_field``,
+            ``leave_one_out``); its defaults apply to those not given.
         extrapolate: True is ``coverage="all"`` (kept for older callers).
 
     Returns:
@@ -121,18 +113,17 @@ def calibrate(
         floorscan.ConfigError: a pattern file with missing, unknown or ill-typed keys.
         floorscan.ImageError: not an image, or images of different sizes.
     """
-    opts = CalibrationOptions(
-        spacing_px=spacing_px,
-        coverage=Coverage.ALL if extrapolate else coverage,
-        max_error_fraction=max_error_fraction,
-        min_error_m=min_error_m,
-        max_range_m=max_range_m,
-        horizon_margin_rad=horizon_margin_rad,
-        families=tuple(families) if families is not None else CalibrationOptions.families,
-        margin_m=margin_m,
-        near_field=near_field,
-        leave_one_out=leave_one_out,
-    )
+    if extrapolate:
+        options["coverage"] = Coverage.ALL
+    known_options = set(CalibrationOptions.__dataclass_fields__)
+    unknown = sorted(set(options) - known_options)
+    if unknown:
+        raise OptionError(
+            f"unknown calibration option(s) {unknown} (known: {sorted(known_options)})"
+        )
+    if options.get("families") is None:
+        options.pop("families", None)
+    opts = CalibrationOptions(**options)
     images = [image] if isinstance(image, np.ndarray) else list(image)
     if not images:
         raise ImageError("no calibration image given")
@@ -167,9 +158,16 @@ def calibrate(
     valid = np.isfinite(x) & (np.sign(det) == chirality)
     valid &= np.hypot(x - model.centre_m[0], y - model.centre_m[1]) <= opts.max_range_m
     alpha = inflation(choice, uv, g)
-    others = [c.fit.model for c in choice.plausible if c is not choice.best]
+    others, weights = family_weights(choice)
     bar, _sigma, _spread, _interp = node_errors(
-        choice.best.fit, others, u, v, opts.spacing_px, min_depression_rad=margin, alpha=alpha
+        choice.best.fit,
+        [c.fit.model for c in others],
+        u,
+        v,
+        opts.spacing_px,
+        min_depression_rad=margin,
+        alpha=alpha,
+        weights=weights,
     )
     rng = np.hypot(np.nan_to_num(x), np.nan_to_num(y))
     trusted = valid & (bar <= np.maximum(opts.max_error_fraction * rng, opts.min_error_m))

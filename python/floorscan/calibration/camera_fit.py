@@ -73,17 +73,16 @@ def _prior(family: LensFamily, image_size: Tuple[int, int]):
     return residual
 
 
-def _numeric_jacobian(fun, p: np.ndarray, free_idx: np.ndarray) -> np.ndarray:
-    r0 = fun(p)
-    jac = np.empty((r0.size, free_idx.size))
-    for c, i in enumerate(free_idx):
-        h = 1e-6 * max(abs(p[i]), 1.0)
-        a = p.copy()
-        b = p.copy()
-        a[i] += h
-        b[i] -= h
-        jac[:, c] = (fun(a) - fun(b)) / (2 * h)
-    return jac
+def _numeric_jacobian(fun_batch, p: np.ndarray, free_idx: np.ndarray) -> np.ndarray:
+    """Central differences of ``fun_batch`` ((K, P) parameter vectors -> (K, R) residuals)
+    with respect to the parameters ``free_idx``, all perturbations in one call."""
+    h = 1e-6 * np.maximum(np.abs(p[free_idx]), 1.0)
+    batch = np.repeat(p[None], 2 * free_idx.size, axis=0)
+    rows = np.arange(free_idx.size)
+    batch[2 * rows, free_idx] += h
+    batch[2 * rows + 1, free_idx] -= h
+    r = fun_batch(batch)
+    return ((r[0::2] - r[1::2]) / (2 * h)[:, None]).T
 
 
 def _solve(
@@ -108,20 +107,18 @@ def _solve(
         p[free_idx] = q
         return p
 
-    def res_full(p: np.ndarray) -> np.ndarray:
-        m = start.with_vector(p)
-        u, v = m.project_ground(ground[:, 0], ground[:, 1])
-        e = np.column_stack([u, v]) - uv
+    def res_batch(ps: np.ndarray) -> np.ndarray:
+        u, v = start.project_ground_batch(ps, ground[:, 0], ground[:, 1])  # (K, M)
+        e = np.stack([u - uv[:, 0], v - uv[:, 1]], axis=-1).reshape(len(ps), -1)
         e = np.where(np.isfinite(e), e, 1e4) / noise_px
-        parts = [e.ravel()]
-        if lens_free:
-            parts.append(prior(p[:n_lens]))
-        return np.concatenate(parts)
+        if not lens_free:
+            return e
+        return np.hstack([e, np.stack([prior(p[:n_lens]) for p in ps])])
 
     def fun(q: np.ndarray):
         p = full_of(q)
-        r = res_full(p)
-        return r, _numeric_jacobian(res_full, p, free_idx)
+        r = res_batch(p[None])[0]
+        return r, _numeric_jacobian(res_batch, p, free_idx)
 
     q, jac = levenberg_marquardt(fun, full0[free_idx], max_iterations=max_iterations)
     model = start.with_vector(full_of(q))

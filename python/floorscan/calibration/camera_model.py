@@ -84,6 +84,19 @@ class CameraModel:
         cam = np.tensordot(rotation(self.camera_from_ground), p, axes=1)
         return self.family.project(self.lens_params, cam)
 
+    def project_ground_batch(self, vectors: np.ndarray, x, y) -> Tuple[np.ndarray, np.ndarray]:
+        """:meth:`project_ground` for K parameter vectors (K, P) at once: (K, M) pixels."""
+        vectors = np.asarray(vectors, float)
+        n = self.family.size
+        k = len(vectors)
+        rot = np.stack([rotation(r) for r in vectors[:, n : n + 3]])  # (K, 3, 3)
+        centre = vectors[:, n + 3 : n + 6]  # (K, 3)
+        pts = np.stack([np.asarray(x, float), np.asarray(y, float), np.zeros(np.size(x))])
+        rel = pts[None] - centre[:, :, None]  # (K, 3, M)
+        cam = np.einsum("kij,kjm->ikm", rot, rel)  # (3, K, M)
+        lens = vectors[:, :n].T.reshape(n, k, 1)
+        return self.family.project(lens, cam)
+
     def rays(self, u, v) -> np.ndarray:
         """Unit rays (3, ...) in the ground frame seen at pixels (u, v); NaN where the lens
         model is not valid."""

@@ -54,7 +54,8 @@ class LensFamily:
     # --- projection --------------------------------------------------------------------
     def project(self, p: np.ndarray, ray: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """Pixels (u, v) of rays ``ray`` (3, ...) in the optical frame; NaN where the family
-        cannot image the ray."""
+        cannot image the ray. ``p`` may also be a batch (size, K, 1) of parameter vectors
+        with ``ray`` (3, K, M): one projection per vector (numeric derivatives)."""
         fx, fy, cx, cy = p[:4]
         t = dict(zip(self.terms, p[4:]))
         x, y, z = ray[0], ray[1], ray[2]
@@ -64,7 +65,14 @@ class LensFamily:
                 xn = np.where(ok, x / np.where(ok, z, 1.0), np.nan)
                 yn = np.where(ok, y / np.where(ok, z, 1.0), np.nan)
                 # Past the radius where the radial factor folds back, the model means nothing.
-                r_max = _radial_monotonic_limit([t.get(k, 0.0) for k in ("k1", "k2", "k3")])
+                ks = [t.get(k, 0.0) for k in ("k1", "k2", "k3")]
+                if np.ndim(fx) == 0:
+                    r_max = _radial_monotonic_limit(ks)
+                else:
+                    kb = np.broadcast_arrays(*[np.asarray(k, float) for k in ks])
+                    r_max = np.array(
+                        [_radial_monotonic_limit([k[i, 0] for k in kb]) for i in range(len(kb[0]))]
+                    )[:, None]
                 inside = np.hypot(xn, yn) < r_max
                 xn, yn = np.where(inside, xn, np.nan), np.where(inside, yn, np.nan)
                 xd, yd = _plumb_bob(xn, yn, t)
@@ -159,12 +167,27 @@ def _plumb_bob(x, y, t):
 
 
 def _radial_monotonic_limit(ks) -> float:
-    """Largest undistorted radius up to which r * (1 + k1 r^2 + ...) keeps growing (1e3 if it
-    grows everywhere there)."""
-    r = np.linspace(0, 20.0, 20001)[1:]
-    g = r * _poly(r * r, ks)
-    bad = np.nonzero(np.diff(g) <= 0)[0]
-    return float(r[bad[0]]) if bad.size else 1e3
+    """Largest undistorted radius up to which r * (1 + k1 r^2 + k2 r^4 + k3 r^6) keeps growing:
+    the smallest positive root s = r^2 of its derivative 1 + 3 k1 s + 5 k2 s^2 + 7 k3 s^3
+    (1e3 if none)."""
+    c = [(2 * n + 1) * float(k) for n, k in enumerate(ks, start=1)]
+    while c and c[-1] == 0.0:
+        c.pop()
+    if not c:
+        return 1e3
+    if len(c) == 1:
+        return float(np.sqrt(-1.0 / c[0])) if c[0] < 0 else 1e3
+    if len(c) == 2:
+        a, b = c[1], c[0]
+        disc = b * b - 4 * a
+        if disc < 0:
+            return 1e3
+        cand = [(-b - np.sqrt(disc)) / (2 * a), (-b + np.sqrt(disc)) / (2 * a)]
+        pos = [x for x in cand if x > 0]
+        return float(np.sqrt(min(pos))) if pos else 1e3
+    roots = np.roots([*reversed(c), 1.0])
+    real = roots.real[(np.abs(roots.imag) < 1e-9) & (roots.real > 0)]
+    return float(np.sqrt(real.min())) if real.size else 1e3
 
 
 def _undistort_plumb_bob(xd, yd, t, iterations: int = 30):

@@ -32,7 +32,8 @@ class Coverage(str, Enum):
 class CalibrationOptions:
     """How a ground table is built from pattern images.
 
-    - ``spacing_px``: table node spacing [px], 1..64. Default 8.
+    - ``spacing_px``: table node spacing [px], 1..64. Default 4 (at 8 px the bilinear
+      interpolation alone is off by up to 2 cm at 2-3 m on a 640 x 480 camera 0.25 m up).
     - ``coverage``: :class:`Coverage` (``"trusted"``, ``"pattern"``, ``"all"``). Default
       ``"trusted"``. ``extrapolate = True`` is the older spelling of ``"all"``.
     - ``max_error_fraction``: with ``trusted``, the largest predicted floor error a node may
@@ -54,7 +55,7 @@ class CalibrationOptions:
       True; False reports the residual instead).
     """
 
-    spacing_px: int = 8
+    spacing_px: int = 4
     coverage: Coverage = Coverage.TRUSTED
     max_error_fraction: float = 0.03
     min_error_m: float = 0.02

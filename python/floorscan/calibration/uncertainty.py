@@ -7,7 +7,9 @@ from the true one [m]. Three parts:
    of an elongated one).
 2. **Model uncertainty**: the largest distance between the chosen family's floor point and
    that of every other plausible family (one that predicts held-out pattern points about as
-   well, :mod:`.model_choice`): where the pattern cannot tell the lenses apart the bar says so.
+   well, :mod:`.model_choice`) whose likelihood ratio on the held-out points is at least
+   ``MIN_WEIGHT`` (:func:`family_weights`): where the pattern cannot tell the lenses apart
+   the bar says so.
 3. **Interpolation**: the table interpolates bilinearly between nodes; the largest difference
    from the model at the midpoints of the cells around a node.
 
@@ -19,13 +21,16 @@ calibration of the linearised bars on extrapolation by one block).
 
 from __future__ import annotations
 
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .camera_fit import CameraFit
 from .camera_model import CameraModel
 
+MIN_WEIGHT = 0.05
+"""Plausible families less likely than this (likelihood ratio on the held-out points) do not
+count into the model part."""
 SIGMAS = 2.15
 """Standard deviations in the bar (90 % of a circular 2-D Gaussian)."""
 
@@ -70,16 +75,43 @@ def model_spread(
     v: np.ndarray,
     *,
     min_depression_rad: float,
+    weights: Optional[Sequence[float]] = None,
 ) -> np.ndarray:
-    """Largest distance [m] between ``best``'s floor point and each of ``others``' (infinite
-    where another model sees no floor where ``best`` does)."""
+    """Largest distance [m] between ``best``'s floor point and each of ``others``' whose
+    weight (if ``weights`` are given) is at least ``MIN_WEIGHT``: infinite where such a model
+    sees the pixel's ray at or above the horizon while ``best`` sees floor (a disagreement
+    that matters), not counted where the model's lens cannot describe the pixel at all (past
+    the radius where its polynomial folds back: it is no candidate for that part of the
+    image)."""
     g = floor_points(best, u, v, min_depression_rad=min_depression_rad)
     out = np.zeros(np.shape(u))
-    for m in others:
+    for i, m in enumerate(others):
+        if weights is not None and weights[i] < MIN_WEIGHT:
+            continue
         o = floor_points(m, u, v, min_depression_rad=min_depression_rad)
         d = np.hypot(o[0] - g[0], o[1] - g[1])
-        out = np.maximum(out, np.where(np.isfinite(d), d, np.inf))
+        describable = np.all(np.isfinite(m.rays(u, v)), axis=0)
+        d = np.where(np.isfinite(d), d, np.where(describable, np.inf, 0.0))
+        out = np.maximum(out, d)
     return out
+
+
+def family_weights(choice) -> Tuple[List[CameraModel], List[float]]:
+    """The other plausible families and their weights: ``exp(-delta / 2)`` with ``delta`` the
+    excess of their held-out squared errors over the chosen family's, in units of its mean
+    held-out squared error (a likelihood ratio on the held-out points)."""
+    best = choice.best
+    e0 = best.held_out_errors_px
+    var = max(float(np.mean(e0 * e0)), 1e-12)
+    ss0 = float(np.sum(e0 * e0))
+    others, weights = [], []
+    for c in choice.plausible:
+        if c is best:
+            continue
+        delta = (float(np.sum(c.held_out_errors_px**2)) - ss0) / var
+        others.append(c)
+        weights.append(float(np.exp(-0.5 * max(delta, 0.0))))
+    return others, weights
 
 
 def interpolation_error(
@@ -122,11 +154,15 @@ def node_errors(
     *,
     min_depression_rad: float,
     alpha: float = 1.0,
+    weights: Optional[Sequence[float]] = None,
 ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(bar, parameter part, model part, interpolation part) [m] at the nodes; ``alpha``
-    scales the first two (:func:`inflation`)."""
+    scales the first two (:func:`inflation`); ``weights``: of the ``plausible`` models
+    (:func:`family_weights`; None: the largest distance counts)."""
     sigma = SIGMAS * parameter_sigma(fit, u, v, min_depression_rad=min_depression_rad)
-    spread = model_spread(fit.model, plausible, u, v, min_depression_rad=min_depression_rad)
+    spread = model_spread(
+        fit.model, plausible, u, v, min_depression_rad=min_depression_rad, weights=weights
+    )
     interp = interpolation_error(
         fit.model, spacing_px, u, v, min_depression_rad=min_depression_rad
     )
@@ -144,7 +180,7 @@ def inflation(choice, uv: np.ndarray, ground: np.ndarray) -> float:
     """``alpha`` (>= 1): the factor by which the bars of the cross-validation refits must grow
     to cover ``COVERAGE`` of their held-out points' floor errors."""
     best = choice.best
-    plausible = [c for c in choice.plausible if c is not best]
+    plausible, weights = family_weights(choice)
     used_uv, used_g = uv[choice.used], ground[choice.used]
     ratios: List[np.ndarray] = []
     for k, test in enumerate(choice.folds):
@@ -154,7 +190,12 @@ def inflation(choice, uv: np.ndarray, ground: np.ndarray) -> float:
         e = np.hypot(x - used_g[test, 0], y - used_g[test, 1])
         sigma = SIGMAS * parameter_sigma(f, u, v, min_depression_rad=0.0)
         spread = model_spread(
-            f.model, [c.fold_fits[k].model for c in plausible], u, v, min_depression_rad=0.0
+            f.model,
+            [c.fold_fits[k].model for c in plausible],
+            u,
+            v,
+            min_depression_rad=0.0,
+            weights=weights,
         )
         bar = np.hypot(sigma, spread)
         ratios.append(np.where(np.isfinite(e), e, np.inf) / np.maximum(bar, 1e-9))

@@ -27,8 +27,10 @@ def table_error(
 ) -> Dict[str, Any]:
     """Max and RMS distance [cm] between ``table`` and the exact mapping of ``camera``
     (:class:`floorscan.sim.Camera`) on a pixel lattice every ``step_px`` pixels, over the pixels
-    whose exact ground range is within ``within_m`` [m] and that the table covers; also the
-    share of those pixels the table covers."""
+    whose exact ground range is within ``within_m`` [m] (3 m, the range sensor's default
+    maximum range) and that the table covers; also the share of those pixels the table covers
+    (``covered_share``) and the share of the covered ones within the table's own predicted
+    error (``within_predicted``, for tables that carry one)."""
     w, h = table.image_width, table.image_height
     us, vs = np.meshgrid(
         np.arange(0.0, w, step_px, dtype=np.float64), np.arange(0.0, h, step_px, dtype=np.float64)
@@ -42,7 +44,14 @@ def table_error(
     err = np.hypot(cx[covered] - tx[within][covered], cy[covered] - ty[within][covered])
     if err.size == 0:
         return {"status": "no overlap", "max_cm": float("nan"), "rms_cm": float("nan")}
+    extra = {}
+    if table.error_m is not None:
+        bar = table.lookup_error(us[within][covered], vs[within][covered])
+        ok = np.isfinite(bar)
+        if ok.any():
+            extra["within_predicted"] = float(np.mean(err[ok] <= bar[ok]))
     return {
+        **extra,
         "status": "measured",
         "max_cm": float(err.max() * 100),
         "rms_cm": float(np.sqrt(np.mean(err**2)) * 100),

@@ -23,7 +23,7 @@ COLUMNS = [
     ("frames", "frames"),
     ("boundary error %", "error_pct"),
     ("median / p90 cm", "point_error"),
-    ("calib. max / RMS cm", "calibration"),
+    ("calib. max / RMS cm (floor covered to 3 m)", "calibration"),
     ("map agr. odom / true %", "agreement"),
     ("occ. prec / rec %", "occupied"),
     ("free known %", "free_known"),
@@ -42,7 +42,10 @@ def _num(x: Optional[float], fmt: str = "{:.1f}") -> str:
 
 def calibration_cell(cal: Dict[str, Any]) -> str:
     if cal.get("status") == "measured":
-        return f"{cal['max_cm']:.2f} / {cal['rms_cm']:.2f}"
+        text = f"{cal['max_cm']:.2f} / {cal['rms_cm']:.2f}"
+        if "covered_share" in cal:
+            text += f" ({100 * cal['covered_share']:.0f} %)"
+        return text
     return str(cal.get("status", "-"))
 
 
@@ -100,6 +103,11 @@ def group_summary(records: Sequence[Dict[str, Any]]) -> Dict[str, Any]:
             "status": "measured",
             "max_cm": max(c["max_cm"] for c in cals),
             "rms_cm": float(np.sqrt(np.mean([c["rms_cm"] ** 2 for c in cals]))),
+            **(
+                {"covered_share": float(np.mean([c["covered_share"] for c in cals]))}
+                if all("covered_share" in c for c in cals)
+                else {}
+            ),
         }
         if cals
         else (ms[0].get("calibration", {}) if ms else {})
