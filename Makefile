@@ -7,7 +7,10 @@ PY      := $(VENV)/bin/python
 STAMP   := $(VENV)/.deps-stamp
 CARGO   ?= cargo
 
-.PHONY: test demo dev deps lint fmt bench bench-py clean rust-toolchain
+.PHONY: test demo dev deps lint fmt bench bench-py clean rust-toolchain fuzz
+
+FUZZ_CASES   ?= 20000
+FUZZ_SECONDS ?= 600
 
 rust-toolchain:
 	@command -v $(CARGO) >/dev/null 2>&1 || { \
@@ -32,6 +35,15 @@ dev: rust-toolchain deps
 test: dev
 	$(CARGO) test --workspace -q
 	$(PY) -m pytest -q
+
+# Fuzzing (issue 12), bounded in time: proptest targets of the Rust parsers and FFI entry points
+# with FUZZ_CASES random cases each, then hypothesis on the Python readers (the "fuzz" profile).
+# Each stage stops after FUZZ_SECONDS. `make test` runs the short deterministic corpus of both.
+fuzz: dev
+	FLOORSCAN_FUZZ=1 PROPTEST_CASES=$(FUZZ_CASES) timeout $(FUZZ_SECONDS) \
+	    $(CARGO) test --release -q -p floorscan-core -p floorscan-sim --test fuzz
+	FLOORSCAN_HYPOTHESIS_PROFILE=fuzz timeout $(FUZZ_SECONDS) \
+	    $(PY) -m pytest -q -p no:cacheprovider tests/test_fuzz_readers.py
 
 demo: dev
 	$(VENV)/bin/floorscan demo -o demo-out

@@ -13,9 +13,8 @@ import math
 import sys
 import time
 
-import numpy as np
-
 import floorscan
+import numpy as np
 from floorscan.lens import CameraMount, Lens
 from floorscan.sim import Camera
 from floorscan.sim.calibration import CalibrationPattern, render_calibration
@@ -101,8 +100,14 @@ def score(table, camera):
         e = err[ring]
         out[f"max_cm_{lo}_{hi}"] = float(100 * e.max()) if e.size else float("nan")
         out[f"rms_cm_{lo}_{hi}"] = float(100 * np.sqrt(np.mean(e**2))) if e.size else float("nan")
-        out[f"valid_{lo}_{hi}"] = float(ring.sum() / max((floor & (rng >= lo) & (rng < hi)).sum(), 1))
-    out["max_cm_within_2m"] = float(np.nanmax(np.where(has & (rng < 2), err, np.nan)) * 100) if np.any(has & (rng < 2)) else float("nan")
+        out[f"valid_{lo}_{hi}"] = float(
+            ring.sum() / max((floor & (rng >= lo) & (rng < hi)).sum(), 1)
+        )
+    out["max_cm_within_2m"] = (
+        float(np.nanmax(np.where(has & (rng < 2), err, np.nan)) * 100)
+        if np.any(has & (rng < 2))
+        else float("nan")
+    )
     e = getattr(table, "error_m", None)
     if e is not None:
         pe = table.lookup_error(u.ravel(), v.ravel()).reshape(u.shape)
@@ -120,7 +125,9 @@ def main(argv=None):
         "--intrinsics", action="store_true", help="give calibrate() the camera's true intrinsics"
     )
     ap.add_argument(
-        "--views", type=int, default=1,
+        "--views",
+        type=int,
+        default=1,
         help="images of the board, the robot backed up by 0.3 m between them",
     )
     a = ap.parse_args(argv)
@@ -162,10 +169,10 @@ def main(argv=None):
         s["model"] = report.model_name
         results[name] = s
         print(
-            f"{name:22s} {report.model_name:18s} valid3m {100*s['valid_fraction_3m']:5.1f}%  "
+            f"{name:22s} {report.model_name:18s} valid3m {100 * s['valid_fraction_3m']:5.1f}%  "
             f"max<2m {s['max_cm_within_2m']:7.2f} cm  rms 0-1 {s['rms_cm_0_1']:6.2f} "
             f"1-2 {s['rms_cm_1_2']:6.2f} 2-3 {s['rms_cm_2_3']:7.2f} cm  max2-3 {s['max_cm_2_3']:7.1f}"
-            + (f"  honest {100*s['honest_fraction']:.0f}%" if "honest_fraction" in s else "")
+            + (f"  honest {100 * s['honest_fraction']:.0f}%" if "honest_fraction" in s else "")
             + f"  {dt:.1f}s"
         )
         sys.stdout.flush()
@@ -181,11 +188,17 @@ def true_intrinsics(cam):
     p = lens.params
     if lens.model == "kannala_brandt":
         return Intrinsics.fisheye(
-            fx=p["fx"], fy=p["fy"], cx=p["cx"], cy=p["cy"],
+            fx=p["fx"],
+            fy=p["fy"],
+            cx=p["cx"],
+            cy=p["cy"],
             distortion=[p["k1"], p["k2"], p["k3"], p["k4"]],
         )
     return Intrinsics.pinhole(
-        fx=p["fx"], fy=p["fy"], cx=p["cx"], cy=p["cy"],
+        fx=p["fx"],
+        fy=p["fy"],
+        cx=p["cx"],
+        cy=p["cy"],
         distortion=[p["k1"], p["k2"], p["p1"], p["p2"], p["k3"]],
     )
 

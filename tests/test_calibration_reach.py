@@ -7,11 +7,10 @@ from __future__ import annotations
 import math
 
 import cv2
+import floorscan
 import numpy as np
 import pytest
 import yaml
-
-import floorscan
 from floorscan import CalibrationError, GroundTable
 from floorscan.calibration import Intrinsics, Pattern, calibrate, check_table
 from floorscan.calibration.camera_fit import fit_family
@@ -184,7 +183,11 @@ def test_a_table_file_keeps_its_error_bars(default_table, tmp_path):
 def _true_intrinsics(cam: Camera) -> Intrinsics:
     p = cam.lens.params
     return Intrinsics.fisheye(
-        fx=p["fx"], fy=p["fy"], cx=p["cx"], cy=p["cy"], distortion=[p["k1"], p["k2"], 0, 0],
+        fx=p["fx"],
+        fy=p["fy"],
+        cx=p["cx"],
+        cy=p["cy"],
+        distortion=[p["k1"], p["k2"], 0, 0],
         image_size=(cam.width, cam.height),
     )
 
@@ -241,9 +244,7 @@ def test_intrinsics_of_another_image_size_are_refused(default_table):
 def test_two_images_with_the_robot_backed_up_cover_more(default_table):
     cam, image, table1, _ = default_table
     second, _ = render_calibration(cam, board(0.36 + 0.3), seed=2)
-    table2, report = calibrate(
-        [image, second], as_pattern(board()), offsets_m=[0.0, 0.3]
-    )
+    table2, report = calibrate([image, second], as_pattern(board()), offsets_m=[0.0, 0.3])
     assert report.views == 2 and report.points_found == 96
     _e1, _b1, _r1, c1 = truth_errors(table1, cam)
     e2, b2, _r2, c2 = truth_errors(table2, cam)
@@ -292,16 +293,36 @@ def test_cli_calibrate_with_intrinsics_and_check(default_table, tmp_path):
     }
     (tmp_path / "camera_info.yaml").write_text(yaml.safe_dump(ros))
     table_path = tmp_path / "table.json"
-    assert main([
-        "calibrate", str(tmp_path / "pattern.png"), "-o", str(table_path),
-        "--intrinsics", str(tmp_path / "camera_info.yaml"), "--overlay", str(tmp_path / "o.png"),
-    ]) == 0
+    assert (
+        main(
+            [
+                "calibrate",
+                str(tmp_path / "pattern.png"),
+                "-o",
+                str(table_path),
+                "--intrinsics",
+                str(tmp_path / "camera_info.yaml"),
+                "--overlay",
+                str(tmp_path / "o.png"),
+            ]
+        )
+        == 0
+    )
     table = GroundTable.load(table_path)
     e, _bar, r, covered = truth_errors(table, cam)
     assert covered > 0.85 and np.max(e[r < 2.0]) < 0.025
     assert (tmp_path / "o.png").is_file()
-    assert main([
-        "calibrate", "--check", str(table_path), str(tmp_path / "pattern.png"),
-        "--report", str(tmp_path / "check.json"),
-    ]) == 0
+    assert (
+        main(
+            [
+                "calibrate",
+                "--check",
+                str(table_path),
+                str(tmp_path / "pattern.png"),
+                "--report",
+                str(tmp_path / "check.json"),
+            ]
+        )
+        == 0
+    )
     assert (tmp_path / "check.json").is_file()

@@ -154,11 +154,16 @@ def test_duckietown_with_its_own_intrinsics():
 
     folder = require_shared_data("calibration", "duckietown")
     k = Intrinsics.pinhole(
-        fx=295.80, fy=299.54, cx=321.26, cy=241.74,
-        distortion=[-0.2354, 0.0364, -0.0033, -0.0012, 0.0], image_size=(640, 480),
+        fx=295.80,
+        fy=299.54,
+        cx=321.26,
+        cy=241.74,
+        distortion=[-0.2354, 0.0364, -0.0033, -0.0012, 0.0],
+        image_size=(640, 480),
     )
-    table, report = calibrate(read_grey(folder / "image1.jpg"), folder / "pattern.toml",
-                              intrinsics=k)
+    table, report = calibrate(
+        read_grey(folder / "image1.jpg"), folder / "pattern.toml", intrinsics=k
+    )
     assert report.intrinsics_given and report.residual_max_cm < 1.0
     x, y = table.lookup(321.26, 241.74)
     assert math.hypot(x - 0.40, y - 0.00) <= 0.025, (x, y)

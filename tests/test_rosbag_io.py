@@ -35,8 +35,9 @@ def test_images_and_odometry_round_trip(tmp_path, ros_version, name, compressed)
     topics = bag_topics(path)
     assert topics["/odom"] == "nav_msgs/msg/Odometry"
     got = list(iter_bag_images(path, image_topic="/camera/image_raw"))
-    assert [t for t, _ in got] == pytest.approx([t for t, _ in fr])
-    for (_, a), (_, b) in zip(got, fr):
+    assert [t for t, _, _ in got] == pytest.approx([t for t, _ in fr])
+    assert [e for _, _, e in got] == [None] * len(fr)
+    for (_, a, _), (_, b) in zip(got, fr):
         np.testing.assert_array_equal(a, b)
     odo = read_bag_odometry(path, odom_topic="/odom")
     np.testing.assert_allclose(odo.x, ODOM.x)

@@ -5,6 +5,10 @@ Conventions: SI units, REP 103 frames (x forward, y left, angles counter-clockwi
 radians), REP 117 ranges (+inf no return), image rows counted from the top.
 """
 
+# isort: off
+from . import _startup  # noqa: F401  (first: a Ctrl-C while importing exits quietly)
+
+# isort: on
 from . import _native
 from .errors import (
     CalibrationError,
@@ -15,9 +19,11 @@ from .errors import (
     GeometryError,
     ImageError,
     ImageTypeError,
+    InternalError,
     LengthMismatchError,
     OptionError,
     OutOfBoundsError,
+    OutputError,
     TableError,
     UnsupportedVersionError,
     WorldError,
@@ -48,6 +54,7 @@ __all__ = [
     "GroundTable",
     "ImageError",
     "ImageTypeError",
+    "InternalError",
     "InsertStats",
     "Lens",
     "LengthMismatchError",
@@ -55,6 +62,7 @@ __all__ = [
     "OccupancyGrid",
     "OptionError",
     "OutOfBoundsError",
+    "OutputError",
     "SCAN_CSV_HEADER",
     "Scan",
     "TableError",

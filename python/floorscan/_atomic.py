@@ -8,6 +8,8 @@ import tempfile
 from pathlib import Path
 from typing import Callable, Union
 
+from .errors import OutputError
+
 PathLike = Union[str, "os.PathLike[str]"]
 
 
@@ -29,25 +31,53 @@ def _make_readable(path: Union[str, Path]) -> None:
     os.chmod(path, 0o666 & ~_umask())
 
 
-def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix: str = "") -> Path:
-    """Calls ``write(binary_file)`` on a temporary file, then renames it to ``path``."""
+def output_error(path: PathLike, e: OSError) -> OutputError:
+    """The one-line error for an output that cannot be written (a folder, read-only, under a
+    file, a name too long, a full disk)."""
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=suffix or ".tmp", dir=target.parent
-    )
-    _make_readable(tmp)
+    why = e.strerror or str(e)
+    if target.is_dir():
+        why = "it is a folder"
+    elif any(p.exists() and not p.is_dir() for p in target.parents):
+        why = "a parent of it is a file"
+    return OutputError(f"cannot write {target}: {why}")
+
+
+def _prepare(target: Path) -> None:
+    if target.is_dir():
+        raise OutputError(f"cannot write {target}: it is a folder")
     try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise output_error(target, e) from None
+
+
+def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix: str = "") -> Path:
+    """Calls ``write(binary_file)`` on a temporary file, then renames it to ``path``. An
+    output that cannot be written raises OutputError (also an OSError); nothing is left
+    behind."""
+    target = Path(path)
+    _prepare(target)
+    try:
+        fd, tmp = tempfile.mkstemp(
+            prefix=f".{target.name[:200]}.", suffix=suffix or ".tmp", dir=target.parent
+        )
+    except OSError as e:
+        raise output_error(target, e) from None
+    try:
+        _make_readable(tmp)
         with os.fdopen(fd, "wb") as f:
             write(f)
             f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, target)
-    except BaseException:
+    except BaseException as e:
         try:
             os.unlink(tmp)
         except FileNotFoundError:
             pass
+        if isinstance(e, OSError) and not isinstance(e, OutputError):
+            raise output_error(target, e) from None
         raise
     return target
 
@@ -56,8 +86,13 @@ def temp_path_for(path: PathLike, suffix: str) -> Path:
     """A fresh temporary path beside ``path`` (for writers that insist on a file name, such as
     image encoders choosing a format by extension). Rename it with ``os.replace`` when done."""
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
+    _prepare(target)
+    try:
+        fd, tmp = tempfile.mkstemp(
+            prefix=f".{target.name[:200]}.", suffix=suffix, dir=target.parent
+        )
+    except OSError as e:
+        raise output_error(target, e) from None
     os.close(fd)
     _make_readable(tmp)
     return Path(tmp)

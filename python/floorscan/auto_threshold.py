@@ -38,6 +38,8 @@ def texture_noise(
     cols = np.asarray(columns, dtype=np.intp)
     for image in images:
         img = np.asarray(image, dtype=np.float64)
+        if np.asarray(image).dtype == np.uint16:
+            img /= 257.0  # 8-bit intensity units, as the threshold (see VisualRanger)
         h = img.shape[0]
         bottom = h - 1 - bottom_margin  # lowest row scanned
         top = max(d, bottom - max(2 * d + 1, int(round(rows_fraction * h))))

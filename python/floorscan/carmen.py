@@ -101,7 +101,7 @@ class _Fields:
 
     def count(self, i: int, name: str) -> int:
         v = self.number(i, name)
-        if v != int(v) or v < 0 or v > 100_000:
+        if not (0 <= v <= 100_000) or v != int(v):
             raise self.error(f"field {i} ({name}) must be a count, got {self.parts[i]!r}")
         return int(v)
 

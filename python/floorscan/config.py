@@ -73,7 +73,7 @@ class CalibrationConfig:
         "camera's pose is fitted; unset: the lens is fitted too",
         None,
     )
-    extrapolate: bool = doc("older spelling of coverage = \"all\"", False)
+    extrapolate: bool = doc('older spelling of coverage = "all"', False)
 
     def kwargs(self) -> Dict[str, Any]:
         """The keyword options of :func:`floorscan.calibrate`."""
@@ -106,6 +106,10 @@ class MapConfig:
     occupied_threshold: float = doc("probability at or above which a cell is occupied", 0.65)
     free_threshold: float = doc("probability at or below which a cell is free", 0.196)
     local_size_m: float = doc("side of the robot-centred local map [m] (the paper: 3.84 m)", 3.84)
+    max_cells: int = doc(
+        "most cells the global map may span (default 2^25: 231 m square at 4 cm); a pose farther out is skipped and counted (docs/limits.md)",
+        1 << 25,
+    )
 
 
 @dataclass
@@ -138,9 +142,20 @@ class OutputsConfig:
     overlay_max_frames: int = doc(
         "frames in the overlay animation (evenly spread over the run)", 120
     )
+    overlay_max_mb: int = doc(
+        "most memory the kept overlay frames may take [MB]; fewer frames are kept past it", 256
+    )
     bag: bool = doc("write scans (LaserScan) and the map (OccupancyGrid) to a ROS 2 bag", True)
     bag_storage: str = doc("ROS 2 bag storage: mcap | sqlite3", "mcap")
     laser_angle_increment_rad: float = doc("angular bin of the LaserScan conversion [rad]", 0.01)
+
+
+@dataclass
+class LimitsConfig:
+    max_image_pixels: int = doc(
+        "largest image decoded (width x height); larger ones, decompression bombs among them, are refused unread (docs/limits.md)",
+        1 << 26,
+    )
 
 
 @dataclass
@@ -151,6 +166,7 @@ class Config:
     map: MapConfig = field(default_factory=MapConfig)
     sensors: SensorsConfig = field(default_factory=SensorsConfig)
     outputs: OutputsConfig = field(default_factory=OutputsConfig)
+    limits: LimitsConfig = field(default_factory=LimitsConfig)
 
     # --- reading ------------------------------------------------------------------------
     @classmethod

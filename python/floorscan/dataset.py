@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import List, Tuple
@@ -24,6 +25,8 @@ def read_images_txt(folder: PathLike) -> List[ImageEntry]:
     index = folder / "images.txt"
     try:
         lines = index.read_text(encoding="utf-8").splitlines()
+    except UnicodeDecodeError as e:
+        raise DatasetError(f"{index}: not UTF-8 text ({e})") from None
     except OSError as e:
         raise DatasetError(
             f"{folder} is not a dataset folder: cannot read images.txt ({e})"
@@ -44,6 +47,13 @@ def read_images_txt(folder: PathLike) -> List[ImageEntry]:
             raise DatasetError(
                 f"{index}:{lineno}: timestamp {parts[0]!r} is not a number"
             ) from None
+        if not math.isfinite(t):
+            raise DatasetError(f"{index}:{lineno}: timestamp {parts[0]!r} is not finite")
+        if entries and t <= entries[-1].timestamp:
+            raise DatasetError(
+                f"{index}:{lineno}: timestamp {t} is not after the previous one "
+                f"({entries[-1].timestamp}): images.txt must be in increasing time order"
+            )
         entries.append(ImageEntry(t, folder / parts[1]))
     return entries
 

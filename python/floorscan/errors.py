@@ -19,6 +19,10 @@ class ImageTypeError(ImageError, TypeError):
     """An image is not a numpy array of a supported dtype."""
 
 
+class ArgumentTypeError(FloorscanError, TypeError):
+    """An argument has the wrong type or shape (the message names it and what was expected)."""
+
+
 class OptionError(FloorscanError, ValueError):
     """An option or configuration value is outside its valid range (the message names it)."""
 
@@ -63,10 +67,19 @@ class WorldError(FileFormatError):
     """A simulator world file is invalid (the message names the line or the field)."""
 
 
+class OutputError(FloorscanError, OSError):
+    """An output path cannot be written (a folder, read-only, under a file, too long, ...)."""
+
+
+class InternalError(FloorscanError, RuntimeError):
+    """A bug in floorscan (a Rust panic caught at the FFI boundary); please report it."""
+
+
 __all__ = [
     "FloorscanError",
     "ImageError",
     "ImageTypeError",
+    "ArgumentTypeError",
     "OptionError",
     "ConfigError",
     "TableError",
@@ -78,4 +91,6 @@ __all__ = [
     "CalibrationError",
     "DatasetError",
     "WorldError",
+    "OutputError",
+    "InternalError",
 ]

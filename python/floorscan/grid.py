@@ -15,9 +15,16 @@ import numpy as np
 
 from . import _native
 from ._atomic import PathLike
-from .errors import LengthMismatchError
-from .grid_options import EvidenceLike, as_pose, as_poses, grid_options, inserter_options
-from .grid_views import GridViews
+from .errors import ArgumentTypeError, LengthMismatchError
+from .grid_options import (
+    DEFAULT_MAX_CELLS,
+    EvidenceLike,
+    as_pose,
+    as_poses,
+    grid_options,
+    inserter_options,
+)
+from .grid_views import GridViews, cell_index
 from .scan import Scan
 
 
@@ -38,13 +45,15 @@ def laser_args(ranges, angles, angle_min, angle_increment, *, two_d: bool = Fals
         raise LengthMismatchError(f"`ranges` must have shape {shape}, got {r.shape}")
     if angles is not None:
         if angle_min is not None or angle_increment is not None:
-            raise TypeError("give either `angles` or `angle_min` and `angle_increment`, not both")
+            raise ArgumentTypeError(
+                "give either `angles` or `angle_min` and `angle_increment`, not both"
+            )
         a = np.ascontiguousarray(angles, dtype=np.float64)
         if a.ndim != 1 or a.size != r.shape[-1]:
             raise LengthMismatchError(f"{r.shape[-1]} ranges per scan but {a.size} angles")
         return r, a, 0.0, 0.0
     if angle_min is None or angle_increment is None:
-        raise TypeError("give `angles`, or both `angle_min` and `angle_increment`")
+        raise ArgumentTypeError("give `angles`, or both `angle_min` and `angle_increment`")
     return r, None, float(angle_min), float(angle_increment)
 
 
@@ -86,6 +95,9 @@ class OccupancyGrid(GridViews):
         keep_evidence: also keep, per cell, the unclamped sum of every increment (int32, 4
             more bytes per cell), for exact merges of maps (:meth:`evidence`,
             :mod:`floorscan.evidence`). Default False.
+        max_cells: most cells the map may span (its tiles' bounding box, fixed bounds, or one
+            export), default 2^25 (231 m square at 4 cm): a pose far outside raises
+            OutOfBoundsError instead of allocating (docs/limits.md).
 
     >>> import floorscan, numpy as np
     >>> grid = floorscan.OccupancyGrid(cell_size_m=0.1)
@@ -111,6 +123,7 @@ class OccupancyGrid(GridViews):
         too_close: str = "mark",
         boundary_margin_rows: float = 0.5,
         keep_evidence: bool = False,
+        max_cells: int = DEFAULT_MAX_CELLS,
     ) -> None:
         go = grid_options(
             cell_size_m=cell_size_m,
@@ -120,6 +133,7 @@ class OccupancyGrid(GridViews):
             clamp_max_nats=clamp_max_nats,
             occupied_threshold=occupied_threshold,
             free_threshold=free_threshold,
+            max_cells=max_cells,
         )
         io = inserter_options(
             visual=visual,
@@ -167,7 +181,7 @@ class OccupancyGrid(GridViews):
         dataset's rig.toml ``[camera]``). Free space starts at each column's near edge of view;
         see :mod:`floorscan.grid` for the rules. The GIL is released."""
         if not isinstance(scan, Scan):
-            raise TypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
+            raise ArgumentTypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
         return InsertStats(
             *self._native.insert_scan(scan._native, as_pose(pose, "pose"), as_pose(mount, "mount"))
         )
@@ -267,10 +281,14 @@ class OccupancyGrid(GridViews):
     def write_raw(self, values: np.ndarray, *, x_cell: int, y_cell: int) -> None:
         """Writes an (H, W) int16 array of log-odds [1/1000 nat] with its first cell at
         (x_cell, y_cell) (values are clamped to the map's bounds)."""
-        v = np.ascontiguousarray(values, dtype=np.int16)
+        try:
+            v = np.ascontiguousarray(values, dtype=np.int16)
+        except (TypeError, ValueError, OverflowError) as e:
+            raise LengthMismatchError(f"values must be an (H, W) int16 array: {e}") from None
         if v.ndim != 2:
             raise LengthMismatchError(f"values must be (H, W), got shape {v.shape}")
-        self._native.write_values(int(x_cell), int(y_cell), v)
+        x, y = cell_index("x_cell", x_cell), cell_index("y_cell", y_cell)
+        self._native.write_values(x, y, v)
 
     def save(self, path: PathLike, *, mode: str = "trinary", extent=None):
         """Writes a ROS map_server map: ``path`` (.yaml) and an 8-bit PGM beside it, atomically.

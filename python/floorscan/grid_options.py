@@ -9,7 +9,10 @@ from typing import Any, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from .errors import OptionError
+from .errors import ArgumentTypeError, OptionError
+
+DEFAULT_MAX_CELLS = 1 << 25
+"""Default ``max_cells`` of a map (33.5 M cells: 231 m square at 4 cm); see docs/limits.md."""
 
 TOO_CLOSE_POLICIES = {
     "mark": "mark_near_edge",
@@ -80,6 +83,14 @@ def _number(name: str, value: Any) -> float:
         raise OptionError(f"invalid option `{name}`: must be a number, got {value!r}") from None
 
 
+def _count(name: str, value: Any, lo: int, hi: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
+        raise OptionError(
+            f"invalid option `{name}`: must be an integer in [{lo}, {hi}], got {value!r}"
+        )
+    return int(value)
+
+
 def _pair(name: str, value: Any) -> Tuple[float, float]:
     a = np.asarray(value, dtype=object).ravel()
     if a.size != 2:
@@ -96,6 +107,7 @@ def grid_options(
     clamp_max_nats: float,
     occupied_threshold: float,
     free_threshold: float,
+    max_cells: int = DEFAULT_MAX_CELLS,
 ) -> Dict[str, Any]:
     """The core's ``GridOptions`` (see crates/floorscan-core/src/grid_options.rs)."""
     ox, oy = _pair("origin_m", origin_m)
@@ -118,6 +130,7 @@ def grid_options(
         "clamp_max_nats": _number("clamp_max_nats", clamp_max_nats),
         "occupied_threshold": _number("occupied_threshold", occupied_threshold),
         "free_threshold": _number("free_threshold", free_threshold),
+        "max_cells": _count("max_cells", max_cells, 1, 2**32),
     }
 
 
@@ -169,9 +182,9 @@ def as_pose(value: Any, name: str) -> Pose:
     try:
         a = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
-        raise TypeError(f"`{name}` must be (x, y, yaw), got {value!r}") from None
+        raise ArgumentTypeError(f"`{name}` must be (x, y, yaw), got {value!r}") from None
     if a.shape != (3,):
-        raise TypeError(f"`{name}` must be (x [m], y [m], yaw [rad]), got shape {a.shape}")
+        raise ArgumentTypeError(f"`{name}` must be (x [m], y [m], yaw [rad]), got shape {a.shape}")
     return float(a[0]), float(a[1]), float(a[2])
 
 

@@ -14,7 +14,7 @@ from typing import Optional, Tuple, Union
 import numpy as np
 
 from ._atomic import PathLike, temp_path_for
-from .errors import LengthMismatchError, OptionError
+from .errors import LengthMismatchError, OptionError, OutOfBoundsError
 
 UNITS_PER_NAT = 1000.0
 """Stored log-odds units per nat (cells hold int16 thousandths of a nat)."""
@@ -51,6 +51,26 @@ class GridExtent:
 
 
 Coordinate = Union[float, np.ndarray]
+
+
+MAX_CELL_INDEX = 1 << 30
+"""Cells farther than this from the lattice origin do not exist (as in the Rust core)."""
+
+
+def cell_index(name: str, value) -> int:
+    """A cell coordinate as an int within +-2^30 (OutOfBoundsError otherwise)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise OutOfBoundsError(f"`{name}` must be an integer cell index, got {value!r}")
+    if not -MAX_CELL_INDEX < int(value) < MAX_CELL_INDEX:
+        raise OutOfBoundsError(f"`{name}` = {value} is more than 2^30 cells from the origin")
+    return int(value)
+
+
+def cell_count(name: str, value) -> int:
+    """A rectangle side [cells] as a non-negative int (OutOfBoundsError otherwise)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or int(value) < 0:
+        raise OutOfBoundsError(f"`{name}` must be a non-negative integer, got {value!r}")
+    return min(int(value), 2 * MAX_CELL_INDEX)
 
 
 def _xy(x, y) -> Tuple[np.ndarray, np.ndarray, bool]:
@@ -90,7 +110,11 @@ class GridViews:
     def raw(self, extent: Optional[GridExtent] = None) -> np.ndarray:
         """(H, W) int16 log-odds in thousandths of a nat (0 = p 0.5 = no evidence)."""
         e = extent or self.extent
-        return self._native.values(e.x_cell, e.y_cell, e.width, e.height)
+        if not isinstance(e, GridExtent):
+            raise OutOfBoundsError(f"extent must be a GridExtent, got {type(e).__name__}")
+        x, y = cell_index("x_cell", e.x_cell), cell_index("y_cell", e.y_cell)
+        w, h = cell_count("width", e.width), cell_count("height", e.height)
+        return self._native.values(x, y, w, h)
 
     def log_odds(self, extent: Optional[GridExtent] = None) -> np.ndarray:
         """(H, W) float32 log-odds [nats]."""

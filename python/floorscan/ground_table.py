@@ -187,7 +187,8 @@ class GroundTable:
         """
         e = np.asarray(error_m, dtype=np.float64)
         nu, nv = self.node_shape_for(
-            image_width=self.image_width, image_height=self.image_height,
+            image_width=self.image_width,
+            image_height=self.image_height,
             spacing_px=self.spacing_px,
         )
         if e.shape != (nv, nu):
@@ -209,6 +210,9 @@ class GroundTable:
 
     @classmethod
     def from_json(cls, text: str) -> GroundTable:
+        """Parses the JSON file format (docs/formats.md); FileFormatError if damaged."""
+        if not isinstance(text, str):
+            raise FileFormatError(f"a ground table is JSON text, got {type(text).__name__}")
         return cls(_native.GroundTable.from_json(text))
 
     def save(self, path: PathLike) -> Path:

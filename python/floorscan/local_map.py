@@ -14,9 +14,9 @@ from typing import Any, Dict, Optional, Sequence
 import numpy as np
 
 from . import _native
-from .errors import OptionError
+from .errors import ArgumentTypeError, OptionError
 from .grid import InsertStats, laser_args, sonar_args
-from .grid_options import EvidenceLike, as_pose, grid_options, inserter_options
+from .grid_options import DEFAULT_MAX_CELLS, EvidenceLike, as_pose, grid_options, inserter_options
 from .grid_views import UNITS_PER_NAT, GridViews
 from .scan import Scan
 
@@ -29,7 +29,8 @@ class LocalMap(GridViews):
         pose: the robot's starting pose in the local frame ``(x, y, yaw)``; default the
             origin (a fresh odometry frame).
         cell_size_m, origin_m, clamp_min_nats, clamp_max_nats, occupied_threshold,
-        free_threshold, visual, laser, sonar, too_close: as :class:`~floorscan.OccupancyGrid`.
+        free_threshold, visual, laser, sonar, too_close, max_cells: as
+            :class:`~floorscan.OccupancyGrid`.
 
     Arrays, images and queries (:meth:`raw`, :meth:`probabilities`, :meth:`is_free`,
     :meth:`distance_to_nearest_occupied`, ...) are in the local frame over the window.
@@ -59,6 +60,7 @@ class LocalMap(GridViews):
         sonar: EvidenceLike = (0.4, -0.2),
         too_close: str = "mark",
         boundary_margin_rows: float = 0.5,
+        max_cells: int = DEFAULT_MAX_CELLS,
     ) -> None:
         go = grid_options(
             cell_size_m=cell_size_m,
@@ -68,6 +70,7 @@ class LocalMap(GridViews):
             clamp_max_nats=clamp_max_nats,
             occupied_threshold=occupied_threshold,
             free_threshold=free_threshold,
+            max_cells=max_cells,
         )
         try:
             size = float(size_m)
@@ -114,7 +117,7 @@ class LocalMap(GridViews):
         camera at ``mount`` (``robot_from_camera``). Same argument order as
         :meth:`floorscan.OccupancyGrid.insert_scan`."""
         if not isinstance(scan, Scan):
-            raise TypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
+            raise ArgumentTypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
         self._place(pose)
         return InsertStats(*self._native.insert_scan(scan._native, as_pose(mount, "mount")))
 

@@ -174,18 +174,21 @@ def _check_keys(raw: Dict[str, Any], path: Path) -> Dict[str, Any]:
 def read_map_image(path: PathLike) -> tuple:
     """(grey (H, W) float64 0..255 with row 0 at the top, alpha (H, W) or None). Colour pixels
     are the mean of their channels, as map_server does."""
-    from PIL import Image, UnidentifiedImageError
+    from PIL import UnidentifiedImageError
+
+    from .errors import ImageError
+    from .image_io import _decoded, open_image
 
     try:
-        with Image.open(path) as im:
-            im.load()
+        with open_image(path, f"map image {path}") as im:
+            _decoded(im, str(path))
             if im.mode in ("RGBA", "LA", "PA") or "transparency" in im.info:
                 rgba = np.asarray(im.convert("RGBA"), dtype=np.float64)
                 return rgba[..., :3].mean(axis=2), rgba[..., 3]
             if im.mode == "L":
                 return np.asarray(im, dtype=np.float64), None
             return np.asarray(im.convert("RGB"), dtype=np.float64).mean(axis=2), None
-    except (OSError, UnidentifiedImageError) as e:
+    except (OSError, UnidentifiedImageError, ImageError) as e:
         raise FileFormatError(f"cannot read map image {path}: {e}") from None
 
 

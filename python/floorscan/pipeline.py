@@ -13,8 +13,9 @@ from typing import Dict, Optional, Tuple
 
 import numpy as np
 
+from ._signals import StopRequest
 from .config import Config
-from .errors import FloorscanError, ImageError
+from .errors import FloorscanError, ImageError, OutOfBoundsError
 from .ground_table import GroundTable
 from .ranger import VisualRanger
 from .scan import Scan
@@ -45,6 +46,7 @@ def grid_kwargs(cfg: Config) -> Dict[str, object]:
         clamp_max_nats=m.clamp_max_nats,
         occupied_threshold=m.occupied_threshold,
         free_threshold=m.free_threshold,
+        max_cells=m.max_cells,
         visual=(s.visual.hit_nats, s.visual.miss_nats),
         laser=(s.laser.hit_nats, s.laser.miss_nats),
         sonar=(s.sonar.hit_nats, s.sonar.miss_nats),
@@ -140,9 +142,11 @@ class RunStats:
     skipped_unreadable: int = 0
     skipped_no_odometry: int = 0
     skipped_wrong_size: int = 0
+    skipped_out_of_map: int = 0
     dropped_live: int = 0
     boundary_points: int = 0
     interrupted: bool = False
+    signal: Optional[int] = None
     error: Optional[str] = None
     wall_s: float = 0.0
     skip_reasons: Dict[str, str] = field(default_factory=dict)
@@ -171,67 +175,83 @@ def run(
     progress=None,
 ) -> RunStats:
     """Runs the mapper over every frame of ``source``; outputs are always finalised, on
-    Ctrl-C (SIGINT) and on error too, so the map built so far is never lost."""
+    SIGINT (Ctrl-C), SIGTERM, SIGHUP and on error too, so the map built so far is never lost.
+    A signal stops the run after the current frame; see :mod:`floorscan._signals`."""
     stats = RunStats()
     start = time.perf_counter()
     shape = (mapper.ranger.table.image_height, mapper.ranger.table.image_width)
-    previous = signal.getsignal(signal.SIGINT)
-    try:
-        if previous is signal.SIG_IGN:
-            signal.signal(signal.SIGINT, signal.default_int_handler)
-        frames = iter(source)
-        while True:
-            t_dec = time.perf_counter()
-            frame = next(frames, None)
-            mapper.times.decode_s += time.perf_counter() - t_dec
-            if frame is None:
-                break
-            stats.frames_in += 1
-            if frame.image is None:
-                if strict:
-                    raise ImageError(f"frame {frame.index} (t={frame.timestamp}): {frame.error}")
-                stats.skipped_unreadable += 1
-                stats.skip_reasons.setdefault(f"frame {frame.index}", frame.error or "unreadable")
-                continue
-            if frame.image.shape[:2] != shape:
-                msg = f"frame {frame.index} is {frame.image.shape[1]}x{frame.image.shape[0]}, the calibration is for {shape[1]}x{shape[0]}"
-                if strict:
-                    raise ImageError(msg)
-                stats.skipped_wrong_size += 1
-                stats.skip_reasons.setdefault(f"frame {frame.index}", msg)
-                continue
-            pose, ok = match_pose(source.odometry, frame.timestamp)
-            if not ok:
-                if strict:
-                    raise FloorscanError(
-                        f"frame {frame.index} at t={frame.timestamp} is outside the odometry's time range"
-                    )
-                stats.skipped_no_odometry += 1
-                continue
-            pose_t = pose.as_tuple() if pose is not None else None
-            scan = mapper.process(frame.image, timestamp=frame.timestamp, pose=pose_t)
-            stats.frames_mapped += 1
-            t_out = time.perf_counter()
-            outputs.on_frame(frame, scan, pose_t, mapper)
-            mapper.times.output_s += time.perf_counter() - t_out
+    stop = StopRequest()
+    with stop.installed():
+        try:
+            with stop.loop():
+                _frame_loop(source, mapper, outputs, stats, shape, stop, strict, progress)
+        except KeyboardInterrupt as e:
+            stats.interrupted = True
+            stats.signal = getattr(e, "signum", int(signal.SIGINT))
+        except FloorscanError as e:
+            stats.error = str(e)
+            raise
+        finally:
             if progress is not None:
-                progress.update(
-                    stats.frames_in,
-                    skipped=stats.frames_in - stats.frames_mapped,
-                    dropped=source.dropped,
-                )
-    except KeyboardInterrupt:
-        stats.interrupted = True
-    except FloorscanError as e:
-        stats.error = str(e)
-        raise
-    finally:
-        signal.signal(signal.SIGINT, previous)
-        if progress is not None:
-            progress.close()
-        source.close()
-        stats.dropped_live = source.dropped
-        stats.boundary_points = mapper.points
-        stats.wall_s = time.perf_counter() - start
-        outputs.finish(mapper, stats)
+                progress.close()
+            source.close()
+            if stop.requested:
+                stats.interrupted = True
+                stats.signal = stats.signal or stop.signum
+            stats.dropped_live = source.dropped
+            stats.boundary_points = mapper.points
+            stats.wall_s = time.perf_counter() - start
+            outputs.finish(mapper, stats)
     return stats
+
+
+def _frame_loop(source, mapper, outputs, stats, shape, stop, strict, progress) -> None:
+    frames = iter(source)
+    while not stop.requested:
+        t_dec = time.perf_counter()
+        frame = next(frames, None)
+        mapper.times.decode_s += time.perf_counter() - t_dec
+        if frame is None:
+            break
+        stats.frames_in += 1
+        if frame.image is None:
+            if strict:
+                raise ImageError(f"frame {frame.index} (t={frame.timestamp}): {frame.error}")
+            stats.skipped_unreadable += 1
+            stats.skip_reasons.setdefault(f"frame {frame.index}", frame.error or "unreadable")
+            continue
+        if frame.image.shape[:2] != shape:
+            msg = f"frame {frame.index} is {frame.image.shape[1]}x{frame.image.shape[0]}, the calibration is for {shape[1]}x{shape[0]}"
+            if strict:
+                raise ImageError(msg)
+            stats.skipped_wrong_size += 1
+            stats.skip_reasons.setdefault(f"frame {frame.index}", msg)
+            continue
+        pose, ok = match_pose(source.odometry, frame.timestamp)
+        if not ok:
+            if strict:
+                raise FloorscanError(
+                    f"frame {frame.index} at t={frame.timestamp} is outside the odometry's time range"
+                )
+            stats.skipped_no_odometry += 1
+            continue
+        pose_t = pose.as_tuple() if pose is not None else None
+        try:
+            scan = mapper.process(frame.image, timestamp=frame.timestamp, pose=pose_t)
+        except OutOfBoundsError as e:
+            # A pose outside the map's limits ([map] max_cells): wrong odometry, not a map.
+            if strict:
+                raise
+            stats.skipped_out_of_map += 1
+            stats.skip_reasons.setdefault(f"frame {frame.index}", str(e))
+            continue
+        stats.frames_mapped += 1
+        t_out = time.perf_counter()
+        outputs.on_frame(frame, scan, pose_t, mapper)
+        mapper.times.output_s += time.perf_counter() - t_out
+        if progress is not None:
+            progress.update(
+                stats.frames_in,
+                skipped=stats.frames_in - stats.frames_mapped,
+                dropped=source.dropped,
+            )

@@ -9,10 +9,16 @@ from typing import Optional, TextIO
 
 class Progress:
     def __init__(
-        self, total: Optional[int], *, enabled: bool = True, stream: TextIO = sys.stderr
+        self, total: Optional[int], *, enabled: bool = True, stream: Optional[TextIO] = None
     ) -> None:
+        # The stream is looked up when the line is made, not when this module is imported
+        # (sys.stderr may have been replaced, and the old one closed, since).
+        stream = stream if stream is not None else sys.stderr
         self.total = total or None
-        self.enabled = enabled and stream.isatty()
+        try:
+            self.enabled = enabled and stream.isatty()
+        except (ValueError, OSError):  # a closed or detached stream: no progress line
+            self.enabled = False
         self.stream = stream
         self.start = time.perf_counter()
         self._last = 0.0

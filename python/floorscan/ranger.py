@@ -14,13 +14,17 @@ from typing import Any, Dict, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from .errors import ImageError, OptionError
+from .errors import ArgumentTypeError, ImageError, OptionError
 from .ground_table import GroundTable
 from .image_io import as_grey
 from .scan import Scan
 
 REFINEMENTS = {"subpixel": "sub_pixel", "peak": "peak", "none": "first_crossing"}
 """Accepted ``refine`` values: ``"subpixel"`` (default), ``"peak"``, ``"none"`` (the paper)."""
+
+
+U16_PER_U8 = 257.0
+"""65535 / 255: one 8-bit intensity unit in a uint16 image (the threshold's scale there)."""
 
 
 class VisualRanger:
@@ -31,8 +35,10 @@ class VisualRanger:
         columns: number of evenly spaced columns, or an explicit sequence of image columns
             [px]. Default 64.
         half_width: half-width d of the box filter [px], >= 1. Default 4.
-        threshold: edge threshold on the difference of the two window means, in intensity
-            units (0-255 for uint8 images), finite, >= 0. Default 10.
+        threshold: edge threshold on the difference of the two window means, in 8-bit
+            intensity units (0-255), finite, >= 0. Default 10. A uint16 image is compared at
+            ``threshold * 257`` (65535 / 255), so one frame saved at either depth gives the
+            same scan.
         refine: ``"subpixel"`` (default), ``"peak"``, or ``"none"`` (the paper's first
             crossing; ``False`` is accepted too).
         bottom_margin: rows skipped at the bottom of every column (bumper, dead border row)
@@ -70,7 +76,9 @@ class VisualRanger:
         max_range_m: Optional[float] = 3.0,
     ) -> None:
         if not isinstance(table, GroundTable):
-            raise TypeError(f"table must be a floorscan.GroundTable, got {type(table).__name__}")
+            raise ArgumentTypeError(
+                f"table must be a floorscan.GroundTable, got {type(table).__name__}"
+            )
         self._table = table
         options = build_ranger_options(
             image_width=table.image_width,
@@ -83,7 +91,9 @@ class VisualRanger:
             mask=mask,
             max_range_m=max_range_m,
         )
+        self._options = options
         self._native = _native.VisualRanger(table._native, json.dumps(options))
+        self._native16: Optional[object] = None
 
     @property
     def table(self) -> GroundTable:
@@ -108,9 +118,19 @@ class VisualRanger:
                 f"image is {grey.shape[1]} x {grey.shape[0]} (W x H) but the calibration table is "
                 f"for {self._table.image_width} x {self._table.image_height}"
             )
-        t = float(timestamp)
+        try:
+            t = float(timestamp)
+        except (TypeError, ValueError):
+            raise OptionError(
+                f"invalid option `timestamp`: must be a number [s], got {timestamp!r}"
+            ) from None
         if not math.isfinite(t):
             raise OptionError(f"invalid option `timestamp`: must be finite, got {timestamp}")
+        if grey.dtype == np.uint16:
+            if self._native16 is None:
+                options = dict(self._options, threshold=self._options["threshold"] * U16_PER_U8)
+                self._native16 = _native.VisualRanger(self._table._native, json.dumps(options))
+            return Scan(self._native16.scan(grey, t))
         return Scan(self._native.scan(grey, t))
 
 

@@ -8,6 +8,7 @@ bags (ROS 1 or 2) for converting datasets.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import shutil
@@ -18,8 +19,8 @@ from typing import Dict, Iterable, Iterator, List, Sequence, Tuple
 import numpy as np
 
 from ._atomic import PathLike
-from .errors import DatasetError, ImageError
-from .image_io import as_grey
+from .errors import DatasetError, FloorscanError, ImageError
+from .image_io import as_grey, check_image_size, open_image
 from .trajectory import Trajectory, quaternion_from_yaw, yaw_from_quaternion
 
 IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
@@ -44,12 +45,28 @@ def _stamp_s(msg, bag_time_ns: int) -> float:
     return bag_time_ns * 1e-9
 
 
+def _check_compressed_size(data: bytes) -> None:
+    """Reads a compressed image's size from its header (PIL parses PNG / JPEG headers without
+    decoding) and refuses it before OpenCV allocates the pixels."""
+    import io
+
+    try:
+        im = open_image(io.BytesIO(data), "compressed image message")
+    except ImageError as e:
+        if "pixels, more than the limit" in str(e) or "decompression bomb" in str(e).lower():
+            raise
+        return  # a format PIL does not know: OpenCV decides (and bounds nothing we know of)
+    im.close()
+
+
 def decode_image(msg, msgtype: str) -> np.ndarray:
     """A ROS image message as a (H, W) uint8/uint16 grey array."""
     if msgtype.endswith("CompressedImage"):
         import cv2
 
-        img = cv2.imdecode(np.frombuffer(bytes(msg.data), np.uint8), cv2.IMREAD_UNCHANGED)
+        data = bytes(msg.data)
+        _check_compressed_size(data)
+        img = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
         if img is None:
             raise ImageError(f"cannot decode compressed image (format {msg.format!r})")
         if img.ndim == 3:
@@ -72,6 +89,7 @@ def decode_image(msg, msgtype: str) -> np.ndarray:
         raise ImageError(
             f"unsupported image encoding {msg.encoding!r} (mono8, mono16, rgb8, bgr8, rgba8, bgra8)"
         )
+    check_image_size(int(w), int(h), "image message")
     wide = enc in ("mono16", "16uc1")
     if len(data) < h * step:
         raise ImageError(f"image message holds {len(data)} bytes, needs {h * step}")
@@ -92,19 +110,36 @@ def bag_topics(path: PathLike) -> Dict[str, str]:
         return {c.topic: c.msgtype for c in reader.connections}
 
 
+@contextlib.contextmanager
 def _open_reader(path, AnyReader, Stores, get_typestore):
+    """An open bag reader; any failure of the reader (damaged, truncated or empty bags, a
+    corrupt metadata.yaml or database) is a DatasetError naming the bag."""
     p = Path(path)
     if not p.exists():
         raise DatasetError(f"bag not found: {p}")
     try:
-        return AnyReader(
+        reader = AnyReader(
             [p],
             default_typestore=get_typestore(
                 Stores.ROS1_NOETIC if p.suffix == ".bag" else Stores.LATEST
             ),
         )
+        reader.open()
     except Exception as e:  # rosbags raises several unrelated types for damaged bags
         raise DatasetError(f"cannot open bag {p}: {e}") from None
+    try:
+        yield reader
+    except FloorscanError:
+        raise
+    except (GeneratorExit, KeyboardInterrupt):
+        raise
+    except Exception as e:  # reading a damaged message stream
+        raise DatasetError(f"cannot read bag {p}: {e}") from None
+    finally:
+        try:
+            reader.close()
+        except Exception:
+            pass
 
 
 def _connection(reader, topic: str, allowed: Sequence[str], path: PathLike):
@@ -135,13 +170,22 @@ def read_bag_odometry(path: PathLike, *, odom_topic: str) -> Trajectory:
 
 
 def iter_bag_images(path: PathLike, *, image_topic: str) -> Iterator[Tuple[float, np.ndarray]]:
-    """(timestamp [s], grey image) of every image message on a topic, in bag order."""
+    """(timestamp [s], grey image or None, error or None) of every image message on a topic,
+    in bag order: a message that cannot be decoded gives None and the reason."""
     AnyReader, Stores, get_typestore = _rosbags()
     with _open_reader(path, AnyReader, Stores, get_typestore) as reader:
         conns = _connection(reader, image_topic, IMAGE_TYPES, path)
         for conn, t_ns, raw in reader.messages(connections=conns):
-            msg = reader.deserialize(raw, conn.msgtype)
-            yield _stamp_s(msg, t_ns), decode_image(msg, conn.msgtype)
+            try:
+                msg = reader.deserialize(raw, conn.msgtype)
+                t = _stamp_s(msg, t_ns)
+            except Exception as e:  # one damaged message: skipped and counted by the caller
+                yield t_ns * 1e-9, None, f"cannot deserialise message: {e}"
+                continue
+            try:
+                yield t, decode_image(msg, conn.msgtype), None
+            except FloorscanError as e:
+                yield t, None, str(e)
 
 
 # --- writing ------------------------------------------------------------------------------
@@ -174,11 +218,15 @@ class Ros2BagWriter:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._tmpdir = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", dir=self.path.parent))
-        self.typestore = get_typestore(Stores.LATEST)
-        self.types = self.typestore.types
-        plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
-        self._writer = Writer(self._tmpdir / "bag", version=9, storage_plugin=plugin)
-        self._writer.open()
+        try:
+            self.typestore = get_typestore(Stores.LATEST)
+            self.types = self.typestore.types
+            plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
+            self._writer = Writer(self._tmpdir / "bag", version=9, storage_plugin=plugin)
+            self._writer.open()
+        except BaseException:  # interrupted or failed while opening: leave nothing behind
+            shutil.rmtree(self._tmpdir, ignore_errors=True)
+            raise
         self._connections: Dict[str, object] = {}
 
     def _conn(self, topic: str, msgtype: str):

@@ -24,6 +24,7 @@ import numpy as np
 
 from ._atomic import _make_readable, write_atomic
 from .config import Config
+from .errors import OptionError, OutputError
 from .overlay import draw_scan_overlay
 from .scan import SCAN_CSV_HEADER, Scan
 
@@ -48,27 +49,75 @@ def peak_resident_mb() -> Optional[float]:
     return _proc_status_mb("VmHWM:")
 
 
+OVERLAY_FORMATS = ("gif", "mp4", "none")
+BAG_STORAGES = ("mcap", "sqlite3")
+MIN_LASER_INCREMENT_RAD = 1e-4
+"""Finest LaserScan bin (at most 62 832 bins over a full turn)."""
+
+
+def _bad(key: str, why: str, value) -> OptionError:
+    return OptionError(f"invalid option `outputs.{key}`: {why}, got {value!r}")
+
+
+def check_outputs(o) -> None:
+    """The ``[outputs]`` options' ranges (OptionError naming the key)."""
+    if o.overlay not in OVERLAY_FORMATS:
+        raise _bad("overlay", f"expected one of {', '.join(OVERLAY_FORMATS)}", o.overlay)
+    if o.bag_storage not in BAG_STORAGES:
+        raise _bad("bag_storage", f"expected one of {', '.join(BAG_STORAGES)}", o.bag_storage)
+    if not 1 <= o.overlay_max_frames <= 100_000:
+        raise _bad("overlay_max_frames", "must be in 1..=100000", o.overlay_max_frames)
+    if not 1 <= o.overlay_max_mb <= 65_536:
+        raise _bad("overlay_max_mb", "must be in 1..=65536 [MB]", o.overlay_max_mb)
+    p = o.local_snapshot_period_s
+    if not (math.isfinite(p) and p >= 0):
+        raise _bad("local_snapshot_period_s", "must be finite and >= 0 (0 disables)", p)
+    inc = o.laser_angle_increment_rad
+    if not (math.isfinite(inc) and MIN_LASER_INCREMENT_RAD <= inc <= math.pi):
+        raise _bad("laser_angle_increment_rad", "must be in [1e-4, pi] rad", inc)
+
+
 class RunOutputs:
     def __init__(self, out_dir, cfg: Config, *, expected_frames: Optional[int] = None) -> None:
+        check_outputs(cfg.outputs)
         self.out = Path(out_dir)
-        self.out.mkdir(parents=True, exist_ok=True)
+        try:
+            self.out.mkdir(parents=True, exist_ok=True)
+        except FileExistsError:
+            raise OutputError(f"output folder {self.out} exists and is not a folder") from None
+        except OSError as e:
+            raise OutputError(f"cannot create output folder {self.out}: {e.strerror}") from None
+        if not os.access(self.out, os.W_OK | os.X_OK):
+            raise OutputError(f"output folder {self.out} is not writable")
         self.cfg = cfg
+        self.finishing = False
+        self._bag = None
+        self._csv = None
+        self._csv_tmp: Optional[str] = None
+        try:
+            fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
+            self._csv = os.fdopen(fd, "w", encoding="utf-8")
+            self._open(cfg, expected_frames)
+        except BaseException:
+            self._discard_temporaries()  # interrupted or failed while opening: leave nothing
+            raise
+
+    def _open(self, cfg: Config, expected_frames: Optional[int]) -> None:
         o = cfg.outputs
-        fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
         _make_readable(self._csv_tmp)
-        self._csv = os.fdopen(fd, "w", encoding="utf-8")
         self._csv.write(SCAN_CSV_HEADER + "\n")
         # Overlay frames live in one buffer allocated (and touched) at the first frame, so memory
         # stays flat over a run however long; frames wider than 480 px are halved.
         self._overlay: Optional[np.ndarray] = None
         self._overlay_n = 0
+        self._overlay_cap = o.overlay_max_frames
+        self._expected_frames = expected_frames
         self._overlay_every = (
             max(1, (expected_frames or 0) // max(o.overlay_max_frames, 1)) if expected_frames else 1
         )
         self._frame_count = 0
         self._next_snapshot: Optional[float] = None
         self.snapshots: List[Path] = []
-        self._bag = None
         self._laser_range: Optional[tuple] = None
         self.extra_summary: dict = {}
         self.memory_samples: List[tuple] = []
@@ -101,7 +150,7 @@ class RunOutputs:
         if (
             o.overlay != "none"
             and self._frame_count % self._overlay_every == 0
-            and self._overlay_n < o.overlay_max_frames
+            and self._overlay_n < self._overlay_cap
         ):
             self._keep_overlay(draw_scan_overlay(frame.image, scan))
         if self._frame_count % 600 == 0:
@@ -121,8 +170,13 @@ class RunOutputs:
         while rgb.shape[1] > 480:
             rgb = rgb[::2, ::2]
         if self._overlay is None:
-            shape = (self.cfg.outputs.overlay_max_frames,) + rgb.shape
-            self._overlay = np.full(shape, 0, dtype=np.uint8)
+            # Bounded by overlay_max_mb: fewer frames, spread over the run, when they are big.
+            o = self.cfg.outputs
+            fit = max(1, (o.overlay_max_mb << 20) // max(rgb.nbytes, 1))
+            self._overlay_cap = min(o.overlay_max_frames, fit)
+            if self._expected_frames:
+                self._overlay_every = max(1, self._expected_frames // self._overlay_cap)
+            self._overlay = np.full((self._overlay_cap,) + rgb.shape, 0, dtype=np.uint8)
         self._overlay[self._overlay_n] = rgb
         self._overlay_n += 1
 
@@ -134,8 +188,35 @@ class RunOutputs:
 
     # --- end of run ---------------------------------------------------------------------
     def finish(self, mapper, stats) -> None:
+        """Writes every output. Each is written whole or not at all: a failing output does
+        not stop the others (the first error is raised after them all), and an interrupt
+        leaves no temporary file behind."""
+        steps = [
+            self._finish_scans,
+            lambda: self._finish_map(mapper),
+            self._write_overlay,
+            lambda: self._write_summary(mapper, stats),
+        ]
+        self.finishing = True
+        first: Optional[BaseException] = None
+        try:
+            for step in steps:
+                try:
+                    step()
+                except Exception as e:  # noqa: PERF203 - each output on its own
+                    first = first or e
+        except BaseException:
+            self._discard_temporaries()
+            raise
+        self._discard_temporaries()
+        if first is not None:
+            raise first
+
+    def _finish_scans(self) -> None:
         self._csv.close()
         os.replace(self._csv_tmp, self.out / "scans.csv")
+
+    def _finish_map(self, mapper) -> None:
         grid = mapper.global_map
         grid.save(self.out / "map.yaml")
         grid.to_png(self.out / "map.png")
@@ -143,20 +224,39 @@ class RunOutputs:
         if mapper.frames:
             mapper.local_map.to_png(self.out / "local" / "local_final.png")
         if self._bag is not None:
+            bag, self._bag = self._bag, None
             try:
                 data, resolution, origin = grid.to_occupancy_grid()
-                self._bag.write_occupancy_grid(
+                bag.write_occupancy_grid(
                     float(self.extra_summary.get("last_timestamp", 0.0)),
                     data,
                     resolution_m=resolution,
                     origin_xy_yaw=origin,
                 )
-                self._bag.close()
+                bag.close()
             except BaseException:
-                self._bag.abort()
+                bag.abort()
                 raise
-        self._write_overlay()
-        self._write_summary(mapper, stats)
+
+    def discard(self) -> None:
+        """Abandons a run that never started: removes the temporary files (see finish)."""
+        self._discard_temporaries()
+
+    def _discard_temporaries(self) -> None:
+        """Removes what an interrupted or failed finish left: the scans' temporary file, an
+        unfinished bag, a half-written overlay."""
+        if self._csv is not None and not self._csv.closed:
+            self._csv.close()
+        if self._csv_tmp is not None:
+            Path(self._csv_tmp).unlink(missing_ok=True)
+        if self._bag is not None:
+            bag, self._bag = self._bag, None
+            try:
+                bag.abort()
+            except Exception:  # the temporary bag folder is removed either way
+                pass
+        for name in (".overlay.tmp.gif", ".overlay.tmp.mp4"):
+            (self.out / name).unlink(missing_ok=True)
 
     def _write_overlay(self) -> None:
         o = self.cfg.outputs

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import io
+import math
 from pathlib import Path
 from typing import Dict, Iterable, Iterator, List
 
@@ -140,30 +141,55 @@ def read_scans_csv(path: PathLike) -> List[Scan]:
     """Reads the public CSV back into scans (one per timestamp, in file order)."""
     try:
         text = Path(path).read_text(encoding="utf-8")
-    except OSError as e:
+    except (OSError, UnicodeDecodeError) as e:
         raise FileFormatError(f"cannot read scans CSV {path}: {e}") from None
     return list(parse_scans_csv(text, source=str(path)))
 
 
 def parse_scans_csv(text: str, *, source: str = "<csv>") -> Iterator[Scan]:
-    reader = csv.reader(io.StringIO(text))
+    """The scans of CSV text (FileFormatError naming the line for anything malformed)."""
+    try:
+        yield from _parse_scans_csv(text, source)
+    except csv.Error as e:
+        raise FileFormatError(f"{source}: not a valid CSV file: {e}") from None
+
+
+def _parse_scans_csv(text: str, source: str) -> Iterator[Scan]:
+    reader = csv.reader(io.StringIO(text, newline=""))
     header = next(reader, None)
     if header is None or ",".join(h.strip() for h in header) != SCAN_CSV_HEADER:
         raise FileFormatError(f"{source}: first line must be the header {SCAN_CSV_HEADER!r}")
     rows: List[List[str]] = []
     current = None
+    previous_t = -math.inf
     for lineno, fields in enumerate(reader, start=2):
         if not fields:
             continue
         if len(fields) != 8:
             raise FileFormatError(f"{source}:{lineno}: expected 8 fields, got {len(fields)}")
         if current is not None and fields[0] != current:
-            yield _scan_from_rows(rows, source)
+            scan = _scan_from_rows(rows, source)
+            previous_t = _in_time_order(scan, previous_t, source, rows[0][-1])
+            yield scan
             rows = []
         current = fields[0]
         rows.append(fields + [str(lineno)])
     if rows:
-        yield _scan_from_rows(rows, source)
+        scan = _scan_from_rows(rows, source)
+        _in_time_order(scan, previous_t, source, rows[0][-1])
+        yield scan
+
+
+def _in_time_order(scan: Scan, previous_t: float, source: str, lineno: str) -> float:
+    """The scans of a CSV are in increasing time order (docs/formats.md)."""
+    if not math.isfinite(scan.timestamp):
+        raise FileFormatError(f"{source}:{lineno}: timestamp {scan.timestamp} is not finite")
+    if scan.timestamp <= previous_t:
+        raise FileFormatError(
+            f"{source}:{lineno}: scan at t={scan.timestamp} is not after the previous one "
+            f"(t={previous_t}): scans must be in increasing time order"
+        )
+    return scan.timestamp
 
 
 def _scan_from_rows(rows: List[List[str]], source: str) -> Scan:

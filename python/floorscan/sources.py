@@ -17,8 +17,8 @@ import numpy as np
 
 from ._atomic import PathLike
 from .dataset import read_images_txt
-from .errors import DatasetError, FloorscanError
-from .image_io import as_grey, read_grey
+from .errors import DatasetError, FloorscanError, ImageError
+from .image_io import as_grey, check_image_size, read_grey
 from .rig import Rig, read_rig
 from .trajectory import Trajectory, read_tum
 
@@ -89,6 +89,13 @@ class VideoSource(FrameSource):
         self._cap = cv2.VideoCapture(str(self.path))
         if not self._cap.isOpened():
             raise DatasetError(f"cannot open video {self.path}")
+        w = int(self._cap.get(cv2.CAP_PROP_FRAME_WIDTH) or 0)
+        h = int(self._cap.get(cv2.CAP_PROP_FRAME_HEIGHT) or 0)
+        try:
+            check_image_size(w, h, f"video {self.path}")  # before a frame is decoded
+        except ImageError as e:
+            self._cap.release()
+            raise DatasetError(str(e)) from None
         self.odometry = read_tum(odometry) if odometry else None
         self.start_time = float(start_time)
         self._fps = self._cap.get(cv2.CAP_PROP_FPS) or 10.0
@@ -186,5 +193,6 @@ class BagSource(FrameSource):
     def __iter__(self) -> Iterator[Frame]:
         from .rosbag_io import iter_bag_images
 
-        for i, (t, img) in enumerate(iter_bag_images(self.path, image_topic=self.image_topic)):
-            yield Frame(i, t, img)
+        images = iter_bag_images(self.path, image_topic=self.image_topic)
+        for i, (t, img, error) in enumerate(images):
+            yield Frame(i, t, img, error)

@@ -17,9 +17,19 @@ import numpy as np
 from ._atomic import PathLike, write_atomic
 from .errors import DatasetError, GeometryError
 
+MIN_QUATERNION_NORM = 1e-6
+"""Quaternions shorter than this are refused (no rotation can be read from them); any longer
+quaternion is normalised (the yaw formula below is invariant to its scale)."""
+
 
 def yaw_from_quaternion(qx: float, qy: float, qz: float, qw: float) -> float:
-    return math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
+    """Yaw [rad] about +z of a quaternion, normalised first (GeometryError if near zero)."""
+    norm = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+    if not norm >= MIN_QUATERNION_NORM:
+        raise GeometryError(f"quaternion ({qx}, {qy}, {qz}, {qw}) has norm {norm}: not a rotation")
+    # atan2(2(wz + xy), w^2 + x^2 - y^2 - z^2) equals the unit-quaternion formula
+    # atan2(2(wz + xy), 1 - 2(y^2 + z^2)) for |q| = 1 and does not depend on |q|.
+    return math.atan2(2.0 * (qw * qz + qx * qy), qw * qw + qx * qx - qy * qy - qz * qz)
 
 
 def quaternion_from_yaw(yaw: float) -> Tuple[float, float, float, float]:
@@ -97,7 +107,7 @@ def read_tum(path: PathLike) -> Trajectory:
     path = Path(path)
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
-    except OSError as e:
+    except (OSError, UnicodeDecodeError) as e:
         raise DatasetError(f"cannot read trajectory {path}: {e}") from None
     rows: List[Tuple[float, float, float, float]] = []
     for lineno, line in enumerate(lines, start=1):
@@ -119,7 +129,11 @@ def read_tum(path: PathLike) -> Trajectory:
             raise DatasetError(
                 f"{path}:{lineno}: timestamp {t} does not increase (previous {rows[-1][0]})"
             )
-        rows.append((t, tx, ty, yaw_from_quaternion(qx, qy, qz, qw)))
+        try:
+            yaw = yaw_from_quaternion(qx, qy, qz, qw)
+        except GeometryError as e:
+            raise DatasetError(f"{path}:{lineno}: {e}") from None
+        rows.append((t, tx, ty, yaw))
     return Trajectory.from_poses(rows)
 
 

@@ -97,7 +97,7 @@ impl Grid {
             }
         });
         if let Some(r) = fixed {
-            check_cell_range(r)?;
+            check_cell_range(r, options.max_cells)?;
         }
         Grid::build(options, fixed)
     }
@@ -112,7 +112,7 @@ impl Grid {
                 reason: "the window is empty".into(),
             });
         }
-        check_cell_range(rect)?;
+        check_cell_range(rect, options.max_cells)?;
         let s = options.cell_size_m;
         let o = options.origin_m;
         options.bounds_m = Some(crate::grid_options::Bounds {
@@ -273,6 +273,44 @@ impl Grid {
             })
     }
 
+    /// The rectangle of `width` x `height` cells whose first cell is (`min_x`, `min_y`),
+    /// checked: every corner within [`crate::raycast::MAX_CELL_INDEX`] of the lattice origin
+    /// and at most [`GridOptions::max_cells`] cells ([`Error::OutOfBounds`] otherwise), so that
+    /// reading or writing it allocates a bounded amount.
+    pub fn checked_rect(
+        &self,
+        min_x: i64,
+        min_y: i64,
+        width: u64,
+        height: u64,
+    ) -> Result<CellRect> {
+        let limit = crate::raycast::MAX_CELL_INDEX;
+        let far = |v: i64| v.checked_abs().is_none_or(|a| a >= limit);
+        let (w, h) = (i64::try_from(width), i64::try_from(height));
+        let (Ok(w), Ok(h)) = (w, h) else {
+            return Err(Error::OutOfBounds(format!(
+                "a {width} x {height} rectangle is too large"
+            )));
+        };
+        let (max_x, max_y) = (min_x.saturating_add(w), min_y.saturating_add(h));
+        if [min_x, min_y, max_x, max_y].into_iter().any(far) {
+            return Err(Error::OutOfBounds(format!(
+                "cells ({min_x}, {min_y}) to ({max_x}, {max_y}) are more than 2^30 cells from the map origin"
+            )));
+        }
+        let cells = width.saturating_mul(height);
+        if cells > self.options.max_cells {
+            return Err(Error::OutOfBounds(format!(
+                "a {width} x {height} rectangle holds {cells} cells, more than max_cells = {} (raise it to read or write more at once)",
+                self.options.max_cells
+            )));
+        }
+        Ok(CellRect {
+            min: CellIndex::new(min_x as i32, min_y as i32),
+            max: CellIndex::new(max_x as i32, max_y as i32),
+        })
+    }
+
     /// The values of `rect`, row-major with row 0 at `rect.min.y` (the lowest y, as in
     /// `nav_msgs/OccupancyGrid`).
     pub fn read_rect(&self, rect: CellRect, out: &mut Vec<i16>) {
@@ -358,32 +396,53 @@ impl Grid {
     fn grow_directory(&mut self, x0: i32, y0: i32, x1: i32, y1: i32) -> Result<()> {
         let (mut nx0, mut ny0, mut nx1, mut ny1) = (x0, y0, x1, y1);
         if self.dir_w > 0 {
+            nx0 = nx0.min(self.dir_min.0);
+            ny0 = ny0.min(self.dir_min.1);
+            nx1 = nx1.max(self.dir_min.0 + self.dir_w as i32 - 1);
+            ny1 = ny1.max(self.dir_min.1 + self.dir_h as i32 - 1);
+        }
+        let tiles_of = |x0: i32, y0: i32, x1: i32, y1: i32| {
+            ((i64::from(x1) - i64::from(x0) + 1) as u64)
+                .saturating_mul((i64::from(y1) - i64::from(y0) + 1) as u64)
+        };
+        let max_tiles = (self.options.max_cells / TILE_CELLS as u64).max(1);
+        let needed = tiles_of(nx0, ny0, nx1, ny1);
+        if self.fixed.is_none() && needed > max_tiles {
+            let s = self.options.cell_size_m * f64::from(TILE_SIZE);
+            return Err(Error::OutOfBounds(format!(
+                "the map would span {:.0} m x {:.0} m ({} cells, more than max_cells = {}): is a pose wrong? (raise [map] max_cells for a larger site)",
+                s * (f64::from(nx1) - f64::from(nx0) + 1.0),
+                s * (f64::from(ny1) - f64::from(ny0) + 1.0),
+                needed.saturating_mul(TILE_CELLS as u64),
+                self.options.max_cells
+            )));
+        }
+        if self.dir_w > 0 && self.fixed.is_none() {
+            // Grow with slack on the sides that grew, so that exploring costs amortised O(1)
+            // (as long as the slack keeps within max_cells).
             let (cx1, cy1) = (
                 self.dir_min.0 + self.dir_w as i32 - 1,
                 self.dir_min.1 + self.dir_h as i32 - 1,
             );
-            nx0 = nx0.min(self.dir_min.0);
-            ny0 = ny0.min(self.dir_min.1);
-            nx1 = nx1.max(cx1);
-            ny1 = ny1.max(cy1);
-            if self.fixed.is_none() {
-                // Grow with slack on the sides that grew, so that exploring costs amortised O(1).
-                let (sx, sy) = (
-                    (self.dir_w as i32 / 2).max(4),
-                    (self.dir_h as i32 / 2).max(4),
-                );
-                if nx0 < self.dir_min.0 {
-                    nx0 -= sx;
-                }
-                if ny0 < self.dir_min.1 {
-                    ny0 -= sy;
-                }
-                if nx1 > cx1 {
-                    nx1 += sx;
-                }
-                if ny1 > cy1 {
-                    ny1 += sy;
-                }
+            let (sx, sy) = (
+                (self.dir_w as i32 / 2).max(4),
+                (self.dir_h as i32 / 2).max(4),
+            );
+            let mut slack = (nx0, ny0, nx1, ny1);
+            if nx0 < self.dir_min.0 {
+                slack.0 -= sx;
+            }
+            if ny0 < self.dir_min.1 {
+                slack.1 -= sy;
+            }
+            if nx1 > cx1 {
+                slack.2 += sx;
+            }
+            if ny1 > cy1 {
+                slack.3 += sy;
+            }
+            if tiles_of(slack.0, slack.1, slack.2, slack.3) <= max_tiles {
+                (nx0, ny0, nx1, ny1) = slack;
             }
         }
         let (w, h) = ((nx1 - nx0 + 1) as usize, (ny1 - ny0 + 1) as usize);
@@ -434,7 +493,7 @@ impl Grid {
     }
 }
 
-fn check_cell_range(r: CellRect) -> Result<()> {
+fn check_cell_range(r: CellRect, max_cells: u64) -> Result<()> {
     let limit = crate::raycast::MAX_CELL_INDEX;
     let ok = [r.min.x, r.min.y, r.max.x, r.max.y]
         .iter()
@@ -442,10 +501,15 @@ fn check_cell_range(r: CellRect) -> Result<()> {
     let tiles = (r.width() >> TILE_BITS)
         .saturating_add(2)
         .saturating_mul((r.height() >> TILE_BITS).saturating_add(2));
-    if !ok || tiles > MAX_DIRECTORY_TILES {
+    let cells = (r.width() as u64).saturating_mul(r.height() as u64);
+    if !ok || tiles > MAX_DIRECTORY_TILES || cells > max_cells {
         return Err(Error::InvalidOption {
             name: "bounds_m",
-            reason: "the bounds hold too many cells".into(),
+            reason: format!(
+                "the bounds hold {} x {} cells, more than max_cells = {max_cells} (raise max_cells, or use larger cells)",
+                r.width(),
+                r.height()
+            ),
         });
     }
     Ok(())

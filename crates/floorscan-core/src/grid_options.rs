@@ -59,7 +59,18 @@ pub struct GridOptions {
     /// A cell is free when its probability is <= this, in (0, 0.5). Default 0.196 (ROS
     /// map_server's `free_thresh`). Between the two thresholds a cell is unknown.
     pub free_threshold: f64,
+    /// Most cells the map may span [cells], in [1, 2^32]: the bounding box of a growing map's
+    /// tiles, the cells of fixed bounds, and any rectangle read or written at once (an export).
+    /// Default 2^25 (33.5 M cells: 231 m square at 4 cm, 64 MB of cells; an export then stays
+    /// well under 1 GB). A pose 1000 km away is an [`crate::Error::OutOfBounds`], not an
+    /// allocation; raise this for larger sites.
+    pub max_cells: u64,
 }
+
+/// Default of [`GridOptions::max_cells`].
+pub const DEFAULT_MAX_CELLS: u64 = 1 << 25;
+/// Upper end of [`GridOptions::max_cells`].
+pub const MAX_MAX_CELLS: u64 = 1 << 32;
 
 impl Default for GridOptions {
     fn default() -> Self {
@@ -71,6 +82,7 @@ impl Default for GridOptions {
             clamp_max_nats: 3.5,
             occupied_threshold: 0.65,
             free_threshold: 0.196,
+            max_cells: DEFAULT_MAX_CELLS,
         }
     }
 }
@@ -145,6 +157,12 @@ impl GridOptions {
             return Err(invalid_option(
                 "free_threshold",
                 format!("must be in (0, 0.5), got {}", self.free_threshold),
+            ));
+        }
+        if !(1..=MAX_MAX_CELLS).contains(&self.max_cells) {
+            return Err(invalid_option(
+                "max_cells",
+                format!("must be in [1, 2^32], got {}", self.max_cells),
             ));
         }
         let limits = self.limits();
@@ -285,6 +303,13 @@ mod tests {
                     ..Default::default()
                 },
                 "free_threshold",
+            ),
+            (
+                GridOptions {
+                    max_cells: 0,
+                    ..Default::default()
+                },
+                "max_cells",
             ),
         ];
         for (o, name) in cases {

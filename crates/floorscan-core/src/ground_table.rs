@@ -40,6 +40,42 @@ pub struct GroundTable {
     pub metadata: BTreeMap<String, serde_json::Value>,
 }
 
+/// Largest image side a table may declare [px] (a bound on every per-row or per-column buffer).
+pub const MAX_IMAGE_SIDE_PX: usize = 1 << 16;
+/// Most pixels a table's image may have (2^28, e.g. 16384 x 16384).
+pub const MAX_IMAGE_PIXELS: usize = 1 << 28;
+
+/// Checks a table's declared image size and spacing against the limits above, and returns its
+/// node grid size and node count with checked arithmetic (so no product can wrap).
+pub fn checked_node_shape(
+    image_width: usize,
+    image_height: usize,
+    spacing_px: usize,
+) -> Result<(usize, usize, usize)> {
+    if image_width < 2 || image_height < 2 {
+        return Err(Error::InvalidTable(format!(
+            "image must be at least 2 x 2 pixels, got {image_width} x {image_height}"
+        )));
+    }
+    if spacing_px == 0 {
+        return Err(Error::InvalidTable("spacing_px must be at least 1".into()));
+    }
+    let pixels = image_width.checked_mul(image_height);
+    if image_width > MAX_IMAGE_SIDE_PX
+        || image_height > MAX_IMAGE_SIDE_PX
+        || pixels.is_none_or(|p| p > MAX_IMAGE_PIXELS)
+    {
+        return Err(Error::InvalidTable(format!(
+            "a {image_width} x {image_height} image is larger than this build reads (sides up to {MAX_IMAGE_SIDE_PX} px, {MAX_IMAGE_PIXELS} pixels)"
+        )));
+    }
+    let (nu, nv) = node_counts(image_width, image_height, spacing_px);
+    let total = nu
+        .checked_mul(nv)
+        .ok_or_else(|| Error::InvalidTable(format!("{nu} x {nv} nodes overflow")))?;
+    Ok((nu, nv, total))
+}
+
 /// The node grid size for an image size and spacing.
 pub fn node_counts(image_width: usize, image_height: usize, spacing_px: usize) -> (usize, usize) {
     let n = |len: usize| (len.saturating_sub(1)).div_ceil(spacing_px) + 1;
@@ -54,21 +90,13 @@ impl GroundTable {
         spacing_px: usize,
         nodes: Vec<Option<Point2>>,
     ) -> Result<Self> {
-        if image_width < 2 || image_height < 2 {
-            return Err(Error::InvalidTable(format!(
-                "image must be at least 2 x 2 pixels, got {image_width} x {image_height}"
-            )));
-        }
-        if spacing_px == 0 {
-            return Err(Error::InvalidTable("spacing_px must be at least 1".into()));
-        }
-        let (nodes_u, nodes_v) = node_counts(image_width, image_height, spacing_px);
-        if nodes.len() != nodes_u * nodes_v {
+        let (nodes_u, nodes_v, total) = checked_node_shape(image_width, image_height, spacing_px)?;
+        if nodes.len() != total {
             return Err(Error::InvalidTable(format!(
                 "{} x {} image at {spacing_px} px spacing needs {nodes_v} x {nodes_u} = {} nodes, got {}",
                 image_width,
                 image_height,
-                nodes_u * nodes_v,
+                total,
                 nodes.len()
             )));
         }
@@ -154,11 +182,8 @@ impl GroundTable {
         spacing_px: usize,
         mut ground_of_pixel: impl FnMut(f64, f64) -> Option<Point2>,
     ) -> Result<Self> {
-        if spacing_px == 0 {
-            return Err(Error::InvalidTable("spacing_px must be at least 1".into()));
-        }
-        let (nu, nv) = node_counts(image_width, image_height, spacing_px);
-        let mut nodes = Vec::with_capacity(nu * nv);
+        let (nu, nv, total) = checked_node_shape(image_width, image_height, spacing_px)?;
+        let mut nodes = Vec::with_capacity(total);
         for j in 0..nv {
             for i in 0..nu {
                 let p = ground_of_pixel((i * spacing_px) as f64, (j * spacing_px) as f64);
@@ -291,7 +316,9 @@ impl GroundTable {
         }
         let file: GroundTableFile =
             serde_json::from_value(value).map_err(|e| malformed(e.to_string()))?;
-        let expected = node_counts(file.image_width, file.image_height, file.spacing_px.max(1));
+        let (eu, ev, _) = checked_node_shape(file.image_width, file.image_height, file.spacing_px)
+            .map_err(|e| malformed(e.to_string()))?;
+        let expected = (eu, ev);
         if (file.nodes_u, file.nodes_v) != expected {
             return Err(malformed(format!(
                 "node grid {} x {} does not match the image size and spacing (expected {} x {})",
@@ -454,6 +481,35 @@ mod tests {
             GroundTable::from_json(&short),
             Err(Error::Malformed { .. })
         ));
+    }
+
+    #[test]
+    fn declared_sizes_whose_products_overflow_or_exceed_the_limits_are_errors() {
+        // nodes_u * nodes_v = 2^33 * 2^31 wraps to 0 in usize: must be an error, not a table.
+        let json = format!(
+            r#"{{"format":"{GROUND_TABLE_FORMAT}","version":1,"image_width":{},"image_height":{},"spacing_px":1,"nodes_u":{},"nodes_v":{},"x_m":[],"y_m":[]}}"#,
+            1u64 << 33,
+            1u64 << 31,
+            1u64 << 33,
+            1u64 << 31
+        );
+        assert!(matches!(
+            GroundTable::from_json(&json),
+            Err(Error::Malformed { .. })
+        ));
+        // A 1e9 x 1e9 image with 2 x 2 nodes: small file, absurd image.
+        let json = format!(
+            r#"{{"format":"{GROUND_TABLE_FORMAT}","version":1,"image_width":1000000000,"image_height":1000000000,"spacing_px":1000000000,"nodes_u":2,"nodes_v":2,"x_m":[1,1,2,2],"y_m":[0,1,0,1]}}"#
+        );
+        assert!(matches!(
+            GroundTable::from_json(&json),
+            Err(Error::Malformed { .. })
+        ));
+        assert!(GroundTable::from_fn(1 << 20, 4, 1 << 20, |_, _| None).is_err());
+        assert!(checked_node_shape(usize::MAX, usize::MAX, 1).is_err());
+        assert!(
+            checked_node_shape(MAX_IMAGE_SIDE_PX, MAX_IMAGE_PIXELS / MAX_IMAGE_SIDE_PX, 8).is_ok()
+        );
     }
 
     #[test]

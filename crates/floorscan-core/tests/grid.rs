@@ -119,3 +119,78 @@ fn absurd_extents_are_refused_without_change() {
     assert_eq!(g.get(CellIndex::new(0, 0)), LogOdds(1));
     assert_eq!(g.allocated_tiles(), 1);
 }
+
+#[test]
+fn a_cell_past_max_cells_is_an_error_and_the_directory_stays_small() {
+    // Issue 12: one pose 1000 km away must be an error, not an allocation.
+    let mut g = Grid::new(GridOptions::default()).unwrap();
+    g.set(CellIndex::new(0, 0), LogOdds(1)).unwrap();
+    let far = g.cell_of(Point2::new(1.0e6, 0.0)).unwrap();
+    assert!(matches!(g.set(far, LogOdds(1)), Err(Error::OutOfBounds(_))));
+    let far = g.cell_of(Point2::new(1.0e5, 0.0)).unwrap();
+    assert!(matches!(g.set(far, LogOdds(1)), Err(Error::OutOfBounds(_))));
+    assert!(g.memory_bytes() < 1 << 20, "{} bytes", g.memory_bytes());
+    // Within max_cells (default 2^25 = 2048 tiles of 128^2): 200 m x 200 m at 4 cm is fine.
+    g.set(g.cell_of(Point2::new(200.0, 200.0)).unwrap(), LogOdds(1))
+        .unwrap();
+    let r = g.known_rect().unwrap();
+    assert!((r.width() as u64) * (r.height() as u64) <= g.options().max_cells);
+    // A smaller limit refuses sooner; a larger one accepts.
+    let mut small = Grid::new(GridOptions {
+        max_cells: 4 * TILE_CELLS as u64,
+        ..Default::default()
+    })
+    .unwrap();
+    small.set(CellIndex::new(0, 0), LogOdds(1)).unwrap();
+    small.set(CellIndex::new(255, 255), LogOdds(1)).unwrap();
+    assert!(small.set(CellIndex::new(300, 0), LogOdds(1)).is_err());
+}
+
+#[test]
+fn fixed_bounds_past_max_cells_are_an_option_error() {
+    // OccupancyGrid(bounds_m=((0,0),(1e4,1e4))): 250 000^2 cells.
+    let bounds = Some(Bounds {
+        min: Point2::new(0.0, 0.0),
+        max: Point2::new(1.0e4, 1.0e4),
+    });
+    let e = Grid::new(GridOptions {
+        bounds_m: bounds,
+        ..Default::default()
+    })
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::InvalidOption {
+                name: "bounds_m",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let ok = Grid::new(GridOptions {
+        bounds_m: bounds,
+        cell_size_m: 2.0,
+        ..Default::default()
+    });
+    assert!(ok.is_ok());
+}
+
+#[test]
+fn checked_rect_refuses_overflow_and_huge_rectangles() {
+    let g = Grid::new(GridOptions::default()).unwrap();
+    let r = g.checked_rect(-3, 4, 10, 20).unwrap();
+    assert_eq!(
+        (r.min, r.max),
+        (CellIndex::new(-3, 4), CellIndex::new(7, 24))
+    );
+    // raw(extent) with a 10^6 x 10^6 extent.
+    assert!(matches!(
+        g.checked_rect(0, 0, 1_000_000, 1_000_000),
+        Err(Error::OutOfBounds(_))
+    ));
+    // write_raw at x_cell 2^31 - 1: the end would wrap.
+    assert!(g.checked_rect(i64::from(i32::MAX), 0, 1, 1).is_err());
+    assert!(g.checked_rect(i64::MIN, 0, 1, 1).is_err());
+    assert!(g.checked_rect(0, 0, u64::MAX, 1).is_err());
+}

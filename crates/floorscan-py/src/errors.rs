@@ -53,3 +53,23 @@ pub fn error(name: &str, message: String) -> PyErr {
         },
     )
 }
+
+/// Runs one FFI entry point with panics caught: a panic (a bug, never expected on any input)
+/// becomes `floorscan.errors.InternalError` instead of crossing into Python as
+/// `PanicException`. Every `#[pymethods]` / `#[pyfunction]` body that can fail runs in here.
+pub fn guard<T>(body: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(body)) {
+        Ok(result) => result,
+        Err(payload) => {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            Err(error(
+                "InternalError",
+                format!("internal error (a bug; please report it): {what}"),
+            ))
+        }
+    }
+}

@@ -4,8 +4,8 @@
 //! the GIL.
 
 use floorscan_core::{
-    BeamAngles, CellIndex, CellRect, Evidence, Grid, GridOptions, Inserter, InserterOptions,
-    LaserScan, Point2, Pose2, Ray, SonarReading, UpdateStats,
+    BeamAngles, Evidence, Grid, GridOptions, Inserter, InserterOptions, LaserScan, Point2, Pose2,
+    Ray, SonarReading, UpdateStats,
 };
 use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
@@ -124,18 +124,15 @@ pub fn sonar_readings(
 pub fn values<'py>(
     py: Python<'py>,
     grid: &Grid,
-    min_x: i32,
-    min_y: i32,
-    width: usize,
-    height: usize,
+    min_x: i64,
+    min_y: i64,
+    width: u64,
+    height: u64,
 ) -> PyResult<Bound<'py, PyArray2<i16>>> {
-    let rect = CellRect {
-        min: CellIndex::new(min_x, min_y),
-        max: CellIndex::new(min_x + width as i32, min_y + height as i32),
-    };
+    let rect = grid.checked_rect(min_x, min_y, width, height).py()?;
     let mut out = Vec::new();
     py.detach(|| grid.read_rect(rect, &mut out));
-    PyArray1::from_vec(py, out).reshape([height, width])
+    PyArray1::from_vec(py, out).reshape([rect.height(), rect.width()])
 }
 
 pub fn extent(grid: &Grid) -> (i32, i32, usize, usize) {
@@ -206,19 +203,23 @@ pub struct PyOccupancyGrid {
 impl PyOccupancyGrid {
     #[new]
     fn new(grid_options_json: &str, inserter_options_json: &str) -> PyResult<Self> {
-        let go: GridOptions = parse_json("grid options", grid_options_json)?;
-        let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
-        Ok(Self {
-            grid: Grid::new(go).py()?,
-            inserter: Inserter::new(io).py()?,
+        crate::errors::guard(|| {
+            let go: GridOptions = parse_json("grid options", grid_options_json)?;
+            let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
+            Ok(Self {
+                grid: Grid::new(go).py()?,
+                inserter: Inserter::new(io).py()?,
+            })
         })
     }
 
-    fn copy(&self) -> Self {
-        Self {
-            grid: self.grid.clone(),
-            inserter: self.inserter.clone(),
-        }
+    fn copy(&self) -> PyResult<Self> {
+        crate::errors::guard(|| {
+            Ok(Self {
+                grid: self.grid.clone(),
+                inserter: self.inserter.clone(),
+            })
+        })
     }
 
     fn insert_scan(
@@ -228,10 +229,12 @@ impl PyOccupancyGrid {
         pose: [f64; 3],
         mount: [f64; 3],
     ) -> PyResult<Stats> {
-        let (grid, ins, scan) = (&mut self.grid, &mut self.inserter, &scan.inner);
-        py.detach(|| ins.insert_scan(grid, scan, &self::pose(pose), &self::pose(mount)))
-            .py()
-            .map(stats)
+        crate::errors::guard(|| {
+            let (grid, ins, scan) = (&mut self.grid, &mut self.inserter, &scan.inner);
+            py.detach(|| ins.insert_scan(grid, scan, &self::pose(pose), &self::pose(mount)))
+                .py()
+                .map(stats)
+        })
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -247,21 +250,23 @@ impl PyOccupancyGrid {
         pose: [f64; 3],
         mount: [f64; 3],
     ) -> PyResult<Stats> {
-        let r = slice1(&ranges, "ranges")?;
-        let a = match &angles {
-            Some(a) => Some(slice1(a, "angles")?),
-            None => None,
-        };
-        let laser = laser_layout(r, a, angle_min, angle_increment, range_min, range_max);
-        self.inserter
-            .insert_laser(
-                &mut self.grid,
-                &laser,
-                &self::pose(pose),
-                &self::pose(mount),
-            )
-            .py()
-            .map(stats)
+        crate::errors::guard(|| {
+            let r = slice1(&ranges, "ranges")?;
+            let a = match &angles {
+                Some(a) => Some(slice1(a, "angles")?),
+                None => None,
+            };
+            let laser = laser_layout(r, a, angle_min, angle_increment, range_min, range_max);
+            self.inserter
+                .insert_laser(
+                    &mut self.grid,
+                    &laser,
+                    &self::pose(pose),
+                    &self::pose(mount),
+                )
+                .py()
+                .map(stats)
+        })
     }
 
     /// N scans of B beams: ranges (N, B), poses (N, 3). The GIL is released.
@@ -279,26 +284,28 @@ impl PyOccupancyGrid {
         range_max: f64,
         mount: [f64; 3],
     ) -> PyResult<Stats> {
-        let beams = ranges.shape()[1];
-        let (r, n) = rows(&ranges, beams, "ranges")?;
-        let (p, np) = rows(&poses, 3, "poses")?;
-        if n != np {
-            return Err(error(
-                "LengthMismatchError",
-                format!("{n} scans but {np} poses"),
-            ));
-        }
-        let a = match &angles {
-            Some(a) => Some(slice1(a, "angles")?),
-            None => None,
-        };
-        let first = &r[..beams.min(r.len())];
-        let layout = laser_layout(first, a, angle_min, angle_increment, range_min, range_max);
-        let poses: Vec<Pose2> = p.chunks(3).map(|c| Pose2::new(c[0], c[1], c[2])).collect();
-        let (grid, ins) = (&mut self.grid, &mut self.inserter);
-        py.detach(|| ins.insert_lasers(grid, &layout, r, &poses, &self::pose(mount)))
-            .py()
-            .map(stats)
+        crate::errors::guard(|| {
+            let beams = ranges.shape()[1];
+            let (r, n) = rows(&ranges, beams, "ranges")?;
+            let (p, np) = rows(&poses, 3, "poses")?;
+            if n != np {
+                return Err(error(
+                    "LengthMismatchError",
+                    format!("{n} scans but {np} poses"),
+                ));
+            }
+            let a = match &angles {
+                Some(a) => Some(slice1(a, "angles")?),
+                None => None,
+            };
+            let first = &r[..beams.min(r.len())];
+            let layout = laser_layout(first, a, angle_min, angle_increment, range_min, range_max);
+            let poses: Vec<Pose2> = p.chunks(3).map(|c| Pose2::new(c[0], c[1], c[2])).collect();
+            let (grid, ins) = (&mut self.grid, &mut self.inserter);
+            py.detach(|| ins.insert_lasers(grid, &layout, r, &poses, &self::pose(mount)))
+                .py()
+                .map(stats)
+        })
     }
 
     fn insert_sonar(
@@ -309,13 +316,15 @@ impl PyOccupancyGrid {
         range_max: f64,
         pose: [f64; 3],
     ) -> PyResult<Stats> {
-        let (m, _) = rows(&mounts, 3, "mounts")?;
-        let (readings, mounts) =
-            sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
-        self.inserter
-            .insert_sonar(&mut self.grid, &readings, &self::pose(pose), &mounts)
-            .py()
-            .map(stats)
+        crate::errors::guard(|| {
+            let (m, _) = rows(&mounts, 3, "mounts")?;
+            let (readings, mounts) =
+                sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
+            self.inserter
+                .insert_sonar(&mut self.grid, &readings, &self::pose(pose), &mounts)
+                .py()
+                .map(stats)
+        })
     }
 
     /// One batch of world rays: starts (N, 2), ends (N, 2), hits (N,). GIL released.
@@ -328,77 +337,81 @@ impl PyOccupancyGrid {
         hit_nats: f64,
         miss_nats: f64,
     ) -> PyResult<Stats> {
-        let (s, n) = rows(&starts, 2, "starts")?;
-        let (e, ne) = rows(&ends, 2, "ends")?;
-        let h = hits.as_slice().map_err(|_| {
-            error(
-                "LengthMismatchError",
-                "`hits` must be a contiguous bool array".into(),
-            )
-        })?;
-        if ne != n || h.len() != n {
-            return Err(error(
-                "LengthMismatchError",
-                format!("{n} starts, {ne} ends and {} hit flags", h.len()),
-            ));
-        }
-        let rays: Vec<Ray> = (0..n)
-            .map(|i| Ray {
-                from: Point2::new(s[2 * i], s[2 * i + 1]),
-                to: Point2::new(e[2 * i], e[2 * i + 1]),
-                hit: h[i],
+        crate::errors::guard(|| {
+            let (s, n) = rows(&starts, 2, "starts")?;
+            let (e, ne) = rows(&ends, 2, "ends")?;
+            let h = hits.as_slice().map_err(|_| {
+                error(
+                    "LengthMismatchError",
+                    "`hits` must be a contiguous bool array".into(),
+                )
+            })?;
+            if ne != n || h.len() != n {
+                return Err(error(
+                    "LengthMismatchError",
+                    format!("{n} starts, {ne} ends and {} hit flags", h.len()),
+                ));
+            }
+            let rays: Vec<Ray> = (0..n)
+                .map(|i| Ray {
+                    from: Point2::new(s[2 * i], s[2 * i + 1]),
+                    to: Point2::new(e[2 * i], e[2 * i + 1]),
+                    hit: h[i],
+                })
+                .collect();
+            let (grid, ins) = (&mut self.grid, &mut self.inserter);
+            py.detach(|| {
+                ins.insert_rays(
+                    grid,
+                    &rays,
+                    Evidence {
+                        hit_nats,
+                        miss_nats,
+                    },
+                )
             })
-            .collect();
-        let (grid, ins) = (&mut self.grid, &mut self.inserter);
-        py.detach(|| {
-            ins.insert_rays(
-                grid,
-                &rays,
-                Evidence {
-                    hit_nats,
-                    miss_nats,
-                },
-            )
+            .py()
+            .map(stats)
         })
-        .py()
-        .map(stats)
     }
 
     /// The exported rectangle (min x, min y, width, height) [cells].
-    fn extent(&self) -> (i32, i32, usize, usize) {
-        extent(&self.grid)
+    fn extent(&self) -> PyResult<(i32, i32, usize, usize)> {
+        crate::errors::guard(|| Ok(extent(&self.grid)))
     }
 
     fn values<'py>(
         &self,
         py: Python<'py>,
-        min_x: i32,
-        min_y: i32,
-        width: usize,
-        height: usize,
+        min_x: i64,
+        min_y: i64,
+        width: u64,
+        height: u64,
     ) -> PyResult<Bound<'py, PyArray2<i16>>> {
-        values(py, &self.grid, min_x, min_y, width, height)
+        crate::errors::guard(|| values(py, &self.grid, min_x, min_y, width, height))
     }
 
     /// Writes an (H, W) int16 array of raw values with its first cell at (min_x, min_y).
     fn write_values(
         &mut self,
-        min_x: i32,
-        min_y: i32,
+        min_x: i64,
+        min_y: i64,
         array: PyReadonlyArray2<'_, i16>,
     ) -> PyResult<()> {
-        let shape = array.shape();
-        let data = array.as_slice().map_err(|_| {
-            error(
-                "LengthMismatchError",
-                "values must be a contiguous int16 array".into(),
-            )
-        })?;
-        let rect = CellRect {
-            min: CellIndex::new(min_x, min_y),
-            max: CellIndex::new(min_x + shape[1] as i32, min_y + shape[0] as i32),
-        };
-        self.grid.write_rect(rect, data).py()
+        crate::errors::guard(|| {
+            let shape = array.shape();
+            let data = array.as_slice().map_err(|_| {
+                error(
+                    "LengthMismatchError",
+                    "values must be a contiguous int16 array".into(),
+                )
+            })?;
+            let rect = self
+                .grid
+                .checked_rect(min_x, min_y, shape[1] as u64, shape[0] as u64)
+                .py()?;
+            self.grid.write_rect(rect, data).py()
+        })
     }
 
     fn occupancy_codes<'py>(
@@ -407,7 +420,9 @@ impl PyOccupancyGrid {
         xs: PyReadonlyArray1<'_, f64>,
         ys: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<Bound<'py, PyArray1<u8>>> {
-        occupancy_codes(py, &self.grid, slice1(&xs, "x")?, slice1(&ys, "y")?)
+        crate::errors::guard(|| {
+            occupancy_codes(py, &self.grid, slice1(&xs, "x")?, slice1(&ys, "y")?)
+        })
     }
 
     fn distances<'py>(
@@ -417,7 +432,9 @@ impl PyOccupancyGrid {
         ys: PyReadonlyArray1<'_, f64>,
         max_m: f64,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        distances(py, &self.grid, slice1(&xs, "x")?, slice1(&ys, "y")?, max_m)
+        crate::errors::guard(|| {
+            distances(py, &self.grid, slice1(&xs, "x")?, slice1(&ys, "y")?, max_m)
+        })
     }
 
     /// Starts keeping the unclamped evidence layer (before the first update).
@@ -457,51 +474,60 @@ impl PyOccupancyGrid {
     }
 
     /// (clamp_min, clamp_max, occupied_at, free_at) in stored units (1/1000 nat).
-    fn limits(&self) -> (i16, i16, i16, i16) {
-        limits(&self.grid)
+    fn limits(&self) -> PyResult<(i16, i16, i16, i16)> {
+        crate::errors::guard(|| Ok(limits(&self.grid)))
     }
 
     #[getter]
-    fn cell_size_m(&self) -> f64 {
-        self.grid.cell_size_m()
+    fn cell_size_m(&self) -> PyResult<f64> {
+        crate::errors::guard(|| Ok(self.grid.cell_size_m()))
     }
 
     #[getter]
-    fn origin_m(&self) -> (f64, f64) {
-        let o = self.grid.origin_m();
-        (o.x, o.y)
+    fn origin_m(&self) -> PyResult<(f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let o = self.grid.origin_m();
+                (o.x, o.y)
+            })
+        })
     }
 
     /// Fixed bounds (min x, min y, max x, max y) [cells, max excluded], None if growing.
     #[getter]
-    fn fixed_cells(&self) -> Option<(i32, i32, i32, i32)> {
-        self.grid
-            .fixed_cells()
-            .map(|r| (r.min.x, r.min.y, r.max.x, r.max.y))
+    fn fixed_cells(&self) -> PyResult<Option<(i32, i32, i32, i32)>> {
+        crate::errors::guard(|| {
+            Ok(self
+                .grid
+                .fixed_cells()
+                .map(|r| (r.min.x, r.min.y, r.max.x, r.max.y)))
+        })
     }
 
     #[getter]
-    fn memory_bytes(&self) -> usize {
-        self.grid.memory_bytes() + self.inserter.memory_bytes()
+    fn memory_bytes(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.grid.memory_bytes() + self.inserter.memory_bytes()))
     }
 
     #[getter]
-    fn grid_memory_bytes(&self) -> usize {
-        self.grid.memory_bytes()
+    fn grid_memory_bytes(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.grid.memory_bytes()))
     }
 
     #[getter]
-    fn allocated_tiles(&self) -> usize {
-        self.grid.allocated_tiles()
+    fn allocated_tiles(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.grid.allocated_tiles()))
     }
 
     #[getter]
-    fn grid_options_json(&self) -> String {
-        serde_json::to_string(self.grid.options()).unwrap_or_default()
+    fn grid_options_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(self.grid.options()).unwrap_or_default()))
     }
 
     #[getter]
-    fn inserter_options_json(&self) -> String {
-        serde_json::to_string(self.inserter.options()).unwrap_or_default()
+    fn inserter_options_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok(serde_json::to_string(self.inserter.options()).unwrap_or_default())
+        })
     }
 }

@@ -30,10 +30,13 @@ impl PyGroundTable {
         x_m: PyReadonlyArray1<'_, f64>,
         y_m: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<Self> {
-        let x = x_m.as_array().to_vec();
-        let y = y_m.as_array().to_vec();
-        let inner = GroundTable::from_arrays(image_width, image_height, spacing_px, &x, &y).py()?;
-        Ok(Self { inner })
+        crate::errors::guard(|| {
+            let x = x_m.as_array().to_vec();
+            let y = y_m.as_array().to_vec();
+            let inner =
+                GroundTable::from_arrays(image_width, image_height, spacing_px, &x, &y).py()?;
+            Ok(Self { inner })
+        })
     }
 
     #[staticmethod]
@@ -46,32 +49,36 @@ impl PyGroundTable {
         spacing_px: usize,
         max_range_m: f64,
     ) -> PyResult<Self> {
-        let lens: Lens = parse_json("lens", lens_json)?;
-        let mount: CameraMount = parse_json("mount", mount_json)?;
-        let inner = py
-            .detach(|| {
-                ground_table_from_camera(
-                    &lens,
-                    &mount,
-                    image_width,
-                    image_height,
-                    spacing_px,
-                    max_range_m,
-                )
-            })
-            .py()?;
-        Ok(Self { inner })
+        crate::errors::guard(|| {
+            let lens: Lens = parse_json("lens", lens_json)?;
+            let mount: CameraMount = parse_json("mount", mount_json)?;
+            let inner = py
+                .detach(|| {
+                    ground_table_from_camera(
+                        &lens,
+                        &mount,
+                        image_width,
+                        image_height,
+                        spacing_px,
+                        max_range_m,
+                    )
+                })
+                .py()?;
+            Ok(Self { inner })
+        })
     }
 
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Self> {
-        Ok(Self {
-            inner: GroundTable::from_json(text).py()?,
+        crate::errors::guard(|| {
+            Ok(Self {
+                inner: GroundTable::from_json(text).py()?,
+            })
         })
     }
 
-    fn to_json(&self) -> String {
-        self.inner.to_json()
+    fn to_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(self.inner.to_json()))
     }
 
     /// Ground points at pixels (u, v): two float64 arrays, NaN where there is no ground.
@@ -81,46 +88,52 @@ impl PyGroundTable {
         u: PyReadonlyArray1<'py, f64>,
         v: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<ArrayPair<'py, PyArray1<f64>>> {
-        let (u, v) = (u.as_array(), v.as_array());
-        if u.len() != v.len() {
-            return Err(error(
-                "LengthMismatchError",
-                format!("u has {} values, v has {}", u.len(), v.len()),
-            ));
-        }
-        let (u, v) = (u.to_vec(), v.to_vec());
-        let (xs, ys): (Vec<f64>, Vec<f64>) = py.detach(|| {
-            u.iter()
-                .zip(&v)
-                .map(|(&u, &v)| {
-                    self.inner
-                        .lookup(u, v)
-                        .map_or((f64::NAN, f64::NAN), |p| (p.x, p.y))
-                })
-                .unzip()
-        });
-        Ok((PyArray1::from_vec(py, xs), PyArray1::from_vec(py, ys)))
+        crate::errors::guard(|| {
+            let (u, v) = (u.as_array(), v.as_array());
+            if u.len() != v.len() {
+                return Err(error(
+                    "LengthMismatchError",
+                    format!("u has {} values, v has {}", u.len(), v.len()),
+                ));
+            }
+            let (u, v) = (u.to_vec(), v.to_vec());
+            let (xs, ys): (Vec<f64>, Vec<f64>) = py.detach(|| {
+                u.iter()
+                    .zip(&v)
+                    .map(|(&u, &v)| {
+                        self.inner
+                            .lookup(u, v)
+                            .map_or((f64::NAN, f64::NAN), |p| (p.x, p.y))
+                    })
+                    .unzip()
+            });
+            Ok((PyArray1::from_vec(py, xs), PyArray1::from_vec(py, ys)))
+        })
     }
 
     /// A copy carrying a predicted floor-position error [m] per node (row-major; NaN unknown).
     fn with_errors(&self, errors_m: PyReadonlyArray1<'_, f64>) -> PyResult<Self> {
-        let e = errors_m.as_array().to_vec();
-        Ok(Self {
-            inner: self.inner.clone().with_errors(&e).py()?,
+        crate::errors::guard(|| {
+            let e = errors_m.as_array().to_vec();
+            Ok(Self {
+                inner: self.inner.clone().with_errors(&e).py()?,
+            })
         })
     }
 
     /// Node errors as a (nodes_v, nodes_u) float64 array [m], NaN unknown; None if the table
     /// carries none.
     fn node_errors<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
-        let (nu, nv) = self.inner.node_shape();
-        match self.inner.errors() {
-            None => Ok(None),
-            Some(e) => {
-                let v: Vec<f64> = e.iter().map(|e| e.unwrap_or(f64::NAN)).collect();
-                Ok(Some(PyArray1::from_vec(py, v).reshape([nv, nu])?))
+        crate::errors::guard(|| {
+            let (nu, nv) = self.inner.node_shape();
+            match self.inner.errors() {
+                None => Ok(None),
+                Some(e) => {
+                    let v: Vec<f64> = e.iter().map(|e| e.unwrap_or(f64::NAN)).collect();
+                    Ok(Some(PyArray1::from_vec(py, v).reshape([nv, nu])?))
+                }
             }
-        }
+        })
     }
 
     /// Predicted errors [m] at pixels (u, v), NaN where unknown or no ground.
@@ -130,70 +143,78 @@ impl PyGroundTable {
         u: PyReadonlyArray1<'py, f64>,
         v: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (u, v) = (u.as_array(), v.as_array());
-        if u.len() != v.len() {
-            return Err(error(
-                "LengthMismatchError",
-                format!("u has {} values, v has {}", u.len(), v.len()),
-            ));
-        }
-        let (u, v) = (u.to_vec(), v.to_vec());
-        let out: Vec<f64> = py.detach(|| {
-            u.iter()
-                .zip(&v)
-                .map(|(&u, &v)| self.inner.lookup_error(u, v).unwrap_or(f64::NAN))
-                .collect()
-        });
-        Ok(PyArray1::from_vec(py, out))
+        crate::errors::guard(|| {
+            let (u, v) = (u.as_array(), v.as_array());
+            if u.len() != v.len() {
+                return Err(error(
+                    "LengthMismatchError",
+                    format!("u has {} values, v has {}", u.len(), v.len()),
+                ));
+            }
+            let (u, v) = (u.to_vec(), v.to_vec());
+            let out: Vec<f64> = py.detach(|| {
+                u.iter()
+                    .zip(&v)
+                    .map(|(&u, &v)| self.inner.lookup_error(u, v).unwrap_or(f64::NAN))
+                    .collect()
+            });
+            Ok(PyArray1::from_vec(py, out))
+        })
     }
 
     #[getter]
-    fn image_width(&self) -> usize {
-        self.inner.image_width()
+    fn image_width(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.image_width()))
     }
     #[getter]
-    fn image_height(&self) -> usize {
-        self.inner.image_height()
+    fn image_height(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.image_height()))
     }
     #[getter]
-    fn spacing_px(&self) -> usize {
-        self.inner.spacing_px()
+    fn spacing_px(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.spacing_px()))
     }
 
     /// Node values as two (nodes_v, nodes_u) float64 arrays, NaN for no ground.
     fn node_arrays<'py>(&self, py: Python<'py>) -> PyResult<ArrayPair<'py, PyArray2<f64>>> {
-        let (nu, nv) = self.inner.node_shape();
-        let x: Vec<f64> = self
-            .inner
-            .nodes()
-            .iter()
-            .map(|p| p.map_or(f64::NAN, |p| p.x))
-            .collect();
-        let y: Vec<f64> = self
-            .inner
-            .nodes()
-            .iter()
-            .map(|p| p.map_or(f64::NAN, |p| p.y))
-            .collect();
-        Ok((
-            PyArray1::from_vec(py, x).reshape([nv, nu])?,
-            PyArray1::from_vec(py, y).reshape([nv, nu])?,
-        ))
+        crate::errors::guard(|| {
+            let (nu, nv) = self.inner.node_shape();
+            let x: Vec<f64> = self
+                .inner
+                .nodes()
+                .iter()
+                .map(|p| p.map_or(f64::NAN, |p| p.x))
+                .collect();
+            let y: Vec<f64> = self
+                .inner
+                .nodes()
+                .iter()
+                .map(|p| p.map_or(f64::NAN, |p| p.y))
+                .collect();
+            Ok((
+                PyArray1::from_vec(py, x).reshape([nv, nu])?,
+                PyArray1::from_vec(py, y).reshape([nv, nu])?,
+            ))
+        })
     }
 
     /// The free-form metadata as a JSON object string.
-    fn metadata_json(&self) -> String {
-        serde_json::to_string(&self.inner.metadata).unwrap_or_else(|_| "{}".into())
+    fn metadata_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok(serde_json::to_string(&self.inner.metadata).unwrap_or_else(|_| "{}".into()))
+        })
     }
 
     /// A copy of the table with `metadata` (a JSON object string) replacing its metadata.
     fn with_metadata_json(&self, metadata: &str) -> PyResult<Self> {
-        let mut inner = self.inner.clone();
-        inner.metadata = parse_json("metadata", metadata)?;
-        Ok(Self { inner })
+        crate::errors::guard(|| {
+            let mut inner = self.inner.clone();
+            inner.metadata = parse_json("metadata", metadata)?;
+            Ok(Self { inner })
+        })
     }
 
-    fn __eq__(&self, other: &Self) -> bool {
-        self.inner == other.inner
+    fn __eq__(&self, other: &Self) -> PyResult<bool> {
+        crate::errors::guard(|| Ok(self.inner == other.inner))
     }
 }

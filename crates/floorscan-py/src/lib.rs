@@ -14,11 +14,20 @@ mod ranger;
 mod scan;
 mod sim;
 
+/// Panics inside [`errors::guard`], for the test that a panic reaches Python as
+/// `floorscan.errors.InternalError` (never `PanicException`).
+#[pyfunction]
+fn _panic_for_tests() -> PyResult<()> {
+    errors::guard(|| panic!("deliberate panic for the FFI guard test"))
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     m.add_class::<ground_table::PyGroundTable>()?;
     m.add_class::<ranger::PyVisualRanger>()?;
+    m.add_function(wrap_pyfunction!(ranger::validate_ranger_options, m)?)?;
     m.add_class::<scan::PyScan>()?;
     m.add_class::<grid::PyOccupancyGrid>()?;
     m.add_class::<local_map::PyLocalMap>()?;

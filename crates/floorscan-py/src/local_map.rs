@@ -23,32 +23,40 @@ impl PyLocalMap {
         inserter_options_json: &str,
         local_from_robot: [f64; 3],
     ) -> PyResult<Self> {
-        let o: LocalMapOptions = parse_json("local map options", options_json)?;
-        let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
-        Ok(Self {
-            inner: LocalMap::new(o, io, pose(local_from_robot)).py()?,
+        crate::errors::guard(|| {
+            let o: LocalMapOptions = parse_json("local map options", options_json)?;
+            let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
+            Ok(Self {
+                inner: LocalMap::new(o, io, pose(local_from_robot)).py()?,
+            })
         })
     }
 
     fn move_by(&mut self, delta: [f64; 3]) -> PyResult<()> {
-        self.inner.move_by(&pose(delta)).py()
+        crate::errors::guard(|| self.inner.move_by(&pose(delta)).py())
     }
 
     fn move_to(&mut self, local_from_robot: [f64; 3]) -> PyResult<()> {
-        self.inner.move_to(&pose(local_from_robot)).py()
+        crate::errors::guard(|| self.inner.move_to(&pose(local_from_robot)).py())
     }
 
     #[getter]
-    fn pose(&self) -> (f64, f64, f64) {
-        let p = self.inner.pose();
-        (p.x, p.y, p.yaw)
+    fn pose(&self) -> PyResult<(f64, f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let p = self.inner.pose();
+                (p.x, p.y, p.yaw)
+            })
+        })
     }
 
     fn insert_scan(&mut self, scan: &PyScan, mount: [f64; 3]) -> PyResult<Stats> {
-        self.inner
-            .insert_scan(&scan.inner, &pose(mount))
-            .py()
-            .map(stats)
+        crate::errors::guard(|| {
+            self.inner
+                .insert_scan(&scan.inner, &pose(mount))
+                .py()
+                .map(stats)
+        })
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -63,16 +71,18 @@ impl PyLocalMap {
         range_max: f64,
         mount: [f64; 3],
     ) -> PyResult<Stats> {
-        let r = slice1(&ranges, "ranges")?;
-        let a = match &angles {
-            Some(a) => Some(slice1(a, "angles")?),
-            None => None,
-        };
-        let laser = laser_layout(r, a, angle_min, angle_increment, range_min, range_max);
-        self.inner
-            .insert_laser(&laser, &pose(mount))
-            .py()
-            .map(stats)
+        crate::errors::guard(|| {
+            let r = slice1(&ranges, "ranges")?;
+            let a = match &angles {
+                Some(a) => Some(slice1(a, "angles")?),
+                None => None,
+            };
+            let laser = laser_layout(r, a, angle_min, angle_increment, range_min, range_max);
+            self.inner
+                .insert_laser(&laser, &pose(mount))
+                .py()
+                .map(stats)
+        })
     }
 
     fn insert_sonar(
@@ -82,27 +92,33 @@ impl PyLocalMap {
         beam_width: f64,
         range_max: f64,
     ) -> PyResult<Stats> {
-        let (m, _) = rows(&mounts, 3, "mounts")?;
-        let (readings, mounts) =
-            sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
-        self.inner.insert_sonar(&readings, &mounts).py().map(stats)
+        crate::errors::guard(|| {
+            let (m, _) = rows(&mounts, 3, "mounts")?;
+            let (readings, mounts) =
+                sonar_readings(slice1(&ranges, "ranges")?, m, beam_width, range_max)?;
+            self.inner.insert_sonar(&readings, &mounts).py().map(stats)
+        })
     }
 
     /// The window (min x, min y, width, height) [cells of the local lattice].
-    fn extent(&self) -> (i32, i32, usize, usize) {
-        let r = self.inner.window();
-        (r.min.x, r.min.y, r.width(), r.height())
+    fn extent(&self) -> PyResult<(i32, i32, usize, usize)> {
+        crate::errors::guard(|| {
+            Ok({
+                let r = self.inner.window();
+                (r.min.x, r.min.y, r.width(), r.height())
+            })
+        })
     }
 
     fn values<'py>(
         &self,
         py: Python<'py>,
-        min_x: i32,
-        min_y: i32,
-        width: usize,
-        height: usize,
+        min_x: i64,
+        min_y: i64,
+        width: u64,
+        height: u64,
     ) -> PyResult<Bound<'py, PyArray2<i16>>> {
-        grid::values(py, self.inner.grid(), min_x, min_y, width, height)
+        crate::errors::guard(|| grid::values(py, self.inner.grid(), min_x, min_y, width, height))
     }
 
     /// The window resampled in the robot frame: (height, width) int16, row 0 at the robot's
@@ -113,9 +129,17 @@ impl PyLocalMap {
         width: usize,
         height: usize,
     ) -> PyResult<Bound<'py, PyArray2<i16>>> {
-        let mut out = Vec::new();
-        self.inner.robot_view(width, height, &mut out);
-        PyArray1::from_vec(py, out).reshape([height, width])
+        crate::errors::guard(|| {
+            if width.checked_mul(height).is_none_or(|n| n > 1 << 26) {
+                return Err(crate::errors::error(
+                    "OptionError",
+                    format!("a {width} x {height} robot view is larger than 2^26 cells"),
+                ));
+            }
+            let mut out = Vec::new();
+            self.inner.robot_view(width, height, &mut out);
+            PyArray1::from_vec(py, out).reshape([height, width])
+        })
     }
 
     fn occupancy_codes<'py>(
@@ -124,7 +148,9 @@ impl PyLocalMap {
         xs: PyReadonlyArray1<'_, f64>,
         ys: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<Bound<'py, PyArray1<u8>>> {
-        grid::occupancy_codes(py, self.inner.grid(), slice1(&xs, "x")?, slice1(&ys, "y")?)
+        crate::errors::guard(|| {
+            grid::occupancy_codes(py, self.inner.grid(), slice1(&xs, "x")?, slice1(&ys, "y")?)
+        })
     }
 
     fn distances<'py>(
@@ -134,32 +160,38 @@ impl PyLocalMap {
         ys: PyReadonlyArray1<'_, f64>,
         max_m: f64,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        grid::distances(
-            py,
-            self.inner.grid(),
-            slice1(&xs, "x")?,
-            slice1(&ys, "y")?,
-            max_m,
-        )
+        crate::errors::guard(|| {
+            grid::distances(
+                py,
+                self.inner.grid(),
+                slice1(&xs, "x")?,
+                slice1(&ys, "y")?,
+                max_m,
+            )
+        })
     }
 
-    fn limits(&self) -> (i16, i16, i16, i16) {
-        grid::limits(self.inner.grid())
-    }
-
-    #[getter]
-    fn cell_size_m(&self) -> f64 {
-        self.inner.grid().cell_size_m()
+    fn limits(&self) -> PyResult<(i16, i16, i16, i16)> {
+        crate::errors::guard(|| Ok(grid::limits(self.inner.grid())))
     }
 
     #[getter]
-    fn origin_m(&self) -> (f64, f64) {
-        let o = self.inner.grid().origin_m();
-        (o.x, o.y)
+    fn cell_size_m(&self) -> PyResult<f64> {
+        crate::errors::guard(|| Ok(self.inner.grid().cell_size_m()))
     }
 
     #[getter]
-    fn options_json(&self) -> String {
-        serde_json::to_string(self.inner.options()).unwrap_or_default()
+    fn origin_m(&self) -> PyResult<(f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let o = self.inner.grid().origin_m();
+                (o.x, o.y)
+            })
+        })
+    }
+
+    #[getter]
+    fn options_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(self.inner.options()).unwrap_or_default()))
     }
 }

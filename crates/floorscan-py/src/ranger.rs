@@ -19,10 +19,12 @@ pub struct PyVisualRanger {
 impl PyVisualRanger {
     #[new]
     fn new(table: &PyGroundTable, options_json: &str) -> PyResult<Self> {
-        let options: RangerOptions = serde_json::from_str(options_json)
-            .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
-        Ok(Self {
-            inner: VisualRanger::new(table.inner.clone(), options).py()?,
+        crate::errors::guard(|| {
+            let options: RangerOptions = serde_json::from_str(options_json)
+                .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
+            Ok(Self {
+                inner: VisualRanger::new(table.inner.clone(), options).py()?,
+            })
         })
     }
 
@@ -33,43 +35,58 @@ impl PyVisualRanger {
         image: &Bound<'_, PyAny>,
         timestamp: f64,
     ) -> PyResult<PyScan> {
-        let mut out = Scan::default();
-        if let Ok(a) = image.cast::<PyArray2<u8>>() {
-            let img = BorrowedImage::new(a)?;
-            let view = img.view()?;
-            let ranger = &mut self.inner;
-            py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
-                .py()?;
-        } else if let Ok(a) = image.cast::<PyArray2<u16>>() {
-            let img = BorrowedImage::new(a)?;
-            let view = img.view()?;
-            let ranger = &mut self.inner;
-            py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
-                .py()?;
-        } else {
-            return Err(error(
-                "ImageError",
-                "image must be a 2-D numpy array of uint8 or uint16 (H, W)".into(),
-            ));
-        }
-        Ok(PyScan { inner: out })
+        crate::errors::guard(|| {
+            let mut out = Scan::default();
+            if let Ok(a) = image.cast::<PyArray2<u8>>() {
+                let img = BorrowedImage::new(a)?;
+                let view = img.view()?;
+                let ranger = &mut self.inner;
+                py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
+                    .py()?;
+            } else if let Ok(a) = image.cast::<PyArray2<u16>>() {
+                let img = BorrowedImage::new(a)?;
+                let view = img.view()?;
+                let ranger = &mut self.inner;
+                py.detach(|| ranger.scan_into(&view, timestamp, &mut out))
+                    .py()?;
+            } else {
+                return Err(error(
+                    "ImageError",
+                    "image must be a 2-D numpy array of uint8 or uint16 (H, W)".into(),
+                ));
+            }
+            Ok(PyScan { inner: out })
+        })
     }
 
     /// The sampled image columns, in output order.
     #[getter]
-    fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
-        PyArray1::from_vec(py, self.inner.columns())
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        crate::errors::guard(|| Ok(PyArray1::from_vec(py, self.inner.columns())))
     }
 
     #[getter]
-    fn options_json(&self) -> String {
-        serde_json::to_string(self.inner.options()).unwrap_or_default()
+    fn options_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(self.inner.options()).unwrap_or_default()))
     }
 
     #[getter]
-    fn table(&self) -> PyGroundTable {
-        PyGroundTable {
-            inner: self.inner.table().clone(),
-        }
+    fn table(&self) -> PyResult<PyGroundTable> {
+        crate::errors::guard(|| {
+            Ok(PyGroundTable {
+                inner: self.inner.table().clone(),
+            })
+        })
     }
+}
+
+/// Validates ranger options (their serde form) without a table: every check that does not
+/// depend on the image size (`floorscan config --check` runs it, as `floorscan run` does).
+#[pyfunction]
+pub fn validate_ranger_options(options_json: &str) -> PyResult<()> {
+    crate::errors::guard(|| {
+        let options: RangerOptions = serde_json::from_str(options_json)
+            .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
+        options.validate().py()
+    })
 }

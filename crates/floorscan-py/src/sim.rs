@@ -69,60 +69,72 @@ impl PyWorld {
     /// Parses a world file's text; `source_name` (a path) prefixes error messages.
     #[staticmethod]
     fn from_toml(py: Python<'_>, text: &str, source_name: &str) -> PyResult<Self> {
-        let world = parse_world(text, source_name).sim()?;
-        Ok(Self {
-            scene: Arc::new(py.detach(|| Scene::new(world))),
+        crate::errors::guard(|| {
+            let world = parse_world(text, source_name).sim()?;
+            Ok(Self {
+                scene: Arc::new(py.detach(|| Scene::new(world))),
+            })
         })
     }
 
     #[staticmethod]
     fn builtin(py: Python<'_>, name: &str) -> PyResult<Self> {
-        let world = builtin_world(name).sim()?;
-        Ok(Self {
-            scene: Arc::new(py.detach(|| Scene::new(world))),
+        crate::errors::guard(|| {
+            let world = builtin_world(name).sim()?;
+            Ok(Self {
+                scene: Arc::new(py.detach(|| Scene::new(world))),
+            })
         })
     }
 
     #[staticmethod]
-    fn builtin_names() -> Vec<&'static str> {
-        builtin_names()
+    fn builtin_names() -> PyResult<Vec<&'static str>> {
+        crate::errors::guard(|| Ok(builtin_names()))
     }
 
     #[getter]
-    fn name(&self) -> String {
-        self.scene.world.name.clone()
+    fn name(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(self.scene.world.name.clone()))
     }
     #[getter]
-    fn description(&self) -> String {
-        self.scene.world.description.clone()
+    fn description(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(self.scene.world.description.clone()))
     }
     #[getter]
-    fn source(&self) -> Option<String> {
-        self.scene.world.source.clone()
+    fn source(&self) -> PyResult<Option<String>> {
+        crate::errors::guard(|| Ok(self.scene.world.source.clone()))
     }
     #[getter]
-    fn ceiling_m(&self) -> f64 {
-        self.scene.world.ceiling_m
+    fn ceiling_m(&self) -> PyResult<f64> {
+        crate::errors::guard(|| Ok(self.scene.world.ceiling_m))
     }
     /// (x, y, yaw) of the start pose.
     #[getter]
-    fn start(&self) -> (f64, f64, f64) {
-        let s = self.scene.world.start;
-        (s.x, s.y, s.yaw)
+    fn start(&self) -> PyResult<(f64, f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let s = self.scene.world.start;
+                (s.x, s.y, s.yaw)
+            })
+        })
     }
     #[getter]
-    fn tour(&self) -> Vec<(f64, f64)> {
-        self.scene.world.tour.iter().map(|p| (p.x, p.y)).collect()
+    fn tour(&self) -> PyResult<Vec<(f64, f64)>> {
+        crate::errors::guard(|| Ok(self.scene.world.tour.iter().map(|p| (p.x, p.y)).collect()))
     }
     /// (xmin, ymin, xmax, ymax) [m].
     #[getter]
-    fn bounds(&self) -> (f64, f64, f64, f64) {
-        let b = self.scene.world.bounds();
-        (b.min.x, b.min.y, b.max.x, b.max.y)
+    fn bounds(&self) -> PyResult<(f64, f64, f64, f64)> {
+        crate::errors::guard(|| {
+            Ok({
+                let b = self.scene.world.bounds();
+                (b.min.x, b.min.y, b.max.x, b.max.y)
+            })
+        })
     }
     /// The world as JSON (the simulator's serde form; for inspection).
-    fn to_json(&self) -> String {
-        serde_json::to_string(&self.scene.world).unwrap_or_default()
+    fn to_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(&self.scene.world).unwrap_or_default()))
     }
 
     /// True occupancy raster: (cells (H, W) int8 with 100/0/-1, row 0 = lowest y; origin x, y).
@@ -131,11 +143,13 @@ impl PyWorld {
         py: Python<'py>,
         options_json: &str,
     ) -> PyResult<(Bound<'py, PyAny>, f64, f64)> {
-        let opts: OccupancyOptions = parse_json("occupancy options", options_json)?;
-        let scene = self.scene.clone();
-        let r = py.detach(|| occupancy_raster(&scene.world, &opts)).sim()?;
-        let cells = PyArray1::from_vec(py, r.cells).reshape([r.height, r.width])?;
-        Ok((cells.into_any(), r.origin.x, r.origin.y))
+        crate::errors::guard(|| {
+            let opts: OccupancyOptions = parse_json("occupancy options", options_json)?;
+            let scene = self.scene.clone();
+            let r = py.detach(|| occupancy_raster(&scene.world, &opts)).sim()?;
+            let cells = PyArray1::from_vec(py, r.cells).reshape([r.height, r.width])?;
+            Ok((cells.into_any(), r.origin.x, r.origin.y))
+        })
     }
 }
 
@@ -149,20 +163,24 @@ pub struct PyCamera {
 impl PyCamera {
     #[staticmethod]
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
-        let camera: Camera = parse_json("camera", text)?;
-        Ok(Self {
-            rays: Arc::new(py.detach(|| CameraRays::new(camera)).sim()?),
+        crate::errors::guard(|| {
+            let camera: Camera = parse_json("camera", text)?;
+            Ok(Self {
+                rays: Arc::new(py.detach(|| CameraRays::new(camera)).sim()?),
+            })
         })
     }
 
     /// The default wide-angle camera at a resolution, as JSON.
     #[staticmethod]
-    fn default_json(width: usize, height: usize) -> String {
-        serde_json::to_string(&Camera::wide_angle(width, height)).unwrap_or_default()
+    fn default_json(width: usize, height: usize) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok(serde_json::to_string(&Camera::wide_angle(width, height)).unwrap_or_default())
+        })
     }
 
-    fn to_json(&self) -> String {
-        serde_json::to_string(&self.rays.camera).unwrap_or_default()
+    fn to_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(serde_json::to_string(&self.rays.camera).unwrap_or_default()))
     }
 
     /// Exact ground points (camera ground frame) of pixels: two float64 arrays, NaN where none.
@@ -173,24 +191,26 @@ impl PyCamera {
         v: PyReadonlyArray1<'py, f64>,
         max_range_m: f64,
     ) -> PyResult<Xy<'py>> {
-        let (u, v) = (u.as_array().to_vec(), v.as_array().to_vec());
-        if u.len() != v.len() {
-            return Err(error(
-                "LengthMismatchError",
-                format!("u has {} values, v has {}", u.len(), v.len()),
-            ));
-        }
-        let cam = &self.rays.camera;
-        let (x, y): (Vec<f64>, Vec<f64>) = py.detach(|| {
-            u.iter()
-                .zip(&v)
-                .map(|(&u, &v)| {
-                    cam.pixel_to_ground(u, v, max_range_m)
-                        .map_or((f64::NAN, f64::NAN), |p| (p.x, p.y))
-                })
-                .unzip()
-        });
-        Ok((PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
+        crate::errors::guard(|| {
+            let (u, v) = (u.as_array().to_vec(), v.as_array().to_vec());
+            if u.len() != v.len() {
+                return Err(error(
+                    "LengthMismatchError",
+                    format!("u has {} values, v has {}", u.len(), v.len()),
+                ));
+            }
+            let cam = &self.rays.camera;
+            let (x, y): (Vec<f64>, Vec<f64>) = py.detach(|| {
+                u.iter()
+                    .zip(&v)
+                    .map(|(&u, &v)| {
+                        cam.pixel_to_ground(u, v, max_range_m)
+                            .map_or((f64::NAN, f64::NAN), |p| (p.x, p.y))
+                    })
+                    .unzip()
+            });
+            Ok((PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
+        })
     }
 
     /// Pixels (u, v) where ground points (camera ground frame) appear; NaN where not seen.
@@ -200,24 +220,26 @@ impl PyCamera {
         x: PyReadonlyArray1<'py, f64>,
         y: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<Xy<'py>> {
-        let (x, y) = (x.as_array().to_vec(), y.as_array().to_vec());
-        if x.len() != y.len() {
-            return Err(error(
-                "LengthMismatchError",
-                format!("x has {} values, y has {}", x.len(), y.len()),
-            ));
-        }
-        let cam = &self.rays.camera;
-        let (u, v): (Vec<f64>, Vec<f64>) = py.detach(|| {
-            x.iter()
-                .zip(&y)
-                .map(|(&x, &y)| {
-                    ground_to_pixel(&cam.lens, &cam.mount, Point2::new(x, y))
-                        .map_or((f64::NAN, f64::NAN), |p| (p[0], p[1]))
-                })
-                .unzip()
-        });
-        Ok((PyArray1::from_vec(py, u), PyArray1::from_vec(py, v)))
+        crate::errors::guard(|| {
+            let (x, y) = (x.as_array().to_vec(), y.as_array().to_vec());
+            if x.len() != y.len() {
+                return Err(error(
+                    "LengthMismatchError",
+                    format!("x has {} values, y has {}", x.len(), y.len()),
+                ));
+            }
+            let cam = &self.rays.camera;
+            let (u, v): (Vec<f64>, Vec<f64>) = py.detach(|| {
+                x.iter()
+                    .zip(&y)
+                    .map(|(&x, &y)| {
+                        ground_to_pixel(&cam.lens, &cam.mount, Point2::new(x, y))
+                            .map_or((f64::NAN, f64::NAN), |p| (p[0], p[1]))
+                    })
+                    .unzip()
+            });
+            Ok((PyArray1::from_vec(py, u), PyArray1::from_vec(py, v)))
+        })
     }
 
     /// The exact ground table of the camera.
@@ -227,11 +249,13 @@ impl PyCamera {
         spacing_px: usize,
         max_range_m: f64,
     ) -> PyResult<PyGroundTable> {
-        let cam = self.rays.camera.clone();
-        let inner = py
-            .detach(|| cam.ground_table(spacing_px, max_range_m))
-            .sim()?;
-        Ok(PyGroundTable { inner })
+        crate::errors::guard(|| {
+            let cam = self.rays.camera.clone();
+            let inner = py
+                .detach(|| cam.ground_table(spacing_px, max_range_m))
+                .sim()?;
+            Ok(PyGroundTable { inner })
+        })
     }
 }
 
@@ -244,35 +268,37 @@ pub struct PyTruth {
 
 #[pymethods]
 impl PyTruth {
-    fn __len__(&self) -> usize {
-        self.frames.len()
+    fn __len__(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.frames.len()))
     }
 
     /// The truth as a dict of numpy arrays, shapes (N, W) or (N, W, 2) or (N, 3).
     fn arrays<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        truth_dict(py, &self.frames, self.width)
+        crate::errors::guard(|| truth_dict(py, &self.frames, self.width))
     }
 
     /// The truth columns CSV (header included) with the frames' timestamps [s].
     fn to_csv(&self, py: Python<'_>, timestamps: PyReadonlyArray1<'_, f64>) -> PyResult<String> {
-        let times = timestamps.as_array().to_vec();
-        if times.len() != self.frames.len() {
-            return Err(error(
-                "LengthMismatchError",
-                format!(
-                    "{} frames but {} timestamps",
-                    self.frames.len(),
-                    times.len()
-                ),
-            ));
-        }
-        Ok(py.detach(|| {
-            let mut out = String::with_capacity(self.frames.len() * self.width * 120 + 200);
-            out.push_str(COLUMNS_CSV_HEADER);
-            out.push('\n');
-            write_columns_csv(&self.frames, &times, &mut out);
-            out
-        }))
+        crate::errors::guard(|| {
+            let times = timestamps.as_array().to_vec();
+            if times.len() != self.frames.len() {
+                return Err(error(
+                    "LengthMismatchError",
+                    format!(
+                        "{} frames but {} timestamps",
+                        self.frames.len(),
+                        times.len()
+                    ),
+                ));
+            }
+            Ok(py.detach(|| {
+                let mut out = String::with_capacity(self.frames.len() * self.width * 120 + 200);
+                out.push_str(COLUMNS_CSV_HEADER);
+                out.push('\n');
+                write_columns_csv(&self.frames, &times, &mut out);
+                out
+            }))
+        })
     }
 }
 
@@ -373,33 +399,35 @@ fn sim_render<'py>(
     truth: bool,
     max_range_m: f64,
 ) -> PyResult<Rendered<'py>> {
-    let pose = pose_of(x, y, yaw)?;
-    let (scene, rays) = (world.scene.clone(), camera.rays.clone());
-    let opts = TruthOptions { max_range_m };
-    let (buf, t) = py
-        .detach(|| -> floorscan_sim::Result<_> {
-            let mut buf = RenderBuffers::default();
-            render_into(&scene, &rays, pose, seed, frame, &mut buf)?;
-            let t = if truth {
-                opts.validate()?;
-                Some(frame_truth(&scene, &rays, pose, &opts))
-            } else {
-                None
-            };
-            Ok((buf, t))
-        })
-        .sim()?;
-    let (w, h) = (rays.camera.width, rays.camera.height);
-    let truth = t.map(|t| PyTruth {
-        frames: vec![t],
-        width: w,
-    });
-    Ok((
-        image_array(py, buf.image, &[h, w])?,
-        image_array(py, buf.labels, &[h, w])?,
-        truth,
-        buf.exposure,
-    ))
+    crate::errors::guard(|| {
+        let pose = pose_of(x, y, yaw)?;
+        let (scene, rays) = (world.scene.clone(), camera.rays.clone());
+        let opts = TruthOptions { max_range_m };
+        let (buf, t) = py
+            .detach(|| -> floorscan_sim::Result<_> {
+                let mut buf = RenderBuffers::default();
+                render_into(&scene, &rays, pose, seed, frame, &mut buf)?;
+                let t = if truth {
+                    opts.validate()?;
+                    Some(frame_truth(&scene, &rays, pose, &opts))
+                } else {
+                    None
+                };
+                Ok((buf, t))
+            })
+            .sim()?;
+        let (w, h) = (rays.camera.width, rays.camera.height);
+        let truth = t.map(|t| PyTruth {
+            frames: vec![t],
+            width: w,
+        });
+        Ok((
+            image_array(py, buf.image, &[h, w])?,
+            image_array(py, buf.labels, &[h, w])?,
+            truth,
+            buf.exposure,
+        ))
+    })
 }
 
 /// Drives the robot: (times (N,), truth (N, 3), odometry (N, 3)).
@@ -416,28 +444,30 @@ fn sim_drive<'py>(
     duration_s: f64,
     seed: u64,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    let start = pose_of(x, y, yaw)?;
-    let motion: Motion = parse_json("motion", motion_json)?;
-    let robot: RobotOptions = parse_json("robot options", robot_json)?;
-    let noise: OdometryNoise = parse_json("odometry noise", noise_json)?;
-    let tr = py
-        .detach(|| drive(start, &motion, &robot, &noise, duration_s, seed))
-        .sim()?;
-    let n = tr.times_s.len();
-    let flat = |p: &[Pose2]| {
-        p.iter()
-            .flat_map(|p| [p.x, p.y, p.yaw])
-            .collect::<Vec<f64>>()
-    };
-    Ok((
-        PyArray1::from_vec(py, tr.times_s).into_any(),
-        PyArray1::from_vec(py, flat(&tr.truth))
-            .reshape([n, 3])?
-            .into_any(),
-        PyArray1::from_vec(py, flat(&tr.odometry))
-            .reshape([n, 3])?
-            .into_any(),
-    ))
+    crate::errors::guard(|| {
+        let start = pose_of(x, y, yaw)?;
+        let motion: Motion = parse_json("motion", motion_json)?;
+        let robot: RobotOptions = parse_json("robot options", robot_json)?;
+        let noise: OdometryNoise = parse_json("odometry noise", noise_json)?;
+        let tr = py
+            .detach(|| drive(start, &motion, &robot, &noise, duration_s, seed))
+            .sim()?;
+        let n = tr.times_s.len();
+        let flat = |p: &[Pose2]| {
+            p.iter()
+                .flat_map(|p| [p.x, p.y, p.yaw])
+                .collect::<Vec<f64>>()
+        };
+        Ok((
+            PyArray1::from_vec(py, tr.times_s).into_any(),
+            PyArray1::from_vec(py, flat(&tr.truth))
+                .reshape([n, 3])?
+                .into_any(),
+            PyArray1::from_vec(py, flat(&tr.odometry))
+                .reshape([n, 3])?
+                .into_any(),
+        ))
+    })
 }
 
 /// Renders frames at poses (N, 3): (images (N, H, W), labels or None, truth or None,
@@ -455,52 +485,56 @@ fn sim_render_run<'py>(
     max_range_m: f64,
     threads: usize,
 ) -> PyResult<RenderedRun<'py>> {
-    if poses.shape()[1] != 3 {
-        return Err(error(
-            "GeometryError",
-            format!("poses must have shape (N, 3), got {:?}", poses.shape()),
-        ));
-    }
-    let a = poses.as_array();
-    let poses: Vec<Pose2> = a
-        .rows()
-        .into_iter()
-        .map(|r| Pose2::new(r[0], r[1], r[2]))
-        .collect();
-    let (scene, rays) = (world.scene.clone(), camera.rays.clone());
-    let outputs = RunOutputs {
-        labels,
-        truth: truth.then_some(TruthOptions { max_range_m }),
-        threads,
-    };
-    let run = py
-        .detach(|| render_run(&scene, &rays, &poses, seed, outputs))
-        .sim()?;
-    let (n, h, w) = (poses.len(), run.height, run.width);
-    let images = image_array(py, run.images, &[n, h, w])?;
-    let labels = if labels {
-        Some(image_array(py, run.labels, &[n, h, w])?)
-    } else {
-        None
-    };
-    let truth = truth.then_some(PyTruth {
-        frames: run.truth,
-        width: w,
-    });
-    Ok((
-        images,
-        labels,
-        truth,
-        PyArray1::from_vec(py, run.exposures).into_any(),
-    ))
+    crate::errors::guard(|| {
+        if poses.shape()[1] != 3 {
+            return Err(error(
+                "GeometryError",
+                format!("poses must have shape (N, 3), got {:?}", poses.shape()),
+            ));
+        }
+        let a = poses.as_array();
+        let poses: Vec<Pose2> = a
+            .rows()
+            .into_iter()
+            .map(|r| Pose2::new(r[0], r[1], r[2]))
+            .collect();
+        let (scene, rays) = (world.scene.clone(), camera.rays.clone());
+        let outputs = RunOutputs {
+            labels,
+            truth: truth.then_some(TruthOptions { max_range_m }),
+            threads,
+        };
+        let run = py
+            .detach(|| render_run(&scene, &rays, &poses, seed, outputs))
+            .sim()?;
+        let (n, h, w) = (poses.len(), run.height, run.width);
+        let images = image_array(py, run.images, &[n, h, w])?;
+        let labels = if labels {
+            Some(image_array(py, run.labels, &[n, h, w])?)
+        } else {
+            None
+        };
+        let truth = truth.then_some(PyTruth {
+            frames: run.truth,
+            width: w,
+        });
+        Ok((
+            images,
+            labels,
+            truth,
+            PyArray1::from_vec(py, run.exposures).into_any(),
+        ))
+    })
 }
 
 /// The default pattern of a kind ("checkerboard" or "lines") in front of a camera, as JSON.
 #[pyfunction]
 fn sim_default_pattern(camera: &PyCamera, kind: &str) -> PyResult<String> {
-    let kind: PatternKind = parse_json("pattern kind", &format!("\"{kind}\""))?;
-    let spec = default_pattern(kind, &camera.rays.camera).sim()?;
-    Ok(serde_json::to_string(&spec).unwrap_or_default())
+    crate::errors::guard(|| {
+        let kind: PatternKind = parse_json("pattern kind", &format!("\"{kind}\""))?;
+        let spec = default_pattern(kind, &camera.rays.camera).sim()?;
+        Ok(serde_json::to_string(&spec).unwrap_or_default())
+    })
 }
 
 /// Renders the calibration scene of a pattern (JSON): (image, labels).
@@ -511,65 +545,71 @@ fn sim_render_calibration<'py>(
     pattern_json: &str,
     seed: u64,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    let spec: PatternSpec = parse_json("pattern", pattern_json)?;
-    let rays = camera.rays.clone();
-    let buf = py
-        .detach(|| -> floorscan_sim::Result<RenderBuffers> {
-            let scene = Scene::new(calibration_world(&spec)?);
-            let mut buf = RenderBuffers::default();
-            render_into(&scene, &rays, robot_pose(&rays.camera), seed, 0, &mut buf)?;
-            Ok(buf)
-        })
-        .sim()?;
-    let (w, h) = (rays.camera.width, rays.camera.height);
-    Ok((
-        image_array(py, buf.image, &[h, w])?,
-        image_array(py, buf.labels, &[h, w])?,
-    ))
+    crate::errors::guard(|| {
+        let spec: PatternSpec = parse_json("pattern", pattern_json)?;
+        let rays = camera.rays.clone();
+        let buf = py
+            .detach(|| -> floorscan_sim::Result<RenderBuffers> {
+                let scene = Scene::new(calibration_world(&spec)?);
+                let mut buf = RenderBuffers::default();
+                render_into(&scene, &rays, robot_pose(&rays.camera), seed, 0, &mut buf)?;
+                Ok(buf)
+            })
+            .sim()?;
+        let (w, h) = (rays.camera.width, rays.camera.height);
+        Ok((
+            image_array(py, buf.image, &[h, w])?,
+            image_array(py, buf.labels, &[h, w])?,
+        ))
+    })
 }
 
 /// Pattern points (inner corners or crossings; camera ground frame), (M, 2).
 #[pyfunction]
 fn sim_pattern_points<'py>(py: Python<'py>, pattern_json: &str) -> PyResult<Bound<'py, PyAny>> {
-    let spec: PatternSpec = parse_json("pattern", pattern_json)?;
-    spec.validate().sim()?;
-    let pts = spec.points();
-    let n = pts.len();
-    Ok(
-        PyArray1::from_vec(py, pts.iter().flat_map(|p| [p.x, p.y]).collect())
-            .reshape([n, 2])?
-            .into_any(),
-    )
+    crate::errors::guard(|| {
+        let spec: PatternSpec = parse_json("pattern", pattern_json)?;
+        spec.validate().sim()?;
+        let pts = spec.points();
+        let n = pts.len();
+        Ok(
+            PyArray1::from_vec(py, pts.iter().flat_map(|p| [p.x, p.y]).collect())
+                .reshape([n, 2])?
+                .into_any(),
+        )
+    })
 }
 
 /// Validates options of a simulator component given as JSON: `kind` is "camera", "imaging",
 /// "robot", "odometry", "occupancy" or "pattern". Raises the matching error.
 #[pyfunction]
 fn sim_validate(kind: &str, options_json: &str) -> PyResult<()> {
-    match kind {
-        "camera" => parse_json::<Camera>("camera", options_json)?
-            .validate()
-            .sim(),
-        "imaging" => parse_json::<floorscan_sim::Imaging>("imaging", options_json)?
-            .validate()
-            .sim(),
-        "robot" => parse_json::<RobotOptions>("robot options", options_json)?
-            .validate()
-            .sim(),
-        "odometry" => parse_json::<OdometryNoise>("odometry noise", options_json)?
-            .validate()
-            .sim(),
-        "pattern" => parse_json::<PatternSpec>("pattern", options_json)?
-            .validate()
-            .sim(),
-        "occupancy" => {
-            let o: OccupancyOptions = parse_json("occupancy options", options_json)?;
-            // The checks live in the raster builder: run them on an empty world's bounds.
-            let w = parse_world("name = \"check\"\n[start]\nx = 0\ny = 0\n", "check").sim()?;
-            occupancy_raster(&w, &o).map(|_| ()).sim()
+    crate::errors::guard(|| {
+        match kind {
+            "camera" => parse_json::<Camera>("camera", options_json)?
+                .validate()
+                .sim(),
+            "imaging" => parse_json::<floorscan_sim::Imaging>("imaging", options_json)?
+                .validate()
+                .sim(),
+            "robot" => parse_json::<RobotOptions>("robot options", options_json)?
+                .validate()
+                .sim(),
+            "odometry" => parse_json::<OdometryNoise>("odometry noise", options_json)?
+                .validate()
+                .sim(),
+            "pattern" => parse_json::<PatternSpec>("pattern", options_json)?
+                .validate()
+                .sim(),
+            "occupancy" => {
+                let o: OccupancyOptions = parse_json("occupancy options", options_json)?;
+                // The checks live in the raster builder: run them on an empty world's bounds.
+                let w = parse_world("name = \"check\"\n[start]\nx = 0\ny = 0\n", "check").sim()?;
+                occupancy_raster(&w, &o).map(|_| ()).sim()
+            }
+            other => Err(error("OptionError", format!("unknown component {other:?}"))),
         }
-        other => Err(error("OptionError", format!("unknown component {other:?}"))),
-    }
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

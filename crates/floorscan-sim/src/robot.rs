@@ -165,20 +165,31 @@ pub fn drive(
         }
         for _ in 0..substeps {
             let (v, omega) = match motion {
-                Motion::Waypoints { points, repeat } => loop {
-                    if points.is_empty() || (target >= points.len() && !repeat) {
-                        break (0.0, 0.0);
-                    }
-                    let p = points[target % points.len()];
-                    if (p.x - pose.x).hypot(p.y - pose.y) <= options.waypoint_tolerance_m {
-                        target += 1;
-                        if points.len() == 1 && *repeat {
+                Motion::Waypoints { points, repeat } => {
+                    // Skip the waypoints already reached; a repeating tour whose every
+                    // waypoint lies within the tolerance of the robot stands still (once
+                    // round the tour without a target ends the search, never a busy loop).
+                    let mut reached = 0usize;
+                    loop {
+                        if points.is_empty()
+                            || (target >= points.len() && !repeat)
+                            || reached >= points.len()
+                        {
                             break (0.0, 0.0);
                         }
-                        continue;
+                        let p = points[target % points.len()];
+                        if (p.x - pose.x).hypot(p.y - pose.y) <= options.waypoint_tolerance_m {
+                            target = if *repeat {
+                                (target + 1) % points.len()
+                            } else {
+                                target + 1
+                            };
+                            reached += 1;
+                            continue;
+                        }
+                        break steer(pose, p, options);
                     }
-                    break steer(pose, p, options);
-                },
+                }
                 Motion::Commands(cmds) => {
                     while cmd_index < cmds.len()
                         && cmd_elapsed >= cmds[cmd_index].duration_s - 1e-12
@@ -255,6 +266,27 @@ mod tests {
             (p.x - 2.0 * 1f64.sin()).abs() < 1e-9 && (p.y - 2.0 * (1.0 - 1f64.cos())).abs() < 1e-9
         );
         assert_eq!(tr.truth[120], p);
+    }
+
+    #[test]
+    fn a_repeating_tour_of_waypoints_at_the_start_stands_still_and_returns() {
+        // Issue 12: `floorscan sim` with such a tour spun at 100 % CPU forever.
+        for n in [1, 2, 5] {
+            let motion = Motion::Waypoints {
+                points: vec![Point2::new(0.0, 0.0); n],
+                repeat: true,
+            };
+            let tr = drive(
+                Pose2::IDENTITY,
+                &motion,
+                &RobotOptions::default(),
+                &OdometryNoise::none(),
+                2.0,
+                0,
+            )
+            .unwrap();
+            assert!(tr.truth.iter().all(|p| *p == Pose2::IDENTITY));
+        }
     }
 
     #[test]

@@ -94,8 +94,13 @@ fn bad(name: &str, reason: String) -> Error {
     }
 }
 
+/// Farthest a world's geometry may lie from its origin [m]: the simulator's indexes and
+/// rasters scale with the world's extent, so a wall to x = 1e12 is an error, not an allocation.
+pub const MAX_WORLD_EXTENT_M: f64 = 2000.0;
+
+/// Finite and within [`MAX_WORLD_EXTENT_M`] of the origin on both axes.
 fn finite_point(p: Point2) -> bool {
-    p.x.is_finite() && p.y.is_finite()
+    p.x.abs() <= MAX_WORLD_EXTENT_M && p.y.abs() <= MAX_WORLD_EXTENT_M
 }
 
 impl World {
@@ -108,11 +113,21 @@ impl World {
                 format!("ceiling_m: must be > 0, got {}", world.ceiling_m),
             ));
         }
-        if !world.start.is_finite() {
-            return Err(bad(&name, "start: pose must be finite".into()));
+        if !(world.start.is_finite() && finite_point(Point2::new(world.start.x, world.start.y))) {
+            return Err(bad(
+                &name,
+                format!(
+                    "start: pose must be finite and within {MAX_WORLD_EXTENT_M} m of the origin"
+                ),
+            ));
         }
         if let Some(i) = world.tour.iter().position(|p| !finite_point(*p)) {
-            return Err(bad(&name, format!("tour[{i}]: must be finite")));
+            return Err(bad(
+                &name,
+                format!(
+                    "tour[{i}]: must be finite and within {MAX_WORLD_EXTENT_M} m of the origin"
+                ),
+            ));
         }
         let n_app = world.appearances.len();
         for (i, s) in world.solids.iter_mut().enumerate() {
@@ -205,7 +220,7 @@ impl World {
                 return Err(bad(
                     &name,
                     format!(
-                        "lighting.lights[{i}]: needs a finite position, height_m > 0, power >= 0"
+                        "lighting.lights[{i}]: needs a finite position (within {MAX_WORLD_EXTENT_M} m), height_m > 0, power >= 0"
                     ),
                 ));
             }
@@ -249,7 +264,10 @@ fn check_polygon(world: &str, what: &str, polygon: &mut [Point2]) -> Result<()> 
         ));
     }
     if let Some(i) = polygon.iter().position(|p| !finite_point(*p)) {
-        return Err(bad(world, format!("{what}: point {i} is not finite")));
+        return Err(bad(
+            world,
+            format!("{what}: point {i} is not finite or farther than {MAX_WORLD_EXTENT_M} m from the origin"),
+        ));
     }
     let area = signed_area(polygon);
     if area.abs() < 1e-10 {

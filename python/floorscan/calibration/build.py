@@ -70,9 +70,7 @@ def detect_views(
         idx.append(det.indices)
         view.append(np.full(len(det.image_points), k))
     assert size is not None
-    return Views(
-        np.vstack(uvs), np.vstack(gs), np.vstack(idx), np.concatenate(view), dets, size
-    )
+    return Views(np.vstack(uvs), np.vstack(gs), np.vstack(idx), np.concatenate(view), dets, size)
 
 
 def calibrate(

@@ -98,8 +98,9 @@ class Intrinsics:
             return None
 
         k_node = node("camera_matrix", "K", "cameraMatrix", "Camera_Matrix")
-        d_node = node("distortion_coefficients", "D", "dist_coeffs", "distCoeffs",
-                      "Distortion_Coefficients")
+        d_node = node(
+            "distortion_coefficients", "D", "dist_coeffs", "distCoeffs", "Distortion_Coefficients"
+        )
         if k_node is None:
             raise FileFormatError(f"{path}: no `camera_matrix` (or K) in the file")
         k = k_node.mat()
@@ -151,8 +152,9 @@ class Intrinsics:
         d = np.asarray(d, float)
         if not np.all(np.isfinite(d)):
             raise FileFormatError(f"{path}: distortion coefficients must be finite")
-        kw = dict(fx=k[0, 0], fy=k[1, 1], cx=k[0, 2], cy=k[1, 2], distortion=list(d),
-                  image_size=size)
+        kw = dict(
+            fx=k[0, 0], fy=k[1, 1], cx=k[0, 2], cy=k[1, 2], distortion=list(d), image_size=size
+        )
         return cls.fisheye(**kw) if is_fisheye else cls.pinhole(**kw)
 
     def check_size(self, image_size: Tuple[int, int]) -> None:

@@ -120,7 +120,9 @@ class LensFamily:
                 ks = [t.get(f"k{i}", 0.0) for i in (1, 2, 3, 4)]
                 theta_d = np.hypot(xd, yd)
                 theta, ok = _invert_kb(theta_d, ks)
-                s = np.where(theta_d > 1e-15, np.sin(theta) / np.where(theta_d > 1e-15, theta_d, 1), 1)
+                s = np.where(
+                    theta_d > 1e-15, np.sin(theta) / np.where(theta_d > 1e-15, theta_d, 1), 1
+                )
                 ray = np.stack([xd * s, yd * s, np.cos(theta)])
             elif self.kind == "unified":
                 xs, ys, ok = _undistort_radial(xd, yd, t.get("k1", 0.0), t.get("k2", 0.0))

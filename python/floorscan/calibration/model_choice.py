@@ -193,6 +193,7 @@ def choose(
     widest = max(described.values())
     near = [c for c in near if described[c.name] >= widest - DESCRIBED_SLACK]
     fewest = min(len(c.fit.model.family.terms) for c in near)
-    best = min((c for c in near if len(c.fit.model.family.terms) == fewest),
-               key=lambda c: c.held_out_px)
+    best = min(
+        (c for c in near if len(c.fit.model.family.terms) == fewest), key=lambda c: c.held_out_px
+    )
     return Choice(best, cands, used, folds)

@@ -28,7 +28,7 @@ import numpy as np
 
 from .._atomic import PathLike, write_atomic
 from .._toml import load_toml, loads_toml
-from ..errors import ConfigError
+from ..errors import ArgumentTypeError, ConfigError
 
 MAX_COUNT = 100
 """Most inner corners (lines) in one direction."""
@@ -203,7 +203,9 @@ class Pattern:
             return pattern
         if isinstance(pattern, (str, Path)) or hasattr(pattern, "__fspath__"):
             return cls.load(pattern)
-        raise TypeError(f"pattern must be a Pattern or a path, got {type(pattern).__name__}")
+        raise ArgumentTypeError(
+            f"pattern must be a Pattern or a path, got {type(pattern).__name__}"
+        )
 
     # --- geometry -----------------------------------------------------------------------
     @property

@@ -163,9 +163,7 @@ def node_errors(
     spread = model_spread(
         fit.model, plausible, u, v, min_depression_rad=min_depression_rad, weights=weights
     )
-    interp = interpolation_error(
-        fit.model, spacing_px, u, v, min_depression_rad=min_depression_rad
-    )
+    interp = interpolation_error(fit.model, spacing_px, u, v, min_depression_rad=min_depression_rad)
     return alpha * np.hypot(sigma, spread) + interp, sigma, spread, interp
 
 

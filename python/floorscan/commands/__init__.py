@@ -13,4 +13,5 @@ COMMAND_MODULES = [
     "floorscan.commands.tune",
     "floorscan.commands.merge",
     "floorscan.commands.fleet",
+    "floorscan.commands.drive",
 ]

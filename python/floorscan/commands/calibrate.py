@@ -39,14 +39,22 @@ def register(sub) -> None:
         "e.g. the robot backed up by M metres (default 0)",
     )
     p.add_argument("-o", "--output", help="ground table JSON to write")
-    p.add_argument("--intrinsics", help="known intrinsics: OpenCV FileStorage YAML/XML or ROS "
-                   "camera_info YAML; only the camera's pose is fitted")
-    p.add_argument("--check", metavar="TABLE", help="score TABLE on IMAGE (no fit, no table "
-                   "written)")
+    p.add_argument(
+        "--intrinsics",
+        help="known intrinsics: OpenCV FileStorage YAML/XML or ROS "
+        "camera_info YAML; only the camera's pose is fitted",
+    )
+    p.add_argument(
+        "--check", metavar="TABLE", help="score TABLE on IMAGE (no fit, no table written)"
+    )
     p.add_argument("--overlay", help="PNG to write: the pattern as the table sees it, over IMAGE")
     p.add_argument("--report", help="JSON to write: every point's errors, the model, the view")
-    p.add_argument("--spacing", type=int, default=d.spacing_px,
-                   help=f"table node spacing [px] (default {d.spacing_px})")
+    p.add_argument(
+        "--spacing",
+        type=int,
+        default=d.spacing_px,
+        help=f"table node spacing [px] (default {d.spacing_px})",
+    )
     p.add_argument(
         "--coverage",
         choices=[c.value for c in Coverage],
@@ -54,9 +62,13 @@ def register(sub) -> None:
         help="nodes with ground: trusted = predicted error within --max-error of the range "
         "(default); pattern = around the pattern only; all = wherever the model sees floor",
     )
-    p.add_argument("--max-error", type=float, default=d.max_error_fraction,
-                   help="largest predicted error kept, fraction of the range "
-                   f"(default {d.max_error_fraction})")
+    p.add_argument(
+        "--max-error",
+        type=float,
+        default=d.max_error_fraction,
+        help="largest predicted error kept, fraction of the range "
+        f"(default {d.max_error_fraction})",
+    )
     p.add_argument("--extrapolate", action="store_true", help="same as --coverage all")
     p.add_argument(
         "--margin",
@@ -69,10 +81,16 @@ def register(sub) -> None:
         action="store_true",
         help="--coverage pattern: leave out the floor between the camera and the pattern",
     )
-    p.add_argument("--max-range", type=float, default=d.max_range_m,
-                   help=f"no ground beyond this range [m] (default {d.max_range_m})")
-    p.add_argument("--families", help="comma-separated lens families to try (default: all; "
-                   "docs/calibration.md)")
+    p.add_argument(
+        "--max-range",
+        type=float,
+        default=d.max_range_m,
+        help=f"no ground beyond this range [m] (default {d.max_range_m})",
+    )
+    p.add_argument(
+        "--families",
+        help="comma-separated lens families to try (default: all; docs/calibration.md)",
+    )
     p.set_defaults(run=run)
 
 

@@ -13,12 +13,18 @@ def register(sub) -> None:
     g = p.add_mutually_exclusive_group(required=True)
     g.add_argument("--default", action="store_true", help="print the default configuration (TOML)")
     g.add_argument(
-        "--check", metavar="CONFIG", help="check a configuration file and print it in full"
+        "--check",
+        metavar="CONFIG",
+        help="check a configuration file as `floorscan run` does and print it in full",
     )
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    cfg = Config() if args.default else Config.load(args.check)
+    from ..config_check import check_config
+
+    # --check builds every component `floorscan run` builds from the file, with the same
+    # constructors: the two refuse exactly the same files.
+    cfg = Config() if args.default else check_config(Config.load(args.check))
     sys.stdout.write(cfg.to_toml())
     return 0

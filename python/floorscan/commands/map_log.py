@@ -70,6 +70,12 @@ def register(sub) -> None:
         help="map_server image mode (default trinary)",
     )
     p.add_argument(
+        "--max-cells",
+        type=int,
+        default=1 << 25,
+        help="most cells the map may span (default 2^25; a pose farther out is an error)",
+    )
+    p.add_argument(
         "--lenient",
         action="store_true",
         help="skip malformed lines (reported with their line numbers) instead of failing",
@@ -143,7 +149,9 @@ def run(args: argparse.Namespace) -> int:
         from ..errors import DatasetError
 
         raise DatasetError(f"{args.log}: no FLASER or ROBOTLASER1 lines")
-    grid = OccupancyGrid(cell_size_m=args.cell_size, laser=(args.hit, args.miss))
+    grid = OccupancyGrid(
+        cell_size_m=args.cell_size, laser=(args.hit, args.miss), max_cells=args.max_cells
+    )
     rays, cells, seconds = map_lasers(
         grid,
         log.lasers,

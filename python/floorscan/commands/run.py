@@ -8,9 +8,10 @@ import sys
 from pathlib import Path
 
 from ..config import Config
+from ..config_check import check_config
 from ..errors import DatasetError, OptionError
 from ..ground_table import GroundTable
-from ..image_io import read_grey
+from ..image_io import read_grey, set_max_image_pixels
 from ..pipeline import Mapper, run
 from ..progress import Progress
 from ..rig import Rig
@@ -124,20 +125,30 @@ def main(args: argparse.Namespace) -> int:
             "ranger.columns": args.columns,
         }
     )
+    check_config(cfg)
+    set_max_image_pixels(cfg.limits.max_image_pixels)
     source = open_source(args)
     table = load_table(args, source, cfg)
     mapper = Mapper(table, cfg, robot_from_camera=rig_pose(source, cfg))
-    outputs = RunOutputs(args.output, cfg, expected_frames=len(source) or None)
-    if args.rerun:
-        from ..rerun_log import RerunOutputs
+    outputs = None
+    try:
+        outputs = RunOutputs(args.output, cfg, expected_frames=len(source) or None)
+        if args.rerun:
+            from ..rerun_log import RerunOutputs
 
-        outputs = RerunOutputs(outputs)
-    if source.odometry is None:
-        print(
-            "no odometry: only the local map is built (the robot is taken as standing still)",
-            file=sys.stderr,
+            outputs = RerunOutputs(outputs)
+        if source.odometry is None:
+            print(
+                "no odometry: only the local map is built (the robot is taken as standing still)",
+                file=sys.stderr,
+            )
+        stats = run(
+            source, mapper, outputs, strict=args.strict, progress=Progress(len(source) or None)
         )
-    stats = run(source, mapper, outputs, strict=args.strict, progress=Progress(len(source) or None))
+    except BaseException:
+        if outputs is not None and not getattr(outputs, "finishing", True):
+            outputs.discard()  # stopped before the run began: nothing to save, nothing left
+        raise
     skipped = stats.frames_in - stats.frames_mapped
     print(
         f"{stats.frames_mapped} frames mapped, {skipped} skipped, {stats.boundary_points} boundary points"
@@ -146,4 +157,4 @@ def main(args: argparse.Namespace) -> int:
     print(
         f"outputs in {outputs.out if hasattr(outputs, 'out') else args.output}/: map.yaml map.png scans.csv summary.json ..."
     )
-    return 130 if stats.interrupted else 0
+    return 128 + (stats.signal or 2) if stats.interrupted else 0

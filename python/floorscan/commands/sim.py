@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 
@@ -43,10 +44,39 @@ def register(sub) -> None:
     p.add_argument("--no-labels", action="store_true", help="leave out the per-pixel label images")
     p.add_argument("--threads", type=int, default=2, help="render threads (default 2)")
     p.add_argument("--force", action="store_true", help="replace an existing dataset folder")
+    p.add_argument(
+        "--max-memory-mb",
+        type=int,
+        default=768,
+        help="most memory the rendered frames may take (default 768 MB; docs/limits.md)",
+    )
     p.set_defaults(run=run)
 
 
+def check_render_memory(args: argparse.Namespace) -> None:
+    """The run is rendered in memory (images, and labels unless --no-labels): refuse one that
+    would not fit in --max-memory-mb before rendering anything."""
+    from ..errors import OptionError
+
+    if not (math.isfinite(args.seconds) and args.seconds >= 0):
+        raise OptionError(
+            f"invalid option `--seconds`: must be finite and >= 0, got {args.seconds}"
+        )
+    if not (math.isfinite(args.rate) and args.rate > 0):
+        raise OptionError(f"invalid option `--rate`: must be finite and > 0, got {args.rate}")
+    frames = math.floor(args.seconds * args.rate + 1e-9) + 1
+    layers = 1 if (args.no_labels or args.no_truth) else 2
+    mb = frames * max(args.width, 0) * max(args.height, 0) * layers / 2**20
+    if mb > args.max_memory_mb:
+        raise OptionError(
+            f"{frames} frames of {args.width} x {args.height} take {mb:.0f} MB in memory, more "
+            f"than --max-memory-mb {args.max_memory_mb}: shorten --seconds, lower the "
+            "resolution, add --no-labels, or raise --max-memory-mb"
+        )
+
+
 def run(args: argparse.Namespace) -> int:
+    check_render_memory(args)
     world = World.resolve(args.world)
     camera = Camera(
         width=args.width, height=args.height, imaging=Imaging.ideal() if args.ideal else None

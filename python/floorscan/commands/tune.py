@@ -9,13 +9,40 @@ import json
 from pathlib import Path
 from typing import List
 
+MAX_VALUES = 1000
+"""Most values one option of the grid search may list (the search is their product)."""
 
-def _numbers(text: str) -> List[float]:
-    """``"1,2,4"`` or ``"2:40:2"`` (start:stop:step, stop included)."""
-    if ":" in text:
-        a, b, c = (float(x) for x in text.split(":"))
-        return [float(v) for v in __import__("numpy").arange(a, b + c / 2, c)]
-    return [float(x) for x in text.split(",") if x.strip()]
+
+def _numbers(text: str, name: str = "values") -> List[float]:
+    """``"1,2,4"`` or ``"2:40:2"`` (start:stop:step, stop included): finite numbers, at most
+    MAX_VALUES of them (OptionError naming the option otherwise)."""
+    import math
+
+    from ..errors import OptionError
+
+    def bad(why: str) -> OptionError:
+        return OptionError(f"invalid option `--{name}`: {why}, got {text!r}")
+
+    try:
+        if ":" in text:
+            parts = text.split(":")
+            if len(parts) != 3:
+                raise bad("give start:stop:step")
+            a, b, c = (float(x) for x in parts)
+            if not all(math.isfinite(v) for v in (a, b, c)):
+                raise bad("start, stop and step must be finite")
+            if c <= 0 or b < a:
+                raise bad("step must be > 0 and stop >= start")
+            n = math.floor((b - a) / c + 0.5) + 1
+            if n > MAX_VALUES:
+                raise bad(f"{n} values, more than {MAX_VALUES}")
+            return [a + i * c for i in range(n)]
+        values = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise bad("not a number") from None
+    if not values or len(values) > MAX_VALUES or not all(math.isfinite(v) for v in values):
+        raise bad(f"give 1 to {MAX_VALUES} finite numbers")
+    return values
 
 
 def register(sub) -> None:
@@ -60,6 +87,10 @@ def run(args: argparse.Namespace) -> int:
     from ..evaluation.tune import AUTO_K, TuneSet, auto_threshold, error_rate, read_labels_csv, tune
     from ..image_io import read_grey
 
+    if args.frames < 1:
+        raise OptionError(f"invalid option `--frames`: must be >= 1, got {args.frames}")
+    _numbers(args.thresholds, "thresholds")  # refuse bad specs before any work
+    _numbers(args.half_widths, "half-widths")
     cfg = Config.load(args.config) if args.config else Config()
     dataset = Path(args.dataset)
     truth = Path(args.truth) if args.truth else dataset / "truth"
@@ -88,11 +119,11 @@ def run(args: argparse.Namespace) -> int:
         frames = frames[np.linspace(0, frames.size - 1, args.frames).round().astype(int)]
     images = [read_grey(entries[k].path) for k in frames]
     tset = TuneSet(images, status[frames], points[frames], labelled[frames], table)
-    half_widths = [int(v) for v in _numbers(args.half_widths)]
+    half_widths = [int(v) for v in _numbers(args.half_widths, "half-widths")]
     result = tune(
         tset,
         half_widths=half_widths,
-        thresholds=_numbers(args.thresholds),
+        thresholds=_numbers(args.thresholds, "thresholds"),
         refinements=[r.strip() for r in args.refine.split(",")],
         bottom_margin=cfg.ranger.bottom_margin,
         max_range_m=cfg.ranger.max_range_m,

@@ -19,7 +19,7 @@ import numpy as np
 
 from .. import _native
 from .._atomic import PathLike, write_atomic
-from ..errors import FileFormatError
+from ..errors import ArgumentTypeError, FileFormatError
 from ..ground_table import GroundTable
 from ..lens import CameraMount, Lens
 from ._options import as_dict, init_options
@@ -107,11 +107,11 @@ class Camera:
         spec = json.loads(_native.SimCamera.default_json(int(width), int(height)))
         if lens is not None:
             if not isinstance(lens, Lens):
-                raise TypeError(f"lens must be a floorscan.Lens, got {type(lens).__name__}")
+                raise ArgumentTypeError(f"lens must be a floorscan.Lens, got {type(lens).__name__}")
             spec["lens"] = lens.to_dict()
         if mount is not None:
             if not isinstance(mount, CameraMount):
-                raise TypeError(
+                raise ArgumentTypeError(
                     f"mount must be a floorscan.CameraMount, got {type(mount).__name__}"
                 )
             spec["mount"] = json.loads(mount.to_json())
@@ -229,7 +229,7 @@ class Camera:
     def load(cls, path: PathLike) -> Camera:
         try:
             return cls.from_json(Path(path).read_text(encoding="utf-8"))
-        except OSError as e:
+        except (OSError, UnicodeDecodeError) as e:
             raise FileFormatError(f"cannot read camera file {path}: {e}") from None
 
     def __repr__(self) -> str:

@@ -8,6 +8,7 @@ from typing import Dict, Sequence, Tuple
 import numpy as np
 
 from .. import _native
+from ..errors import ArgumentTypeError
 from ..scan import STATUS_NAMES
 from .camera import Camera
 from .world import World
@@ -101,9 +102,11 @@ def render(
 
 def _render_native(world, camera, pose, seed, frame, truth, max_range_m):
     if not isinstance(world, World):
-        raise TypeError(f"world must be a floorscan.sim.World, got {type(world).__name__}")
+        raise ArgumentTypeError(f"world must be a floorscan.sim.World, got {type(world).__name__}")
     if not isinstance(camera, Camera):
-        raise TypeError(f"camera must be a floorscan.sim.Camera, got {type(camera).__name__}")
+        raise ArgumentTypeError(
+            f"camera must be a floorscan.sim.Camera, got {type(camera).__name__}"
+        )
     x, y, yaw = (float(c) for c in pose)
     return _native.sim_render(
         world._native,

@@ -11,7 +11,7 @@ from typing import Any, Optional, Sequence, Tuple
 import numpy as np
 
 from .. import _native
-from ..errors import OptionError
+from ..errors import ArgumentTypeError, OptionError
 from ._options import as_dict, init_options
 
 
@@ -100,7 +100,9 @@ class Robot:
         if odometry is None:
             odometry = OdometryNoise()
         if not isinstance(odometry, OdometryNoise):
-            raise TypeError(f"odometry must be an OdometryNoise, got {type(odometry).__name__}")
+            raise ArgumentTypeError(
+                f"odometry must be an OdometryNoise, got {type(odometry).__name__}"
+            )
         for f in self.__dataclass_fields__.values():
             if f.name != "odometry":
                 value = options.get(f.name, f.default)

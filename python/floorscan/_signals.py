@@ -1,0 +1,117 @@
+"""Stopping on SIGINT (Ctrl-C), SIGTERM and SIGHUP without losing work.
+
+- :func:`handle_signals` (the CLI's ``main``) turns SIGTERM and SIGHUP into :class:`Interrupted`
+  (a ``KeyboardInterrupt``) like SIGINT, so every command stops the same way on all three.
+- :class:`StopRequest` (``floorscan run``): the first signal asks the frame loop to stop after
+  the current frame; a second one while frames are still being read interrupts at once.
+  Once the loop has ended the outputs are written: the next signal is noted and ignored
+  (every output is finished whole), the one after abandons the outputs not yet written,
+  each writer removing its temporary file.
+
+Handlers are only installed in the main thread (Python delivers signals there only).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import sys
+import threading
+from typing import Dict, Iterator, Optional
+
+STOP_SIGNALS = tuple(
+    getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)
+)
+
+
+class Interrupted(KeyboardInterrupt):
+    """A stop signal (SIGINT, SIGTERM or SIGHUP) arrived; ``signum`` says which."""
+
+    def __init__(self, signum: int = signal.SIGINT) -> None:
+        super().__init__(signal.Signals(signum).name)
+        self.signum = int(signum)
+
+
+def exit_code(e: BaseException) -> int:
+    """The shell's convention: 128 + the signal number (130 for Ctrl-C)."""
+    return 128 + getattr(e, "signum", int(signal.SIGINT))
+
+
+def _in_main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
+
+
+@contextlib.contextmanager
+def _handlers(handler) -> Iterator[None]:
+    if not _in_main_thread():
+        yield
+        return
+    previous: Dict[int, object] = {}
+    for s in STOP_SIGNALS:
+        previous[s] = signal.signal(s, handler)
+    try:
+        yield
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
+
+
+def _raise(signum, _frame) -> None:
+    raise Interrupted(signum)
+
+
+def ignore_stop_signals() -> None:
+    """Ignores SIGINT, SIGTERM and SIGHUP from now on (the command line's last act)."""
+    if _in_main_thread():
+        for s in STOP_SIGNALS:
+            signal.signal(s, signal.SIG_IGN)
+
+
+def handle_signals():
+    """Context manager: SIGINT, SIGTERM and SIGHUP raise :class:`Interrupted`."""
+    return _handlers(_raise)
+
+
+class StopRequest:
+    """Cooperative stop for a frame loop (see the module docstring). Install it once, around
+    both the loop and the saving, so that no signal falls between two handlers."""
+
+    def __init__(self) -> None:
+        self.signum: Optional[int] = None
+        self._in_loop = False
+        self._after_loop = 0
+
+    @property
+    def requested(self) -> bool:
+        return self.signum is not None
+
+    def _on_signal(self, signum, _frame) -> None:
+        if self._in_loop:
+            if self.signum is not None:
+                raise Interrupted(signum)  # second signal: stop reading at once
+            self.signum = int(signum)
+            return
+        # Past the loop: the outputs are being written. Note the first signal; abandon the
+        # outputs not yet written on the second (each writer removes its temporary file).
+        self.signum = self.signum or int(signum)
+        self._after_loop += 1
+        if self._after_loop >= 2:
+            raise Interrupted(signum)
+        print(
+            "floorscan: saving the outputs (signal once more to abandon the rest)",
+            file=sys.stderr,
+        )
+
+    def installed(self):
+        """Context manager: this request handles SIGINT, SIGTERM and SIGHUP."""
+        return _handlers(self._on_signal)
+
+    @contextlib.contextmanager
+    def loop(self) -> Iterator[None]:
+        """Context manager for the frame loop: a first signal sets :attr:`requested`, a
+        second raises :class:`Interrupted`."""
+        self._in_loop = True
+        try:
+            yield
+        finally:
+            self._in_loop = False

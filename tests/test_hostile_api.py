@@ -1,0 +1,202 @@
+"""Issue 12's hostile inputs through the Python API: every error is a FloorscanError (also a
+ValueError / TypeError where it fits), no Rust panic reaches Python, no value allocates the
+machine, and garbage that used to be accepted is refused or normalised."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import floorscan
+import numpy as np
+import pytest
+from floorscan import (
+    DatasetError,
+    FileFormatError,
+    FloorscanError,
+    GroundTable,
+    OccupancyGrid,
+    OptionError,
+    OutOfBoundsError,
+    Scan,
+)
+from floorscan.dataset import read_images_txt
+from floorscan.errors import InternalError
+from floorscan.image_io import read_grey
+from floorscan.scan import parse_scans_csv, scans_to_csv
+from floorscan.trajectory import read_tum, yaw_from_quaternion
+from hostile_corpus import png_claiming, table_json
+from synthetic_dataset import camera_table
+
+
+def test_a_panic_in_the_native_module_arrives_as_internal_error():
+    with pytest.raises(InternalError, match="deliberate panic") as e:
+        floorscan._native._panic_for_tests()
+    assert isinstance(e.value, FloorscanError) and type(e.value).__name__ != "PanicException"
+
+
+def test_ground_table_sizes_that_overflow_or_exceed_the_limits_are_file_format_errors():
+    big = 1 << 33
+    overflow = table_json(
+        image_width=big,
+        image_height=1 << 31,
+        spacing_px=1,
+        nodes_u=big,
+        nodes_v=1 << 31,
+        x_m=[],
+        y_m=[],
+    )
+    with pytest.raises(FileFormatError):
+        GroundTable.from_json(overflow)
+    with pytest.raises(FileFormatError, match="larger than"):
+        GroundTable.from_json(table_json(image_width=10**9, image_height=10**9, spacing_px=10**9))
+    with pytest.raises(FileFormatError):
+        GroundTable.from_json(None)
+    # The small valid one loads, scans and looks up without a panic.
+    t = GroundTable.from_json(table_json())
+    assert t.image_width == 4
+    x, _ = t.lookup(np.array([1.5]), np.array([1.5]))
+    assert np.isfinite(x[0])
+
+
+def test_fixed_bounds_beyond_max_cells_are_refused_at_construction():
+    with pytest.raises(OptionError, match="max_cells"):
+        OccupancyGrid(bounds_m=((0, 0), (1e4, 1e4)))
+    g = OccupancyGrid(bounds_m=((0, 0), (1e4, 1e4)), cell_size_m=2.0)
+    assert g.extent.width == 5000
+
+
+def test_a_pose_1000_km_away_is_an_error_not_an_allocation():
+    g = OccupancyGrid()
+    g.insert_laser([1.0], angles=[0.0], range_max_m=5.0, pose=(0.0, 0.0, 0.0))
+    before = g.raw().copy()
+    for x in (1e5, 1e6):
+        with pytest.raises(OutOfBoundsError, match="max_cells"):
+            g.insert_laser([1.0], angles=[0.0], range_max_m=5.0, pose=(x, 0.0, 0.0))
+    np.testing.assert_array_equal(g.raw(), before)
+    assert g.memory_bytes < 1 << 20
+    # A larger limit accepts the same pose (the limit is an option, not a wall).
+    big = OccupancyGrid(max_cells=1 << 32)
+    big.insert_laser([1.0], angles=[0.0], range_max_m=5.0, pose=(2e3, 0.0, 0.0))
+
+
+def test_raw_and_write_raw_refuse_huge_negative_and_wrapping_rectangles():
+    g = OccupancyGrid(cell_size_m=0.1)
+    e = g.extent
+    huge = dataclasses.replace(e, width=10**6, height=10**6)
+    with pytest.raises(OutOfBoundsError, match="max_cells"):
+        g.raw(huge)
+    with pytest.raises(OutOfBoundsError):
+        g.raw(dataclasses.replace(e, width=-1))
+    with pytest.raises(OutOfBoundsError):
+        g.raw(dataclasses.replace(e, x_cell=2**40))
+    values = np.full((2, 3), 500, np.int16)
+    for x in (2**31 - 1, 2**31, -(2**40)):
+        with pytest.raises(OutOfBoundsError):
+            g.write_raw(values, x_cell=x, y_cell=0)
+    with pytest.raises(FloorscanError):
+        g.write_raw(values, x_cell="a", y_cell=0)
+    # In range, the write is read back exactly.
+    g.write_raw(values, x_cell=1000, y_cell=-7)
+    np.testing.assert_array_equal(g.raw(g.extent), values)
+
+
+def test_bad_argument_types_are_floorscan_errors_and_type_errors():
+    g = OccupancyGrid()
+    with pytest.raises(FloorscanError) as e:
+        g.insert_laser([1.0], angles=[0.0], range_max_m=5.0, pose=(0.0, 0.0))
+    assert isinstance(e.value, TypeError)
+    with pytest.raises(FloorscanError) as e:
+        g.insert_scan("not a scan", pose=(0, 0, 0))
+    assert isinstance(e.value, TypeError)
+    ranger = floorscan.VisualRanger(camera_table(), columns=8)
+    image = np.zeros((ranger.table.image_height, ranger.table.image_width), np.uint8)
+    with pytest.raises(FloorscanError) as e:
+        ranger.scan(image, timestamp="abc")
+    assert isinstance(e.value, ValueError)
+    with pytest.raises(FloorscanError):
+        floorscan.VisualRanger("table.json")
+
+
+def test_decompression_bombs_are_image_and_format_errors(tmp_path):
+    (tmp_path / "bomb.png").write_bytes(png_claiming(40000, 40000))
+    with pytest.raises(floorscan.ImageError, match="pixels"):
+        read_grey(tmp_path / "bomb.png")
+    (tmp_path / "map.yaml").write_text(
+        "image: bomb.png\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\n"
+        "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+    )
+    with pytest.raises(FileFormatError, match="pixels"):
+        OccupancyGrid.load(tmp_path / "map.yaml")
+
+
+@pytest.mark.parametrize("scale", [1.0, 3.0, 0.01])
+def test_quaternions_are_normalised(scale):
+    yaw = math.pi / 2
+    q = np.array([0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2)]) * scale
+    assert yaw_from_quaternion(*q) == pytest.approx(yaw, abs=1e-12)
+
+
+def test_a_non_unit_quaternion_in_odometry_reads_as_its_rotation(tmp_path):
+    s = math.sqrt(0.5)
+    (tmp_path / "o.txt").write_text(f"1.0 0 0 0 0 0 {2 * s} {2 * s}\n2.0 1 0 0 0 0 0 0\n")
+    with pytest.raises(DatasetError, match=":2: quaternion"):
+        read_tum(tmp_path / "o.txt")
+    (tmp_path / "o.txt").write_text(f"1.0 0 0 0 0 0 {2 * s} {2 * s}\n")
+    assert read_tum(tmp_path / "o.txt").yaw[0] == pytest.approx(math.pi / 2)
+
+
+def test_images_txt_must_increase_in_time(tmp_path):
+    (tmp_path / "images.txt").write_text("1.0 a.png\n2.0 b.png\n1.5 c.png\n")
+    with pytest.raises(DatasetError, match=":3: .*increasing"):
+        read_images_txt(tmp_path)
+    (tmp_path / "images.txt").write_text("1.0 a.png\n1.0 b.png\n")
+    with pytest.raises(DatasetError):
+        read_images_txt(tmp_path)
+    (tmp_path / "images.txt").write_text("nan a.png\n")
+    with pytest.raises(DatasetError, match="finite"):
+        read_images_txt(tmp_path)
+
+
+def test_scans_csv_must_be_in_time_order():
+    def scan(t):
+        return Scan.from_arrays(
+            timestamp=t, columns=[0], rows=[1.0], status=["boundary"], x=[1.0], y=[0.0]
+        )
+
+    good = scans_to_csv([scan(1.0), scan(2.0)])
+    assert [s.timestamp for s in parse_scans_csv(good)] == [1.0, 2.0]
+    bad = scans_to_csv([scan(2.0), scan(1.0)])
+    with pytest.raises(FileFormatError, match="time order"):
+        list(parse_scans_csv(bad))
+
+
+def test_sixteen_bit_frames_scan_like_the_eight_bit_frame():
+    """The same frame saved x257 as uint16 finds the same boundary points with the same
+    threshold (it found 3 points instead of 38 before)."""
+    table = camera_table()
+    ranger = floorscan.VisualRanger(table, columns=32, threshold=15)
+    rng = np.random.default_rng(1)
+    h, w = table.image_height, table.image_width
+    img = np.where(np.arange(h)[:, None] < 60, 190, 90) + rng.normal(0, 3, (h, w))
+    img8 = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    a = ranger.scan(img8)
+    b = ranger.scan(img8.astype(np.uint16) * 257)
+    assert a.count()["boundary"] >= 30
+    np.testing.assert_array_equal(a.status_codes, b.status_codes)
+    np.testing.assert_allclose(a.rows, b.rows, equal_nan=True)
+    from floorscan.auto_threshold import texture_noise
+
+    cols = ranger.columns
+    n8 = texture_noise([img8], half_width=4, columns=cols)
+    n16 = texture_noise([img8.astype(np.uint16) * 257], half_width=4, columns=cols)
+    assert n16 == pytest.approx(n8)
+
+
+def test_config_with_limits_round_trips():
+    from floorscan.config import Config
+
+    cfg = Config.from_toml("[limits]\nmax_image_pixels = 1000\n[map]\nmax_cells = 4096\n")
+    assert cfg.limits.max_image_pixels == 1000 and cfg.map.max_cells == 4096
+    assert json.loads(json.dumps(cfg.to_dict()))["limits"]["max_image_pixels"] == 1000

@@ -1,0 +1,167 @@
+"""Signals during ``floorscan run`` (real signals to a real process): SIGINT, SIGTERM and SIGHUP
+all stop the run after the current frame and save the map, scans, bag, overlay and summary; a
+second signal while saving still leaves every finished file whole; no signal, at any moment,
+leaves a temporary file; Ctrl-C while the command starts prints one line, no traceback."""
+
+from __future__ import annotations
+
+import json
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from floorscan import OccupancyGrid, read_scans_csv
+from hostile_corpus import FLOORSCAN, temp_files
+from synthetic_dataset import camera_table, make_dataset
+
+SIGNALS = [signal.SIGINT, signal.SIGTERM, signal.SIGHUP]
+
+
+@pytest.fixture(scope="module")
+def dataset(tmp_path_factory):
+    d = tmp_path_factory.mktemp("sig")
+    make_dataset(d / "room", n=60)
+    camera_table().save(d / "table.json")
+    return d
+
+
+def start_run(dataset: Path, out: Path) -> subprocess.Popen:
+    args = ["run", str(dataset / "room"), "--table", str(dataset / "table.json"), "-o", str(out)]
+    return subprocess.Popen(
+        [FLOORSCAN, *args], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
+
+
+def wait_for_frames(out: Path, proc: subprocess.Popen, frames: int, timeout_s: float = 60.0):
+    """Waits until the scans' temporary file holds `frames` scans (64 lines each)."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline and proc.poll() is None:
+        for tmp in out.glob(".scans.csv.*"):
+            try:
+                if tmp.read_text().count("\n") > 1 + 64 * frames:
+                    return True
+            except OSError:
+                pass
+        time.sleep(0.005)
+    return False
+
+
+def assert_outputs_whole(out: Path, interrupted: bool) -> None:
+    assert temp_files(out) == []
+    grid = OccupancyGrid.load(out / "map.yaml")
+    assert (grid.occupancy_classes() != 1).sum() > 0
+    scans = read_scans_csv(out / "scans.csv")
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["counts"]["interrupted"] is interrupted
+    assert summary["counts"]["frames_mapped"] == len(scans) >= 1
+    for name in ("map.pgm", "map.png", "overlay.gif", "bag/metadata.yaml"):
+        assert (out / name).is_file(), name
+
+
+@pytest.mark.parametrize("sig", SIGNALS, ids=[s.name for s in SIGNALS])
+def test_a_signal_stops_after_the_frame_and_saves_everything(dataset, tmp_path, sig):
+    out = tmp_path / "out"
+    proc = start_run(dataset, out)
+    assert wait_for_frames(out, proc, 3), "the run never got going"
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + sig, err
+    assert "Traceback" not in err
+    assert_outputs_whole(out, interrupted=True)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["counts"]["signal"] == sig
+    assert summary["counts"]["frames_mapped"] < 60
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_second_signal_while_saving_leaves_every_file_whole(dataset, tmp_path, sig):
+    out = tmp_path / "out"
+    proc = start_run(dataset, out)
+    assert wait_for_frames(out, proc, 3)
+    proc.send_signal(sig)
+    # The second signal: while the frame finishes or while the outputs are written.
+    deadline = time.monotonic() + 30
+    while not list(out.glob(".map.*")) and not (out / "map.yaml").exists():
+        if time.monotonic() > deadline or proc.poll() is not None:
+            break
+        time.sleep(0.001)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + sig, err
+    assert "Traceback" not in err
+    assert_outputs_whole(out, interrupted=True)
+
+
+@pytest.mark.parametrize("delay_s", [0.3, 0.6, 1.0, 1.5])
+def test_a_burst_of_signals_at_any_moment_leaves_no_temporary_file(dataset, tmp_path, delay_s):
+    """Three signals in a row abandon the outputs not yet written; whatever was written is
+    whole and nothing temporary is left."""
+    out = tmp_path / "out"
+    proc = start_run(dataset, out)
+    time.sleep(delay_s)
+    for _ in range(3):
+        if proc.poll() is not None:
+            break
+        proc.send_signal(signal.SIGTERM)
+        time.sleep(0.002)
+    _, err = proc.communicate(timeout=120)
+    if python_startup(err):
+        return
+    assert proc.returncode in (0, 128 + signal.SIGTERM), err
+    assert "Traceback" not in err
+    if out.exists():
+        assert temp_files(out) == []
+        if (out / "map.yaml").exists():
+            OccupancyGrid.load(out / "map.yaml")
+        if (out / "summary.json").exists():
+            json.loads((out / "summary.json").read_text())
+
+
+def python_startup(err: str) -> bool:
+    """A signal before Python itself finished starting (site import): no floorscan code ran."""
+    return "init_import_site" in err and "floorscan" not in err
+
+
+@pytest.mark.parametrize("delay_s", [0.05, 0.08, 0.1, 0.15, 0.2])
+def test_ctrl_c_while_starting_prints_one_line(dataset, tmp_path, delay_s):
+    """From floorscan's first line on (about 20-30 ms after exec, once Python has started and
+    found the package) Ctrl-C prints one line; before that Python's own default applies."""
+    proc = start_run(dataset, tmp_path / "out")
+    time.sleep(delay_s)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    if python_startup(err):
+        return
+    assert "Traceback" not in err, err
+    # Python's own default (before any floorscan code runs) also ends without a traceback.
+    assert proc.returncode in (130, -signal.SIGINT), (proc.returncode, err)
+    assert len([line for line in err.splitlines() if line.strip()]) <= 1, err
+    if (tmp_path / "out").exists():
+        assert temp_files(tmp_path / "out") == []
+
+
+def test_sigterm_stops_other_commands_with_one_line(tmp_path):
+    """`floorscan sim` on SIGTERM: exit 143, one line, no half-written dataset. (The signal is
+    handled when the native render of the whole run returns: keep the run short.)"""
+    out = tmp_path / "sim"
+    args = ["sim", "--seconds", "20", "--width", "160", "--height", "120", "--out", str(out)]
+    proc = subprocess.Popen(
+        [FLOORSCAN, *args],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(0.8)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + signal.SIGTERM, err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert not out.exists() or not any(out.iterdir())
+    assert temp_files(tmp_path) == []
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(pytest.main([__file__, "-q"]))
