@@ -464,9 +464,12 @@ impl PyOccupancyGrid {
         height: usize,
     ) -> PyResult<Bound<'py, PyArray2<i32>>> {
         crate::evidence::check_size(width, height)?;
-        let rect = CellRect {
-            min: CellIndex::new(min_x, min_y),
-            max: CellIndex::new(min_x + width as i32, min_y + height as i32),
+        let rect = floorscan_core::CellRect {
+            min: floorscan_core::CellIndex::new(min_x, min_y),
+            max: floorscan_core::CellIndex::new(
+                min_x.saturating_add(width as i32),
+                min_y.saturating_add(height as i32),
+            ),
         };
         let mut out = Vec::new();
         py.detach(|| self.grid.read_evidence_rect(rect, &mut out));
