@@ -29,6 +29,7 @@ from .errors import (
     UnsupportedVersionError,
     WorldError,
 )
+from .evidence import EvidenceMap, merge_evidence
 from .grid import InsertStats, OccupancyGrid
 from .grid_options import Evidence
 from .grid_views import GridExtent
@@ -46,6 +47,7 @@ __all__ = [
     "ConfigError",
     "DatasetError",
     "Evidence",
+    "EvidenceMap",
     "FileFormatError",
     "FloorscanError",
     "GeometryError",
@@ -68,6 +70,7 @@ __all__ = [
     "UnsupportedVersionError",
     "VisualRanger",
     "AppearanceRanger",
+    "merge_evidence",
     "read_scans_csv",
     "write_scans_csv",
     "WorldError",

@@ -92,6 +92,9 @@ class OccupancyGrid(GridViews):
             boundary row is uncertain by about half a row, several cells far away.
         too_close: ``"mark"`` (default: a ``too_close`` column marks the near edge of its
             field of view) or ``"ignore"``.
+        keep_evidence: also keep, per cell, the unclamped sum of every increment (int32, 4
+            more bytes per cell), for exact merges of maps (:meth:`evidence`,
+            :mod:`floorscan.evidence`). Default False.
         max_cells: most cells the map may span (its tiles' bounding box, fixed bounds, or one
             export), default 2^25 (231 m square at 4 cm): a pose far outside raises
             OutOfBoundsError instead of allocating (docs/limits.md).
@@ -119,6 +122,7 @@ class OccupancyGrid(GridViews):
         sonar: EvidenceLike = (0.4, -0.2),
         too_close: str = "mark",
         boundary_margin_rows: float = 0.5,
+        keep_evidence: bool = False,
         max_cells: int = DEFAULT_MAX_CELLS,
     ) -> None:
         go = grid_options(
@@ -139,6 +143,8 @@ class OccupancyGrid(GridViews):
             boundary_margin_rows=boundary_margin_rows,
         )
         self._native = _native.OccupancyGrid(json.dumps(go), json.dumps(io))
+        if keep_evidence:
+            self._native.keep_evidence()
 
     @classmethod
     def _wrap(cls, native) -> OccupancyGrid:
@@ -264,6 +270,13 @@ class OccupancyGrid(GridViews):
         return InsertStats(
             *self._native.insert_rays(s, e, h, float(ev.hit_nats), float(ev.miss_nats))
         )
+
+    def evidence(self, *, name: str = ""):
+        """The unclamped evidence layer as an :class:`~floorscan.evidence.EvidenceMap` (the grid
+        must have been made with ``keep_evidence=True``)."""
+        from .evidence import EvidenceMap
+
+        return EvidenceMap.from_grid(self, name=name)
 
     def write_raw(self, values: np.ndarray, *, x_cell: int, y_cell: int) -> None:
         """Writes an (H, W) int16 array of log-odds [1/1000 nat] with its first cell at

@@ -120,7 +120,8 @@ class Mapper:
         self.texture_noise: Optional[float] = None
         self.robot_from_camera = tuple(float(v) for v in robot_from_camera)
         kw = grid_kwargs(cfg)
-        self.global_map = OccupancyGrid(**kw)
+        # The global map keeps its unclamped evidence too, so runs merge exactly (evidence.py).
+        self.global_map = OccupancyGrid(keep_evidence=True, **kw)
         self.local_map = LocalMap(size_m=cfg.map.local_size_m, **kw)
         self.times = StageTimes()
         self.frames = 0

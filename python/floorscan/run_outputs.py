@@ -2,6 +2,7 @@
 finalised (atomically, file by file) at the end, on Ctrl-C and on error:
 
 - ``map.yaml`` + ``map.pgm`` (ROS map_server) and ``map.png``: the global map;
+- ``map.evidence.npz``: its unclamped evidence, for exact merges (evidence.py);
 - ``local/local_<t>.png``: local map snapshots every N seconds (the paper's Fig. 2);
 - ``scans.csv``: every scan in the public CSV format;
 - ``bag/``: a ROS 2 bag with ``/scan`` (sensor_msgs/LaserScan) and ``/map``
@@ -137,6 +138,8 @@ class RunOutputs:
 
     def on_frame(self, frame, scan: Scan, pose, mapper) -> None:
         self.extra_summary["last_timestamp"] = scan.timestamp
+        if pose is not None:
+            self.extra_summary.setdefault("first_pose", list(pose))
         self._csv.write(scan.csv_lines())
         if self._bag is not None:
             lo, hi, inc = self.laser_angles(scan)
@@ -217,6 +220,7 @@ class RunOutputs:
         grid = mapper.global_map
         grid.save(self.out / "map.yaml")
         grid.to_png(self.out / "map.png")
+        grid.evidence(name=self.out.name).save(self.out / "map.evidence.npz")
         if mapper.frames:
             mapper.local_map.to_png(self.out / "local" / "local_final.png")
         if self._bag is not None:

@@ -6,6 +6,7 @@
 //! (x right, y up, REP 103). Cells never written hold 0 (p = 0.5, unknown).
 
 use crate::error::{Error, Result};
+use crate::evidence::EvidenceTile;
 use crate::grid_options::{CellLimits, GridOptions, Occupancy};
 use crate::log_odds::LogOdds;
 use crate::pose::Point2;
@@ -63,11 +64,15 @@ pub struct Grid {
     /// Cells a fixed-bounds grid covers.
     fixed: Option<CellRect>,
     /// First tile of the directory, and its size [tiles].
-    dir_min: (i32, i32),
-    dir_w: usize,
-    dir_h: usize,
-    tiles: Vec<Option<Box<Tile>>>,
-    allocated: usize,
+    pub(crate) dir_min: (i32, i32),
+    pub(crate) dir_w: usize,
+    pub(crate) dir_h: usize,
+    pub(crate) tiles: Vec<Option<Box<Tile>>>,
+    pub(crate) allocated: usize,
+    /// The unclamped evidence layer ([`crate::evidence`]), parallel to `tiles`; empty and
+    /// off unless [`Grid::keep_evidence`] was called.
+    pub(crate) evidence: Vec<Option<Box<EvidenceTile>>>,
+    pub(crate) keeps_evidence: bool,
 }
 
 impl std::fmt::Debug for Grid {
@@ -134,6 +139,8 @@ impl Grid {
             dir_h: 0,
             tiles: Vec::new(),
             allocated: 0,
+            evidence: Vec::new(),
+            keeps_evidence: false,
         };
         if let Some(r) = fixed {
             let max = CellIndex::new(r.max.x - 1, r.max.y - 1);
@@ -227,6 +234,7 @@ impl Grid {
     pub fn memory_bytes(&self) -> usize {
         self.allocated * std::mem::size_of::<Tile>()
             + self.tiles.capacity() * std::mem::size_of::<Option<Box<Tile>>>()
+            + self.evidence_memory_bytes()
     }
 
     /// The smallest rectangle holding every cell with a non-zero value, `None` if all are 0.
@@ -454,6 +462,9 @@ impl Grid {
             }
         }
         self.tiles = tiles;
+        if self.keeps_evidence {
+            self.evidence = self.moved_evidence(nx0, ny0, w, h);
+        }
         self.dir_min = (nx0, ny0);
         self.dir_w = w;
         self.dir_h = h;

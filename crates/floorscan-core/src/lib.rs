@@ -4,7 +4,8 @@
 //! the visual range subsystem ([`edge`], [`ground_table`], [`ranger`], [`scan`]), the
 //! appearance ranger for textured floors ([`floor_model`], [`appearance`], [`colour_image`]) and the lens
 //! models and mounts ([`lens`], [`mount`]) used to build and check calibration tables; the map
-//! builder: log-odds maths ([`log_odds`]), grids ([`grid_options`], [`grid`], [`queries`]),
+//! builder: log-odds maths ([`log_odds`]), grids ([`grid_options`], [`grid`], [`queries`],
+//! the unclamped, mergeable [`evidence`] layer),
 //! the exact ray walk ([`raycast`]), updates from visual scans, lasers and sonars
 //! ([`inserter`], [`ray_update`], [`laser`], [`sonar`]) and the robot-centred [`local_map`].
 //!
@@ -17,6 +18,7 @@ pub mod branchless;
 pub mod colour_image;
 pub mod edge;
 pub mod error;
+pub mod evidence;
 pub mod floor_model;
 pub mod fusion;
 pub mod grid;
@@ -43,6 +45,7 @@ pub use appearance_options::{AppearanceFeatures, AppearanceOptions};
 pub use colour_image::ColourView;
 pub use edge::Refinement;
 pub use error::{Error, Result};
+pub use evidence::EvidenceRaster;
 pub use floor_model::FloorModel;
 pub use fusion::fuse_scans;
 pub use grid::{CellRect, Grid};

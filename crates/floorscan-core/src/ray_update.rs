@@ -14,6 +14,7 @@
 
 use crate::branchless::free_update;
 use crate::error::{Error, Result};
+use crate::evidence::EvidenceTile;
 use crate::grid::{tile_of, Grid, Tile, TILE_BITS, TILE_CELLS, TILE_SIZE};
 use crate::log_odds::Evidence;
 use crate::pose::Point2;
@@ -99,10 +100,13 @@ impl RayUpdater {
             if !is_hit {
                 continue;
             }
-            let (tile, stamps, local) = self.tile_and_stamps(grid, to.cell());
+            let (tile, evidence, stamps, local) = self.tile_and_stamps(grid, to.cell());
             if stamps[local] != generation {
                 stamps[local] = generation;
                 tile[local] = (tile[local] + hit).min(hi_v);
+                if let Some(ev) = evidence {
+                    ev[local] = ev[local].saturating_add(i32::from(hit));
+                }
                 stats.cells_hit += 1;
             }
         }
@@ -117,13 +121,23 @@ impl RayUpdater {
                 let min = CellIndex::new(tx << TILE_BITS, ty << TILE_BITS);
                 let stop = walk
                     .last_cell_inside(min, CellIndex::new(min.x + TILE_SIZE, min.y + TILE_SIZE));
-                let (tile, stamps, _) = self.tile_and_stamps(grid, c);
-                stats.cells_traversed += walk.run_to(stop, local, TILE_SIZE as usize, |i| {
-                    let i = i & (TILE_CELLS - 1);
+                let (tile, evidence, stamps, _) = self.tile_and_stamps(grid, c);
+                stats.cells_traversed += match evidence {
                     // No overflow: |values| and |miss| are at most 16 000 (log_odds).
-                    tile[i] = free_update(tile[i], stamps[i], generation, miss, lo_v);
-                    stamps[i] = generation;
-                });
+                    None => walk.run_to(stop, local, TILE_SIZE as usize, |i| {
+                        let i = i & (TILE_CELLS - 1);
+                        tile[i] = free_update(tile[i], stamps[i], generation, miss, lo_v);
+                        stamps[i] = generation;
+                    }),
+                    // The same, plus the unclamped sum (crate::evidence).
+                    Some(ev) => walk.run_to(stop, local, TILE_SIZE as usize, |i| {
+                        let i = i & (TILE_CELLS - 1);
+                        let fresh = i32::from(stamps[i] != generation);
+                        ev[i] = ev[i].saturating_add(fresh * i32::from(miss));
+                        tile[i] = free_update(tile[i], stamps[i], generation, miss, lo_v);
+                        stamps[i] = generation;
+                    }),
+                };
                 if walk.is_at_end() {
                     break;
                 }
@@ -228,7 +242,12 @@ impl RayUpdater {
         &'a mut self,
         grid: &'a mut Grid,
         c: CellIndex,
-    ) -> (&'a mut Tile, &'a mut [u16; TILE_CELLS], usize) {
+    ) -> (
+        &'a mut Tile,
+        Option<&'a mut EvidenceTile>,
+        &'a mut [u16; TILE_CELLS],
+        usize,
+    ) {
         let (tx, ty, local) = tile_of(c);
         let t = (ty - self.table_min.1) as usize * self.table_w + (tx - self.table_min.0) as usize;
         if self.table[t] == NO_SLOT {
@@ -241,7 +260,8 @@ impl RayUpdater {
         let d = grid
             .dir_index(tx, ty)
             .expect("tiles reserved for the batch");
-        (grid.tile_mut(d), stamps, local)
+        let (tile, evidence) = grid.tile_and_evidence_mut(d);
+        (tile, evidence, stamps, local)
     }
 
     /// Gives tile-table entry `t` the next stamp slot (first touch of a tile in this batch).

@@ -437,6 +437,45 @@ impl PyOccupancyGrid {
         })
     }
 
+    /// Starts keeping the unclamped evidence layer (before the first update).
+    fn keep_evidence(&mut self) -> PyResult<()> {
+        self.grid.keep_evidence().py()
+    }
+
+    #[getter]
+    fn keeps_evidence(&self) -> bool {
+        self.grid.keeps_evidence()
+    }
+
+    /// (min x, min y, width, height) [cells] of the non-zero evidence, None if there is none.
+    fn evidence_extent(&self) -> Option<(i32, i32, usize, usize)> {
+        self.grid
+            .evidence_rect()
+            .map(|r| (r.min.x, r.min.y, r.width(), r.height()))
+    }
+
+    /// The evidence of a rectangle as an (H, W) int32 array [1/1000 nat], row 0 the lowest y.
+    fn evidence_values<'py>(
+        &self,
+        py: Python<'py>,
+        min_x: i32,
+        min_y: i32,
+        width: usize,
+        height: usize,
+    ) -> PyResult<Bound<'py, PyArray2<i32>>> {
+        crate::evidence::check_size(width, height)?;
+        let rect = floorscan_core::CellRect {
+            min: floorscan_core::CellIndex::new(min_x, min_y),
+            max: floorscan_core::CellIndex::new(
+                min_x.saturating_add(width as i32),
+                min_y.saturating_add(height as i32),
+            ),
+        };
+        let mut out = Vec::new();
+        py.detach(|| self.grid.read_evidence_rect(rect, &mut out));
+        PyArray1::from_vec(py, out).reshape([height, width])
+    }
+
     /// (clamp_min, clamp_max, occupied_at, free_at) in stored units (1/1000 nat).
     fn limits(&self) -> PyResult<(i16, i16, i16, i16)> {
         crate::errors::guard(|| Ok(limits(&self.grid)))

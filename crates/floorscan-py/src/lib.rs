@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 
 mod appearance;
 mod errors;
+mod evidence;
 mod grid;
 mod ground_table;
 mod image;
@@ -34,5 +35,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<grid::PyOccupancyGrid>()?;
     m.add_class::<local_map::PyLocalMap>()?;
     sim::register(m)?;
+    evidence::register(m)?;
     Ok(())
 }

@@ -11,5 +11,7 @@ COMMAND_MODULES = [
     "floorscan.commands.sim",
     "floorscan.commands.eval",
     "floorscan.commands.tune",
+    "floorscan.commands.merge",
+    "floorscan.commands.fleet",
     "floorscan.commands.drive",
 ]
