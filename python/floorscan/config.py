@@ -153,6 +153,30 @@ class LimitsConfig:
 
 
 @dataclass
+class NodeConfig:
+    transport: str = doc("middleware of `floorscan node`: ros1 (rospy, a ROS 1 master) | zenoh (ROS 2's rmw_zenoh)", "ros1")
+    image_topic: str = doc("camera topic (sensor_msgs/Image mono8/rgb8/bgr8/mono16 or CompressedImage)", "/camera/image_raw")
+    compressed: bool = doc("the image topic carries sensor_msgs/CompressedImage", False)
+    odom_topic: str = doc('odometry topic (nav_msgs/Odometry); "" for none (local map only)', "/odom")
+    scan_topic: str = doc("LaserScan output topic (REP 117 ranges)", "/scan")
+    map_topic: str = doc("global OccupancyGrid output topic", "/map")
+    local_map_topic: str = doc("local (robot-centred) OccupancyGrid output topic", "/local_map")
+    tf_static_topic: str = doc("static transform topic (base_frame -> scan_frame)", "/tf_static")
+    base_frame: str = doc("robot frame (REP 105 base_link)", "base_link")
+    scan_frame: str = doc("frame of the scans: the camera ground frame", "camera_ground")
+    map_frame: str = doc("frame of both maps: the odometry frame they are built in", "odom")
+    map_period_s: float = doc("seconds between map publications, > 0", 1.0)
+    odom_timeout_s: float = doc(
+        "a frame newer than the last odometry by more than this [s] is skipped and counted (odometry stopped)",
+        0.5,
+    )
+    node_name: str = doc("node name on the ROS graph", "floorscan")
+    domain_id: int = doc("ROS 2 domain id (zenoh transport), 0..=232", 0)
+    zenoh_connect: str = doc('zenoh endpoint to connect to (zenoh transport), "" for none', "tcp/localhost:7447")
+    zenoh_mode: str = doc("zenoh session mode: peer | client", "peer")
+
+
+@dataclass
 class Config:
     ranger: RangerConfig = field(default_factory=RangerConfig)
     calibration: CalibrationConfig = field(default_factory=CalibrationConfig)
@@ -161,6 +185,7 @@ class Config:
     sensors: SensorsConfig = field(default_factory=SensorsConfig)
     outputs: OutputsConfig = field(default_factory=OutputsConfig)
     limits: LimitsConfig = field(default_factory=LimitsConfig)
+    node: NodeConfig = field(default_factory=NodeConfig)
 
     # --- reading ------------------------------------------------------------------------
     @classmethod

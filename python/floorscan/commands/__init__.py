@@ -11,4 +11,5 @@ COMMAND_MODULES = [
     "floorscan.commands.sim",
     "floorscan.commands.eval",
     "floorscan.commands.tune",
+    "floorscan.commands.node",
 ]
