@@ -173,6 +173,7 @@ class NodeConfig:
     node_name: str = doc("node name on the ROS graph", "floorscan")
     domain_id: int = doc("ROS 2 domain id (zenoh transport), 0..=232", 0)
     zenoh_connect: str = doc('zenoh endpoint to connect to (zenoh transport), "" for none', "tcp/localhost:7447")
+    zenoh_listen: str = doc('zenoh endpoint to listen on (zenoh transport), "" for none', "")
     zenoh_mode: str = doc("zenoh session mode: peer | client", "peer")
 
 

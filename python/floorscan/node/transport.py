@@ -61,4 +61,5 @@ def open_transport(node_cfg) -> Transport:
         domain_id=node_cfg.domain_id,
         mode=node_cfg.zenoh_mode,
         connect=node_cfg.zenoh_connect or None,
+        listen=node_cfg.zenoh_listen or None,
     )
