@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from floorscan import read_scans_csv
 from floorscan.cli import main
-from ros1_fixtures import Roscore, require_ros1
+from ros1_fixtures import Roscore, free_port, require_ros1
 from synthetic_dataset import camera_table, make_dataset, true_occupied
 
 # rospy and rosgraph leave XML-RPC sockets to the garbage collector.
@@ -198,3 +198,92 @@ def test_scans_equal_floorscan_scan_and_the_map_matches_the_room(ros, room, tmp_
     assert summary["node"]["latency_ms"]["count"] == N
     assert (tmp_path / "out" / "map.yaml").is_file()
     assert len(read_scans_csv(tmp_path / "out" / "scans.csv")) == N
+
+
+def test_bad_input_is_logged_and_skipped_and_the_node_keeps_going(ros, room, tmp_path):
+    rospy, core = ros
+    from floorscan.image_io import read_grey
+    from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import Image, LaserScan
+
+    node = start_node(room, tmp_path / "out", core.env)
+    img_pub = rospy.Publisher("/camera/image_raw", Image, queue_size=10)
+    odo_pub = rospy.Publisher("/odom", Odometry, queue_size=100)
+    scans = Collector(rospy, "/scan", LaserScan)
+    good = read_grey(room / "room" / "images" / "000000.png")
+    try:
+        assert wait_connected([img_pub, odo_pub, scans.sub]), "node never connected"
+
+        def frame(t, grey, encoding="mono8", odom=True):
+            if odom:
+                odo_pub.publish(odom_msg(rospy, t, 0.0, 0.0, 0.0))
+                time.sleep(0.05)
+            img_pub.publish(image_msg(rospy, t, grey, encoding))
+            time.sleep(0.3)
+
+        frame(100.0, good)  # answered
+        frame(100.1, good, encoding="yuv422", odom=False)  # unknown encoding
+        frame(100.2, good[::3, ::3].copy(), odom=False)  # not the table's size
+        frame(100.3, good)  # answered: the node kept going
+        frame(105.0, good, odom=False)  # odometry stopped 4.7 s before (timeout 0.3 s)
+        frame(105.1, good)  # odometry resumed: answered
+        assert scans.wait_for(3)
+        time.sleep(0.3)
+    finally:
+        rc, err = stop_node(node)
+    assert rc == 130, err
+    assert len(scans.msgs) == 3
+    assert "unsupported image encoding 'yuv422'" in err
+    assert "frames of 64x48 are skipped: the ground table is for 192x144" in err
+    assert "odometry stopped" in err and "odometry resumed" in err
+    counts = json.loads((tmp_path / "out" / "summary.json").read_text())["counts"]
+    assert counts["frames_in"] == 6 and counts["frames_mapped"] == 3
+    assert counts["skipped_unreadable"] == 1
+    assert counts["skipped_wrong_size"] == 1
+    assert counts["skipped_no_odometry"] == 1
+    assert (tmp_path / "out" / "map.yaml").is_file()
+
+
+def test_a_master_that_disappears_is_logged_and_the_map_still_saved(ros, room, tmp_path):
+    core = Roscore(tmp_path)  # a master of its own, killed under the running node
+    node = start_node(room, tmp_path / "out", core.env)
+    try:
+        import rosgraph
+
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline:
+            if "/floorscan" in [n for n in _node_names(rosgraph, core.uri)]:
+                break
+            time.sleep(0.1)
+        else:
+            pytest.fail("the node never registered")
+        core.stop()
+        time.sleep(2.5)
+        assert node.poll() is None, "the node must keep running without its master"
+    finally:
+        core.stop()
+        rc, err = stop_node(node)
+    assert rc == 130, err
+    assert "is not answering" in err
+    assert (tmp_path / "out" / "map.yaml").is_file()
+    assert (tmp_path / "out" / "summary.json").is_file()
+
+
+def _node_names(rosgraph, uri):
+    try:
+        state = rosgraph.Master("/probe", master_uri=uri).getSystemState()
+    except Exception:
+        return []
+    return {n for group in state for _, nodes in group for n in nodes}
+
+
+def test_no_master_is_a_one_line_error(room, tmp_path):
+    require_ros1()
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{free_port()}")
+    proc = start_node(room, tmp_path / "out", env)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 1
+    assert err.strip().splitlines() == [
+        f"floorscan node: error: no ROS master at {env['ROS_MASTER_URI']} (start roscore, or set ROS_MASTER_URI)"
+    ]
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
