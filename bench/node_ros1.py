@@ -23,7 +23,6 @@ import socket
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 from pathlib import Path
 
@@ -55,8 +54,13 @@ def start_roscore(tmp: Path):
     port = free_port()
     uri = f"http://127.0.0.1:{port}"
     env = dict(os.environ, ROS_MASTER_URI=uri, ROS_HOME=str(tmp / "ros_home"))
-    proc = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL, start_new_session=True)
+    proc = subprocess.Popen(
+        ["roscore", "-p", str(port)],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     while not rosgraph.is_master_online(uri):
         time.sleep(0.1)
     return proc, env
@@ -127,8 +131,15 @@ def main() -> None:
     rospy = import_rospy()
     tmp = Path(tempfile.mkdtemp(prefix="floorscan-node-bench-"))
     cam = Camera(width=640, height=480)
-    sim = simulate_run(World.builtin("corridor"), camera=cam, seconds=args.seconds, seed=3,
-                       threads=2, labels=False, truth=False)
+    sim = simulate_run(
+        World.builtin("corridor"),
+        camera=cam,
+        seconds=args.seconds,
+        seed=3,
+        threads=2,
+        labels=False,
+        truth=False,
+    )
     n = len(sim)
     cam.ground_table(spacing_px=8).save(tmp / "table.json")
     rx, ry, ryaw = cam.robot_from_camera
@@ -140,13 +151,27 @@ def main() -> None:
     rospy.init_node("floorscan_bench", disable_signals=True)
     try:
         node = subprocess.Popen(
-            [sys.executable, "-m", "floorscan", "node", "--table", str(tmp / "table.json"),
-             "--config", str(tmp / "node.toml"), "-o", str(tmp / "out")],
-            env=env, stderr=subprocess.PIPE, text=True)
+            [
+                sys.executable,
+                "-m",
+                "floorscan",
+                "node",
+                "--table",
+                str(tmp / "table.json"),
+                "--config",
+                str(tmp / "node.toml"),
+                "-o",
+                str(tmp / "out"),
+            ],
+            env=env,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
         sent, got, lat = publish_run(rospy, sim, n)
         stop(node)
-        relay = subprocess.Popen(["/usr/bin/python3", "-c", RELAY], env=env,
-                                 stderr=subprocess.PIPE, text=True)
+        relay = subprocess.Popen(
+            ["/usr/bin/python3", "-c", RELAY], env=env, stderr=subprocess.PIPE, text=True
+        )
         _, _, lat_relay = publish_run(rospy, sim, n)
         stop(relay)
     finally:
@@ -165,24 +190,38 @@ def main() -> None:
     equal = 0
     for t, (laser, _) in got.items():
         s = ref[t]
-        want = s.to_laser_scan(angle_min=laser.angle_min, angle_max=laser.angle_max,
-                               angle_increment=laser.angle_increment)
-        equal += np.array_equal(np.asarray(laser.ranges, np.float32),
-                                np.asarray(want["ranges"], np.float32))
+        want = s.to_laser_scan(
+            angle_min=laser.angle_min,
+            angle_max=laser.angle_max,
+            angle_increment=laser.angle_increment,
+        )
+        equal += np.array_equal(
+            np.asarray(laser.ranges, np.float32), np.asarray(want["ranges"], np.float32)
+        )
     answered = len(got) / len(sent)
     p = lambda a, q: float(np.percentile(a, q))  # noqa: E731
     print(f"640x480 corridor, {n} frames published at 10 Hz to `floorscan node` over roscore\n")
     print("| figure | value |")
     print("|---|---:|")
     print(f"| frames answered on /scan | {len(got)}/{len(sent)} = {100 * answered:.1f} % |")
-    print(f"| scans equal to `floorscan scan`'s (float32 ranges, bit for bit) | {equal}/{len(got)} |")
-    print(f"| dropped by the node (newer frame arrived first) | {summary['node']['dropped_frames']} |")
-    print(f"| in-node latency, image received -> scan published, decode included: p50 / p99 / max | "
-          f"{node_lat['p50']:.2f} / {node_lat['p99']:.2f} / {node_lat['max']:.2f} ms |")
-    print(f"| end to end (publish here -> scan received here): p50 / p99 | "
-          f"{p(lat, 50):.2f} / {p(lat, 99):.2f} ms |")
-    print(f"| baseline: rospy relay answering each Image with an empty LaserScan: p50 / p99 | "
-          f"{p(lat_relay, 50):.2f} / {p(lat_relay, 99):.2f} ms |")
+    print(
+        f"| scans equal to `floorscan scan`'s (float32 ranges, bit for bit) | {equal}/{len(got)} |"
+    )
+    print(
+        f"| dropped by the node (newer frame arrived first) | {summary['node']['dropped_frames']} |"
+    )
+    print(
+        f"| in-node latency, image received -> scan published, decode included: p50 / p99 / max | "
+        f"{node_lat['p50']:.2f} / {node_lat['p99']:.2f} / {node_lat['max']:.2f} ms |"
+    )
+    print(
+        f"| end to end (publish here -> scan received here): p50 / p99 | "
+        f"{p(lat, 50):.2f} / {p(lat, 99):.2f} ms |"
+    )
+    print(
+        f"| baseline: rospy relay answering each Image with an empty LaserScan: p50 / p99 | "
+        f"{p(lat_relay, 50):.2f} / {p(lat_relay, 99):.2f} ms |"
+    )
     print(f"| end-to-end p50 ratio floorscan node / relay | {p(lat, 50) / p(lat_relay, 50):.2f} |")
 
 

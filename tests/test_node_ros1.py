@@ -63,8 +63,19 @@ def room(tmp_path_factory):
 
 def start_node(room, out, env, *extra):
     return subprocess.Popen(
-        [sys.executable, "-m", "floorscan", "node", "--table", str(room / "table.json"),
-         "--config", str(room / "config.toml"), "-o", str(out), *extra],
+        [
+            sys.executable,
+            "-m",
+            "floorscan",
+            "node",
+            "--table",
+            str(room / "table.json"),
+            "--config",
+            str(room / "config.toml"),
+            "-o",
+            str(out),
+            *extra,
+        ],
         env=env,
         stderr=subprocess.PIPE,
         text=True,
@@ -165,17 +176,34 @@ def test_scans_equal_floorscan_scan_and_the_map_matches_the_room(ros, room, tmp_
     assert rc == 130, err
     # Same frames through `floorscan scan` with the same table and ranger options.
     csv = tmp_path / "ref.csv"
-    assert main(["scan", str(room / "room"), "--table", str(room / "table.json"),
-                 "-o", str(csv), "--threshold", "20"]) == 0
+    assert (
+        main(
+            [
+                "scan",
+                str(room / "room"),
+                "--table",
+                str(room / "table.json"),
+                "-o",
+                str(csv),
+                "--threshold",
+                "20",
+            ]
+        )
+        == 0
+    )
     ref = read_scans_csv(csv)
     assert len(scans.msgs) == len(ref) == N
     for laser, scan in zip(scans.msgs, ref):
         assert laser.header.frame_id == "camera_ground"
         assert abs(laser.header.stamp.to_sec() - scan.timestamp) < 1e-6
-        want = scan.to_laser_scan(angle_min=laser.angle_min, angle_max=laser.angle_max,
-                                  angle_increment=laser.angle_increment)
-        np.testing.assert_array_equal(np.asarray(laser.ranges, np.float32),
-                                      np.asarray(want["ranges"], np.float32))
+        want = scan.to_laser_scan(
+            angle_min=laser.angle_min,
+            angle_max=laser.angle_max,
+            angle_increment=laser.angle_increment,
+        )
+        np.testing.assert_array_equal(
+            np.asarray(laser.ranges, np.float32), np.asarray(want["ranges"], np.float32)
+        )
     # The static transform: base_link -> camera_ground (the rig at the origin here).
     t0 = tf.msgs[0].transforms[0]
     assert (t0.header.frame_id, t0.child_frame_id) == ("base_link", "camera_ground")

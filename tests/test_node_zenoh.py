@@ -18,7 +18,9 @@ from floorscan.config import Config
 from ros1_fixtures import free_port
 from synthetic_dataset import camera_table, make_dataset
 
-zenoh = pytest.importorskip("zenoh", reason="eclipse-zenoh is not installed (pip install eclipse-zenoh)")
+zenoh = pytest.importorskip(
+    "zenoh", reason="eclipse-zenoh is not installed (pip install eclipse-zenoh)"
+)
 
 from floorscan.node import NodeRun  # noqa: E402
 from floorscan.node import rmw_zenoh_keys as K  # noqa: E402
@@ -41,14 +43,36 @@ def test_names_match_the_design_document():
     assert K.topic_keyexpr(0, "/chatter", "std_msgs/msg/String", STRING_HASH) == CHATTER_KEY
     assert K.node_token(0, "aac3178e146ba6f1fc6e6a4085e77f21", 0, "listener") == LISTENER_NODE
     token = K.endpoint_token(
-        0, "8b20917502ee955ac4476e0266340d5c", 0, 10, "MP", "talker", "/chatter",
-        "std_msgs/msg/String", STRING_HASH, K.Qos(depth=7),
+        0,
+        "8b20917502ee955ac4476e0266340d5c",
+        0,
+        10,
+        "MP",
+        "talker",
+        "/chatter",
+        "std_msgs/msg/String",
+        STRING_HASH,
+        K.Qos(depth=7),
     )
     assert token == TALKER_TOKEN
     # Namespaced names are mangled slash by slash.
-    ns = K.endpoint_token(3, "ab", 0, 2, "MS", "n", "/robot1/scan", "sensor_msgs/msg/LaserScan",
-                          "H", K.Qos(depth=5), namespace="/robot1")
-    assert ns == "@ros2_lv/3/ab/0/2/MS/%/%robot1/n/%robot1%scan/sensor_msgs::msg::dds_::LaserScan_/H/::,5:,:,:,,"
+    ns = K.endpoint_token(
+        3,
+        "ab",
+        0,
+        2,
+        "MS",
+        "n",
+        "/robot1/scan",
+        "sensor_msgs/msg/LaserScan",
+        "H",
+        K.Qos(depth=5),
+        namespace="/robot1",
+    )
+    assert (
+        ns
+        == "@ros2_lv/3/ab/0/2/MS/%/%robot1/n/%robot1%scan/sensor_msgs::msg::dds_::LaserScan_/H/::,5:,:,:,,"
+    )
     assert K.Qos(durability=K.TRANSIENT_LOCAL, depth=1).keyexpr() == ":1:,1:,:,:,,"
     assert K.Qos(reliability=K.BEST_EFFORT, depth=5).keyexpr() == "2::,5:,:,:,,"
 
@@ -79,8 +103,12 @@ def ros2_image(codec, t, grey):
             stamp=T["builtin_interfaces/msg/Time"](sec=sec, nanosec=int(round((t - sec) * 1e9))),
             frame_id="camera",
         ),
-        height=grey.shape[0], width=grey.shape[1], encoding="mono8", is_bigendian=0,
-        step=grey.shape[1], data=grey.ravel(),
+        height=grey.shape[0],
+        width=grey.shape[1],
+        encoding="mono8",
+        is_bigendian=0,
+        step=grey.shape[1],
+        data=grey.ravel(),
     )
     return codec.serialize(msg, "sensor_msgs/msg/Image")
 
@@ -106,8 +134,9 @@ zenoh_listen = "tcp/127.0.0.1:{port}"
     )
     lines = [ln.split() for ln in (room / "room" / "images.txt").read_text().split("\n")[1:] if ln]
     frames = [(float(t), read_grey(room / "room" / p)) for t, p in lines]
-    node = NodeRun(GroundTable.load(room / "table.json"), cfg, tmp_path / "out",
-                   max_frames=len(frames))
+    node = NodeRun(
+        GroundTable.load(room / "table.json"), cfg, tmp_path / "out", max_frames=len(frames)
+    )
     runner = threading.Thread(target=node.run)
     runner.start()
     conf = zenoh.Config()
@@ -122,15 +151,28 @@ zenoh_listen = "tcp/127.0.0.1:{port}"
     def on(store):
         def cb(sample):
             with got:
-                store.append((sample.payload.to_bytes(), sample.attachment.to_bytes() if sample.attachment else None))
+                store.append(
+                    (
+                        sample.payload.to_bytes(),
+                        sample.attachment.to_bytes() if sample.attachment else None,
+                    )
+                )
                 got.notify_all()
+
         return cb
 
     # The keys a ROS 2 node computes for these topics (design document's format).
-    scan_key = f"0/scan/sensor_msgs::msg::dds_::LaserScan_/{codec.type_hash('sensor_msgs/msg/LaserScan')}"
-    map_key = f"0/map/nav_msgs::msg::dds_::OccupancyGrid_/{codec.type_hash('nav_msgs/msg/OccupancyGrid')}"
+    scan_key = (
+        f"0/scan/sensor_msgs::msg::dds_::LaserScan_/{codec.type_hash('sensor_msgs/msg/LaserScan')}"
+    )
+    map_key = (
+        f"0/map/nav_msgs::msg::dds_::OccupancyGrid_/{codec.type_hash('nav_msgs/msg/OccupancyGrid')}"
+    )
     image_key = f"0/camera/image_raw/sensor_msgs::msg::dds_::Image_/{codec.type_hash('sensor_msgs/msg/Image')}"
-    subs = [robot.declare_subscriber(scan_key, on(scans)), robot.declare_subscriber(map_key, on(maps))]
+    subs = [
+        robot.declare_subscriber(scan_key, on(scans)),
+        robot.declare_subscriber(map_key, on(maps)),
+    ]
     pub = robot.declare_publisher(image_key)
     try:
         # The graph: the node's liveliness tokens, as `ros2 node list` / `ros2 topic list` read them.
@@ -146,14 +188,17 @@ zenoh_listen = "tcp/127.0.0.1:{port}"
             f"@ros2_lv/0/{zid}/0/{scan_token[0].split('/')[4]}/MP/%/%/floorscan/%scan/"
             f"sensor_msgs::msg::dds_::LaserScan_/{codec.type_hash('sensor_msgs/msg/LaserScan')}/::,10:,:,:,,"
         ]
-        assert any("/MS/%/%/floorscan/%camera%image_raw/sensor_msgs::msg::dds_::Image_/" in t for t in tokens)
+        assert any(
+            "/MS/%/%/floorscan/%camera%image_raw/sensor_msgs::msg::dds_::Image_/" in t
+            for t in tokens
+        )
         assert any(t.endswith("/:1:,1:,:,:,,") and "%map/" in t for t in tokens)
         time.sleep(0.3)  # the node's subscriber reaches this session
         gid = bytes(16 * [7])
         for i, (t, grey) in enumerate(frames):
             pub.put(ros2_image(codec, t, grey), attachment=K.attachment(i + 1, time.time_ns(), gid))
             with got:
-                got.wait_for(lambda: len(scans) > i, timeout=5.0)
+                got.wait_for(lambda n=i: len(scans) > n, timeout=5.0)
         runner.join(30)
         assert not runner.is_alive()
     finally:
@@ -164,8 +209,21 @@ zenoh_listen = "tcp/127.0.0.1:{port}"
         runner.join(10)
     assert len(scans) == len(frames)
     csv = tmp_path / "ref.csv"
-    assert main(["scan", str(room / "room"), "--table", str(room / "table.json"), "-o", str(csv),
-                 "--threshold", "20"]) == 0
+    assert (
+        main(
+            [
+                "scan",
+                str(room / "room"),
+                "--table",
+                str(room / "table.json"),
+                "-o",
+                str(csv),
+                "--threshold",
+                "20",
+            ]
+        )
+        == 0
+    )
     ref = read_scans_csv(csv)
     seqs = []
     for (payload, att), scan in zip(scans, ref):
@@ -173,8 +231,11 @@ zenoh_listen = "tcp/127.0.0.1:{port}"
         laser = codec.deserialize(payload, "sensor_msgs/msg/LaserScan")
         assert codec.serialize(laser, "sensor_msgs/msg/LaserScan") == payload
         assert laser.header.frame_id == "camera_ground"
-        want = scan.to_laser_scan(angle_min=laser.angle_min, angle_max=laser.angle_max,
-                                  angle_increment=laser.angle_increment)
+        want = scan.to_laser_scan(
+            angle_min=laser.angle_min,
+            angle_max=laser.angle_max,
+            angle_increment=laser.angle_increment,
+        )
         np.testing.assert_array_equal(laser.ranges, np.asarray(want["ranges"], np.float32))
         seq, ts_ns, pub_gid = K.parse_attachment(att)
         seqs.append(seq)

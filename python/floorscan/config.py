@@ -154,10 +154,18 @@ class LimitsConfig:
 
 @dataclass
 class NodeConfig:
-    transport: str = doc("middleware of `floorscan node`: ros1 (rospy, a ROS 1 master) | zenoh (ROS 2's rmw_zenoh)", "ros1")
-    image_topic: str = doc("camera topic (sensor_msgs/Image mono8/rgb8/bgr8/mono16 or CompressedImage)", "/camera/image_raw")
+    transport: str = doc(
+        "middleware of `floorscan node`: ros1 (rospy, a ROS 1 master) | zenoh (ROS 2's rmw_zenoh)",
+        "ros1",
+    )
+    image_topic: str = doc(
+        "camera topic (sensor_msgs/Image mono8/rgb8/bgr8/mono16 or CompressedImage)",
+        "/camera/image_raw",
+    )
     compressed: bool = doc("the image topic carries sensor_msgs/CompressedImage", False)
-    odom_topic: str = doc('odometry topic (nav_msgs/Odometry); "" for none (local map only)', "/odom")
+    odom_topic: str = doc(
+        'odometry topic (nav_msgs/Odometry); "" for none (local map only)', "/odom"
+    )
     scan_topic: str = doc("LaserScan output topic (REP 117 ranges)", "/scan")
     map_topic: str = doc("global OccupancyGrid output topic", "/map")
     local_map_topic: str = doc("local (robot-centred) OccupancyGrid output topic", "/local_map")
@@ -172,7 +180,9 @@ class NodeConfig:
     )
     node_name: str = doc("node name on the ROS graph", "floorscan")
     domain_id: int = doc("ROS 2 domain id (zenoh transport), 0..=232", 0)
-    zenoh_connect: str = doc('zenoh endpoint to connect to (zenoh transport), "" for none', "tcp/localhost:7447")
+    zenoh_connect: str = doc(
+        'zenoh endpoint to connect to (zenoh transport), "" for none', "tcp/localhost:7447"
+    )
     zenoh_listen: str = doc('zenoh endpoint to listen on (zenoh transport), "" for none', "")
     zenoh_mode: str = doc("zenoh session mode: peer | client", "peer")
 

@@ -12,10 +12,14 @@ from ..image_io import set_max_image_pixels
 
 
 def register(sub) -> None:
-    p = sub.add_parser("node", help="live ROS 1 / ROS 2 node: camera + odometry in, /scan and /map out")
+    p = sub.add_parser(
+        "node", help="live ROS 1 / ROS 2 node: camera + odometry in, /scan and /map out"
+    )
     p.add_argument("--table", required=True, help="ground table JSON (from `floorscan calibrate`)")
     p.add_argument("-o", "--output", required=True, help="folder for the outputs saved on stop")
-    p.add_argument("--config", help="configuration TOML (its [node] table: topics, frames, transport)")
+    p.add_argument(
+        "--config", help="configuration TOML (its [node] table: topics, frames, transport)"
+    )
     p.add_argument("--transport", choices=["ros1", "zenoh"], help="override node.transport")
     p.add_argument("--image-topic", help="override node.image_topic")
     p.add_argument("--odom-topic", help='override node.odom_topic ("" for none)')

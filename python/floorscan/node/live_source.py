@@ -73,7 +73,9 @@ class LiveOdometry:
             (x0, y0, a0), (x1, y1, a1) = self._p[i], self._p[i + 1]
             a = (t - ts[i]) / (ts[i + 1] - ts[i])
             dyaw = math.remainder(a1 - a0, 2 * math.pi)
-            pose = Pose2(x0 + a * (x1 - x0), y0 + a * (y1 - y0), math.remainder(a0 + a * dyaw, 2 * math.pi))
+            pose = Pose2(
+                x0 + a * (x1 - x0), y0 + a * (y1 - y0), math.remainder(a0 + a * dyaw, 2 * math.pi)
+            )
             return self._note_stale(pose, None)
 
     def _note_stale(self, pose: Optional[Pose2], why: Optional[str]) -> Optional[Pose2]:

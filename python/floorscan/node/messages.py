@@ -41,9 +41,7 @@ class Codec:
         if TF_MESSAGE not in self.store.types:  # rosbags' Noetic store lacks tf2_msgs
             from rosbags.typesys import get_types_from_msg
 
-            self.store.register(
-                get_types_from_msg(TF_MSG_DEFINITION, TF_MESSAGE)
-            )
+            self.store.register(get_types_from_msg(TF_MSG_DEFINITION, TF_MESSAGE))
         self.types = self.store.types
         if ros_version == 1:
             self._ser, self._de = self.store.serialize_ros1, self.store.deserialize_ros1

@@ -70,9 +70,13 @@ def topic_keyexpr(domain_id: int, topic: str, msgtype: str, type_hash: str) -> s
     return f"{domain_id}/{topic.strip('/')}/{dds_type_name(msgtype)}/{type_hash}"
 
 
-def node_token(domain_id: int, zid: str, node_id: int, node_name: str, namespace: str = "/", enclave: str = "") -> str:
+def node_token(
+    domain_id: int, zid: str, node_id: int, node_name: str, namespace: str = "/", enclave: str = ""
+) -> str:
     ns = "%" if namespace in ("", "/") else mangle(namespace)
-    return f"{ADMIN_SPACE}/{domain_id}/{zid}/{node_id}/{node_id}/NN/{mangle(enclave)}/{ns}/{node_name}"
+    return (
+        f"{ADMIN_SPACE}/{domain_id}/{zid}/{node_id}/{node_id}/NN/{mangle(enclave)}/{ns}/{node_name}"
+    )
 
 
 def endpoint_token(

@@ -90,8 +90,17 @@ class ZenohTransport(Transport):
         eid, self._next_entity = self._next_entity, self._next_entity + 1
         h = self.codec.type_hash(msgtype)
         token = K.endpoint_token(
-            self.domain_id, self.zid, self._node_id, eid, kind, self.node_name,
-            topic, msgtype, h, qos, self.namespace,
+            self.domain_id,
+            self.zid,
+            self._node_id,
+            eid,
+            kind,
+            self.node_name,
+            topic,
+            msgtype,
+            h,
+            qos,
+            self.namespace,
         )
         self._declare_token(token)
         return K.topic_keyexpr(self.domain_id, self._resolve(topic), msgtype, h)
@@ -116,7 +125,9 @@ class ZenohTransport(Transport):
             from zenoh import ext
 
             pub = ext.declare_advanced_publisher(
-                self.session, key, cache=ext.CacheConfig(max_samples=qos.depth),
+                self.session,
+                key,
+                cache=ext.CacheConfig(max_samples=qos.depth),
                 publisher_detection=True,
             )
         else:
