@@ -308,6 +308,13 @@ def _cases() -> List[Case]:
         ]  # fmt: skip
 
     add(Case("sim_tour_equal_to_start", sim_tour_at_start, (EXIT_OK,)))
+    add(
+        Case(
+            "sim_ten_hours_in_memory",
+            lambda d, s: ["sim", "--seconds", "36000", "--out", str(d / "sim")],
+            stderr_has="--max-memory-mb",
+        )
+    )
 
     # Output paths that cannot be written.
     def map_log_to(target: Callable[[Path], Path]):
