@@ -118,10 +118,17 @@ def main() -> None:
         )
         image, spec = render_calibration(cam, spec, kind="checkerboard")
         pattern = Pattern.from_toml(spec.to_toml())
-        table, report = calibrate(image, pattern, near_field=False)
-        extrapolated, _ = calibrate(image, pattern, extrapolate=True)
+        table, report = calibrate(
+            image, pattern, near_field=False, coverage="pattern", spacing_px=SPACING
+        )
+        extrapolated, _ = calibrate(image, pattern, coverage="all", spacing_px=SPACING)
+        trusted, _ = calibrate(image, pattern, spacing_px=SPACING)
         region = np.isfinite(table.nodes[0])
-        rows = [("floorscan.calibrate", table, extrapolated)]
+        tx, ty = trusted.nodes
+        rows = [
+            ("floorscan.calibrate (coverage all)", table, extrapolated),
+            ("floorscan.calibrate (default: trusted)", table_from(tx, ty, region), trusted),
+        ]
         for method, fisheye in (
             ("OpenCV calibrateCamera", False),
             ("OpenCV fisheye.calibrate", True),

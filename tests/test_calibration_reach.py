@@ -206,12 +206,13 @@ def test_known_intrinsics_give_a_table_to_3_m(default_table):
 def test_intrinsics_files_from_opencv_and_ros(tmp_path):
     k = np.array([[455.0, 0, 331.0], [0, 452.0, 228.0], [0, 0, 1]])
     d = np.array([0.08, -0.15, 0.001, -0.0008, 0.0])
-    fs = cv2.FileStorage(str(tmp_path / "cam.yml"), cv2.FILE_STORAGE_WRITE)
-    fs.write("image_width", 640)
-    fs.write("image_height", 480)
-    fs.write("camera_matrix", k)
-    fs.write("distortion_coefficients", d.reshape(1, 5))
-    fs.release()
+    for name in ("cam.yml", "cam.xml"):
+        fs = cv2.FileStorage(str(tmp_path / name), cv2.FILE_STORAGE_WRITE)
+        fs.write("image_width", 640)
+        fs.write("image_height", 480)
+        fs.write("camera_matrix", k)
+        fs.write("distortion_coefficients", d.reshape(1, 5))
+        fs.release()
     ros = {
         "image_width": 640,
         "image_height": 480,
@@ -221,7 +222,7 @@ def test_intrinsics_files_from_opencv_and_ros(tmp_path):
         "distortion_coefficients": {"rows": 1, "cols": 5, "data": d.tolist()},
     }
     (tmp_path / "ros.yaml").write_text(yaml.safe_dump(ros))
-    for name in ("cam.yml", "ros.yaml"):
+    for name in ("cam.yml", "cam.xml", "ros.yaml"):
         got = Intrinsics.load(tmp_path / name)
         assert got.family.name == "pinhole_k2p" and got.image_size == (640, 480)
         np.testing.assert_allclose(got.params, [455, 452, 331, 228, 0.08, -0.15, 0.001, -0.0008])

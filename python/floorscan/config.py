@@ -68,6 +68,11 @@ class CalibrationConfig:
         _CAL.min_error_m,
     )
     max_range_m: float = doc("no ground beyond this range [m]", _CAL.max_range_m)
+    intrinsics: Optional[str] = doc(
+        "known lens intrinsics (OpenCV FileStorage YAML/XML or ROS camera_info YAML): only the "
+        "camera's pose is fitted; unset: the lens is fitted too",
+        None,
+    )
     extrapolate: bool = doc('older spelling of coverage = "all"', False)
 
     def kwargs(self) -> Dict[str, Any]:
@@ -78,6 +83,7 @@ class CalibrationConfig:
             "max_error_fraction": self.max_error_fraction,
             "min_error_m": self.min_error_m,
             "max_range_m": self.max_range_m,
+            **({"intrinsics": self.intrinsics} if self.intrinsics else {}),
         }
 
 

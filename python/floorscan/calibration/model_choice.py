@@ -26,6 +26,8 @@ OUTLIER_PX = 1.0
 OUTLIER_SIGMAS = 4.0
 """... nor those within this many robust standard deviations."""
 MAX_OUTLIER_FRACTION = 0.2
+DESCRIBED_SLACK = 0.01
+"""Families describing this much less of the image than the widest are passed over."""
 CV_RMS_FACTOR = 2.0
 """Families whose residual RMS exceeds the best's by this factor are not cross-validated."""
 HOLD_OUT = 0.15
@@ -103,6 +105,13 @@ def held_out(
     return np.concatenate(errors), fits
 
 
+def described_share(model, image_size: Tuple[int, int], step_px: int = 16) -> float:
+    """Share of the image (a lattice every ``step_px``) where the lens model is valid."""
+    w, h = image_size
+    v, u = np.mgrid[0:h:step_px, 0:w:step_px].astype(float)
+    return float(np.mean(np.all(np.isfinite(model.rays(u, v)), axis=0)))
+
+
 def reject_outliers(residual_px: np.ndarray) -> np.ndarray:
     """Inlier mask of (M, 2) residuals [px] (robust scale; at most ``MAX_OUTLIER_FRACTION``
     of the points out)."""
@@ -178,6 +187,11 @@ def choose(
         cands.append(Candidate(n, f, float(np.sqrt(np.mean(e * e))), e, ff))
     least = min(c.held_out_px for c in cands)
     near = [c for c in cands if c.held_out_px <= PARSIMONY * least]
+    # A lens model that folds back inside the image cannot describe its rim: among those that
+    # predict about as well, the ones that describe the whole image come first.
+    described = {c.name: described_share(c.fit.model, image_size) for c in near}
+    widest = max(described.values())
+    near = [c for c in near if described[c.name] >= widest - DESCRIBED_SLACK]
     fewest = min(len(c.fit.model.family.terms) for c in near)
     best = min(
         (c for c in near if len(c.fit.model.family.terms) == fewest), key=lambda c: c.held_out_px
