@@ -191,6 +191,9 @@ class NodeConfig:
     )
     zenoh_listen: str = doc('zenoh endpoint to listen on (zenoh transport), "" for none', "")
     zenoh_mode: str = doc("zenoh session mode: peer | client", "peer")
+    foxglove_port: int = doc(
+        "port of the Foxglove WebSocket live view on 127.0.0.1 (needs foxglove-sdk); 0: off", 0
+    )
 
 
 @dataclass

@@ -25,6 +25,12 @@ def register(sub) -> None:
     p.add_argument("--odom-topic", help='override node.odom_topic ("" for none)')
     p.add_argument("--compressed", action="store_true", help="the image topic is CompressedImage")
     p.add_argument("--max-frames", type=int, help="stop after this many frames")
+    p.add_argument(
+        "--foxglove",
+        type=int,
+        metavar="PORT",
+        help="live view: a Foxglove WebSocket server on 127.0.0.1:PORT (node.foxglove_port)",
+    )
     p.set_defaults(run=main)
 
 
@@ -38,6 +44,7 @@ def main(args: argparse.Namespace) -> int:
             "node.image_topic": args.image_topic,
             "node.odom_topic": args.odom_topic,
             "node.compressed": True if args.compressed else None,
+            "node.foxglove_port": args.foxglove,
         }
     )
     set_max_image_pixels(cfg.limits.max_image_pixels)

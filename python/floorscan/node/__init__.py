@@ -62,6 +62,10 @@ class NodeRun:
             self.source,
             self.mapper.robot_from_camera,
         )
+        if n.foxglove_port:
+            from .live_view import FoxgloveView
+
+            self.outputs = FoxgloveView(self.outputs, n, self.mapper.robot_from_camera)
         self.transport.subscribe(n.image_topic, image_type, self.source.push)
         if self.odometry is not None:
             self.transport.subscribe(n.odom_topic, M.ODOMETRY, self._on_odometry)
@@ -78,7 +82,7 @@ class NodeRun:
     def run(self) -> RunStats:
         n = self.mapper.cfg.node
         log(
-            f"{n.transport}: {n.image_topic} + {n.odom_topic or '(no odometry)'} -> "
+            f"{type(self.transport).__name__}: {n.image_topic} + {n.odom_topic or '(no odometry)'} -> "
             f"{n.scan_topic}, {n.map_topic}, {n.local_map_topic}"
         )
         try:

@@ -43,5 +43,7 @@ def check_node(n) -> None:
         raise _bad("map_period_s", "must be in [0.01, 3600] s", n.map_period_s)
     if not (math.isfinite(n.odom_timeout_s) and n.odom_timeout_s > 0):
         raise _bad("odom_timeout_s", "must be finite and > 0", n.odom_timeout_s)
+    if not 0 <= n.foxglove_port <= 65535:
+        raise _bad("foxglove_port", "must be in 0..=65535 (0: no live view)", n.foxglove_port)
     if not 0 <= n.domain_id <= MAX_DOMAIN_ID:
         raise _bad("domain_id", f"must be in 0..={MAX_DOMAIN_ID}", n.domain_id)

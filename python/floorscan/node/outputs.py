@@ -41,6 +41,8 @@ class NodeOutputs:
         tf_pub.publish(
             codec.static_transform(time.time(), n.base_frame, n.scan_frame, robot_from_camera)
         )
+        self.map_listeners: List = []
+        """Called as ``f(mapper, t)`` after each map publication (the live view)."""
         self.latencies_s: List[float] = []
         self.scans_published = 0
         self.maps_published = 0
@@ -70,6 +72,8 @@ class NodeOutputs:
             data, res, origin = grid.to_occupancy_grid()
             pub.publish(self.codec.occupancy_grid(t, data, res, origin, f))
         self.maps_published += 1
+        for listener in self.map_listeners:
+            listener(mapper, t)
 
     def latency_ms(self) -> Dict[str, Optional[float]]:
         if not self.latencies_s:
