@@ -45,6 +45,7 @@ class NodeOutputs:
         """Called as ``f(mapper, t)`` after each map publication (the live view)."""
         self.latencies_s: List[float] = []
         self.scans_published = 0
+        self.publish_errors = 0
         self.maps_published = 0
         self._next_map = time.perf_counter() + n.map_period_s
         self._next_log = time.perf_counter() + LOG_PERIOD_S
@@ -52,7 +53,9 @@ class NodeOutputs:
     def on_frame(self, frame, scan, pose, mapper) -> None:
         lo, hi, inc = self.inner.laser_angles(scan)
         laser = scan.to_laser_scan(angle_min=lo, angle_max=hi, angle_increment=inc)
-        self.scan_pub.publish(self.codec.laser_scan(scan.timestamp, laser, self.cfg.scan_frame))
+        self._publish(
+            self.scan_pub, self.codec.laser_scan(scan.timestamp, laser, self.cfg.scan_frame)
+        )
         now = time.perf_counter()
         received = self.source.current_receive_time
         if received is not None and len(self.latencies_s) < MAX_LATENCIES:
@@ -70,10 +73,20 @@ class NodeOutputs:
         f = self.cfg.map_frame
         for pub, grid in ((self.map_pub, mapper.global_map), (self.local_pub, mapper.local_map)):
             data, res, origin = grid.to_occupancy_grid()
-            pub.publish(self.codec.occupancy_grid(t, data, res, origin, f))
+            self._publish(pub, self.codec.occupancy_grid(t, data, res, origin, f))
         self.maps_published += 1
         for listener in self.map_listeners:
             listener(mapper, t)
+
+    def _publish(self, pub, data: bytes) -> None:
+        """A middleware that fails to send must not stop the mapping (the map is saved at the
+        end either way): the failure is counted and logged once."""
+        try:
+            pub.publish(data)
+        except Exception as e:  # rospy / zenoh raise their own types
+            self.publish_errors += 1
+            if self.publish_errors == 1:
+                log(f"publishing failed: {e} (logged once; counted in summary.json)")
 
     def latency_ms(self) -> Dict[str, Optional[float]]:
         if not self.latencies_s:
@@ -109,6 +122,7 @@ class NodeOutputs:
             "dropped_frames": self.source.dropped,
             "scans_published": self.scans_published,
             "maps_published": self.maps_published,
+            "publish_errors": self.publish_errors,
             "latency_ms": self.latency_ms(),
         }
         log(self.status_line())
