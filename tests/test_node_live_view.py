@@ -67,6 +67,7 @@ def test_foxglove_client_sees_the_frames_scans_and_maps(tmp_path):
     cfg = Config.from_toml(
         f'[ranger]\nthreshold = 20.0\n[outputs]\noverlay = "none"\nbag = false\n'
         f'[node]\nodom_topic = ""\nmap_period_s = 0.05\nfoxglove_port = {port}\n'
+        'overlay_topic = "/camera/overlay"\n'
     )
     lines = [
         ln.split() for ln in (tmp_path / "room" / "images.txt").read_text().split("\n")[1:] if ln
@@ -174,6 +175,24 @@ def test_foxglove_client_sees_the_frames_scans_and_maps(tmp_path):
         assert fx.frame_id == "camera_ground"
         pts = ann.points[0].points
         assert len(pts) == int(np.count_nonzero(scan.status_codes == 0))
+    # The overlay topic: each frame with its scan drawn, as `floorscan overlay` draws it.
+    from floorscan.overlay import draw_scan_overlay
+
+    overlays = [
+        codec.deserialize(b, "sensor_msgs/msg/Image")
+        for b in transport.published["/camera/overlay"]
+    ]
+    assert len(overlays) == n
+    for o, (_, grey), scan in zip(overlays, frames, ref):
+        assert (o.encoding, o.height, o.width, o.step) == (
+            "rgb8",
+            grey.shape[0],
+            grey.shape[1],
+            3 * grey.shape[1],
+        )
+        assert np.array_equal(
+            np.asarray(o.data).reshape(o.height, o.width, 3), draw_scan_overlay(grey, scan)
+        )
     # The last map shown is the last map published on the (loopback) ROS topic.
     grid = received["/local_map"][-1]
     ros = codec.deserialize(transport.published["/local_map"][-1], "nav_msgs/msg/OccupancyGrid")

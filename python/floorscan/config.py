@@ -175,6 +175,9 @@ class NodeConfig:
     scan_topic: str = doc("LaserScan output topic (REP 117 ranges)", "/scan")
     map_topic: str = doc("global OccupancyGrid output topic", "/map")
     local_map_topic: str = doc("local (robot-centred) OccupancyGrid output topic", "/local_map")
+    overlay_topic: str = doc(
+        'camera frames with the boundary points drawn (sensor_msgs/Image rgb8); "" for none', ""
+    )
     tf_static_topic: str = doc("static transform topic (base_frame -> scan_frame)", "/tf_static")
     base_frame: str = doc("robot frame (REP 105 base_link)", "base_link")
     scan_frame: str = doc("frame of the scans: the camera ground frame", "camera_ground")

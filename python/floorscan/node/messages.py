@@ -103,6 +103,20 @@ class Codec:
         )
         return self.serialize(msg, LASER_SCAN)
 
+    def rgb_image(self, t: float, rgb: np.ndarray, frame_id: str) -> bytes:
+        """``sensor_msgs/Image`` rgb8 of an (H, W, 3) uint8 array."""
+        h, w = rgb.shape[:2]
+        msg = self.types[IMAGE](
+            header=_header(self.types, t, frame_id),
+            height=h,
+            width=w,
+            encoding="rgb8",
+            is_bigendian=0,
+            step=3 * w,
+            data=np.ascontiguousarray(rgb, dtype=np.uint8).ravel(),
+        )
+        return self.serialize(msg, IMAGE)
+
     def occupancy_grid(
         self, t: float, data: np.ndarray, resolution_m: float, origin_xy_yaw, frame_id: str
     ) -> bytes:

@@ -27,8 +27,7 @@ def check_node(n) -> None:
     if n.zenoh_mode not in ZENOH_MODES:
         raise _bad("zenoh_mode", f"expected one of {', '.join(ZENOH_MODES)}", n.zenoh_mode)
     topics = ["image_topic", "scan_topic", "map_topic", "local_map_topic", "tf_static_topic"]
-    if n.odom_topic:
-        topics.append("odom_topic")
+    topics += [k for k in ("odom_topic", "overlay_topic") if getattr(n, k)]
     for key in topics:
         v = getattr(n, key)
         if not _NAME.match(v):

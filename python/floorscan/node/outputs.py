@@ -5,7 +5,8 @@ is saved on shutdown exactly as a run saves it):
 - every scan as ``sensor_msgs/LaserScan`` (REP 117) in the camera ground frame, binned as the
   run's bag binning (``outputs.laser_angle_increment_rad``);
 - the global and the local map as ``nav_msgs/OccupancyGrid`` every ``node.map_period_s``;
-- the static transform base_frame -> scan_frame (latched) at start.
+- the static transform base_frame -> scan_frame (latched) at start;
+- optionally (``node.overlay_topic``) each frame with its boundary points drawn, rgb8.
 
 Latency is image received (transport callback) -> scan published, decode included.
 """
@@ -37,6 +38,9 @@ class NodeOutputs:
         self.scan_pub = transport.advertise(n.scan_topic, M.LASER_SCAN)
         self.map_pub = transport.advertise(n.map_topic, M.OCCUPANCY_GRID, latched=True)
         self.local_pub = transport.advertise(n.local_map_topic, M.OCCUPANCY_GRID, latched=True)
+        self.overlay_pub = (
+            transport.advertise(n.overlay_topic, M.IMAGE) if n.overlay_topic else None
+        )
         tf_pub = transport.advertise(n.tf_static_topic, M.TF_MESSAGE, latched=True)
         tf_pub.publish(
             codec.static_transform(time.time(), n.base_frame, n.scan_frame, robot_from_camera)
@@ -58,6 +62,11 @@ class NodeOutputs:
         )
         now = time.perf_counter()
         received = self.source.current_receive_time
+        if self.overlay_pub is not None:  # after the latency: the overlay is a side output
+            from ..overlay import draw_scan_overlay
+
+            rgb = draw_scan_overlay(frame.image, scan)
+            self._publish(self.overlay_pub, self.codec.rgb_image(scan.timestamp, rgb, "camera"))
         if received is not None and len(self.latencies_s) < MAX_LATENCIES:
             self.latencies_s.append(now - received)
         self.scans_published += 1
