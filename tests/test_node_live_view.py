@@ -19,35 +19,13 @@ from floorscan.cli import main
 from floorscan.config import Config
 from floorscan.node import NodeRun
 from floorscan.node.messages import Codec
-from floorscan.node.transport import Publisher, Transport
+from node_loopback import LoopbackTransport
 from ros1_fixtures import free_port
 from synthetic_dataset import camera_table, make_dataset
 
 pytest.importorskip("foxglove", reason="foxglove-sdk is not installed (pip install foxglove-sdk)")
 ws_client = pytest.importorskip("websockets.sync.client", reason="websockets is not installed")
 pytest.importorskip("google.protobuf", reason="protobuf is not installed")
-
-
-class LoopbackTransport(Transport):
-    ros_version = 2
-
-    def __init__(self):
-        self.callbacks, self.published = {}, {}
-
-    def subscribe(self, topic, msgtype, callback):
-        self.callbacks[topic] = callback
-
-    def advertise(self, topic, msgtype, *, latched=False):
-        store = self.published.setdefault(topic, [])
-
-        class P(Publisher):
-            def publish(self, data):
-                store.append(data)
-
-        return P()
-
-    def close(self):
-        pass
 
 
 def decoder(channel):

@@ -172,6 +172,12 @@ class NodeConfig:
     odom_topic: str = doc(
         'odometry topic (nav_msgs/Odometry); "" for none (local map only)', "/odom"
     )
+    odom_source: str = doc(
+        "where poses come from: odometry (nav_msgs/Odometry on odom_topic) | tf (odom_frame -> base_frame on tf_topic)",
+        "odometry",
+    )
+    tf_topic: str = doc("transform topic read when odom_source = tf (tf2_msgs/TFMessage)", "/tf")
+    odom_frame: str = doc("parent frame of the robot's pose when odom_source = tf", "odom")
     scan_topic: str = doc("LaserScan output topic (REP 117 ranges)", "/scan")
     map_topic: str = doc("global OccupancyGrid output topic", "/map")
     local_map_topic: str = doc("local (robot-centred) OccupancyGrid output topic", "/local_map")

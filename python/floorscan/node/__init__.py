@@ -46,7 +46,9 @@ class NodeRun:
         self.codec = M.Codec(self.transport.ros_version)
         self.mapper = Mapper(table, cfg, robot_from_camera=robot_from_camera)
         image_type = M.COMPRESSED_IMAGE if n.compressed else M.IMAGE
-        self.odometry = LiveOdometry(n.odom_timeout_s) if n.odom_topic else None
+        self.bad_odometry = 0
+        use_tf = n.odom_source == "tf"
+        self.odometry = LiveOdometry(n.odom_timeout_s) if (use_tf or n.odom_topic) else None
         self.source = LiveSource(
             lambda data: self.codec.decode_image(data, image_type),
             odometry=self.odometry,
@@ -67,9 +69,10 @@ class NodeRun:
 
             self.outputs = FoxgloveView(self.outputs, n, self.mapper.robot_from_camera)
         self.transport.subscribe(n.image_topic, image_type, self.source.push)
-        if self.odometry is not None:
+        if use_tf:
+            self.transport.subscribe(n.tf_topic, M.TF_MESSAGE, self._on_tf)
+        elif self.odometry is not None:
             self.transport.subscribe(n.odom_topic, M.ODOMETRY, self._on_odometry)
-        self.bad_odometry = 0
 
     def _on_odometry(self, data: bytes, _received: float) -> None:
         try:
@@ -79,10 +82,23 @@ class NodeRun:
             if self.bad_odometry == 1:
                 log(f"odometry message skipped: {e} (logged once)")
 
+    def _on_tf(self, data: bytes, _received: float) -> None:
+        n = self.mapper.cfg.node
+        try:
+            poses = self.codec.decode_tf(data, n.odom_frame, n.base_frame)
+        except Exception as e:  # a damaged message: counted, logged once
+            self.bad_odometry += 1
+            if self.bad_odometry == 1:
+                log(f"transform message skipped: {e} (logged once)")
+            return
+        for pose in poses:
+            self.odometry.add(*pose)
+
     def run(self) -> RunStats:
         n = self.mapper.cfg.node
         log(
-            f"{type(self.transport).__name__}: {n.image_topic} + {n.odom_topic or '(no odometry)'} -> "
+            f"{type(self.transport).__name__}: {n.image_topic} + "
+            f"{n.tf_topic + ' (tf)' if n.odom_source == 'tf' else n.odom_topic or '(no odometry)'} -> "
             f"{n.scan_topic}, {n.map_topic}, {n.local_map_topic}"
         )
         try:

@@ -7,7 +7,7 @@ Names are ROS 2 style (``sensor_msgs/msg/LaserScan``) for both; :meth:`Codec.md5
 
 from __future__ import annotations
 
-from typing import Dict, Tuple
+from typing import Dict, List, Tuple
 
 import numpy as np
 
@@ -85,6 +85,20 @@ class Codec:
         msg = self.deserialize(data, ODOMETRY)
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
         return _stamp(msg), float(p.x), float(p.y), yaw_from_quaternion(q.x, q.y, q.z, q.w)
+
+    def decode_tf(self, data: bytes, parent: str, child: str) -> List[OdomSample]:
+        """The ``parent_from_child`` poses in a ``tf2_msgs/TFMessage`` (frame ids compared
+        without a leading ``/``, as tf2 does)."""
+        msg = self.deserialize(data, TF_MESSAGE)
+        out = []
+        for tf in msg.transforms:
+            if (tf.header.frame_id.lstrip("/"), tf.child_frame_id.lstrip("/")) != (parent, child):
+                continue
+            p, q = tf.transform.translation, tf.transform.rotation
+            out.append(
+                (_stamp(tf), float(p.x), float(p.y), yaw_from_quaternion(q.x, q.y, q.z, q.w))
+            )
+        return out
 
     # --- outputs -----------------------------------------------------------------------
     def laser_scan(self, t: float, laser: Dict[str, object], frame_id: str) -> bytes:

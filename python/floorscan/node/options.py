@@ -8,6 +8,7 @@ import re
 from ..errors import OptionError
 
 TRANSPORTS = ("ros1", "zenoh")
+ODOM_SOURCES = ("odometry", "tf")
 ZENOH_MODES = ("peer", "client")
 MAX_DOMAIN_ID = 232
 """The largest ROS 2 domain id (ROS 2 documentation, "The ROS_DOMAIN_ID")."""
@@ -24,15 +25,17 @@ def check_node(n) -> None:
     """Raises OptionError naming the ``[node]`` key that is out of range."""
     if n.transport not in TRANSPORTS:
         raise _bad("transport", f"expected one of {', '.join(TRANSPORTS)}", n.transport)
+    if n.odom_source not in ODOM_SOURCES:
+        raise _bad("odom_source", f"expected one of {', '.join(ODOM_SOURCES)}", n.odom_source)
     if n.zenoh_mode not in ZENOH_MODES:
         raise _bad("zenoh_mode", f"expected one of {', '.join(ZENOH_MODES)}", n.zenoh_mode)
     topics = ["image_topic", "scan_topic", "map_topic", "local_map_topic", "tf_static_topic"]
-    topics += [k for k in ("odom_topic", "overlay_topic") if getattr(n, k)]
+    topics += [k for k in ("odom_topic", "overlay_topic", "tf_topic") if getattr(n, k)]
     for key in topics:
         v = getattr(n, key)
         if not _NAME.match(v):
             raise _bad(key, "must be a ROS name (letters, digits, _ and /)", v)
-    for key in ("base_frame", "scan_frame", "map_frame"):
+    for key in ("base_frame", "scan_frame", "map_frame", "odom_frame"):
         v = getattr(n, key)
         if not _FRAME.match(v):
             raise _bad(key, "must be a frame id (letters, digits, _ . / -)", v)
