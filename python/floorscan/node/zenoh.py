@@ -76,6 +76,9 @@ class ZenohTransport(Transport):
         except Exception as e:  # zenoh.ZError: bad endpoint, no router in client mode, ...
             raise MiddlewareError(f"cannot open a zenoh session ({mode}, {connect}): {e}") from None
         self.zid = str(self.session.info.zid())
+        self._connect = connect
+        self._health: Optional[str] = None
+        self._health_at = -1e9
         self._next_entity = 1
         self._node_id = 0
         self._tokens: List[object] = []
@@ -134,6 +137,20 @@ class ZenohTransport(Transport):
             pub = self.session.declare_publisher(key)
         self._entities.append(pub)
         return _ZenohPublisher(pub, os.urandom(K.GID_SIZE))
+
+    def health(self) -> Optional[str]:
+        """Checked once a second: a session that reaches no router and no peer says so."""
+        now = time.monotonic()
+        if now - self._health_at >= 1.0:
+            self._health_at = now
+            info = self.session.info
+            alone = not list(info.routers_zid()) and not list(info.peers_zid())
+            self._health = (
+                f"no zenoh router or peer reached ({self._connect or 'no connect endpoint'})"
+                if alone
+                else None
+            )
+        return self._health
 
     def close(self) -> None:
         if self._closed:
