@@ -135,8 +135,8 @@ zenoh_listen = "tcp/127.0.0.1:{port}"
     lines = [ln.split() for ln in (room / "room" / "images.txt").read_text().split("\n")[1:] if ln]
     frames = [(float(t), read_grey(room / "room" / p)) for t, p in lines]
     node = NodeRun(
-        GroundTable.load(room / "table.json"), cfg, tmp_path / "out", max_frames=len(frames)
-    )
+        GroundTable.load(room / "table.json"), cfg, tmp_path / "out"
+    )  # runs until its source is closed below
     runner = threading.Thread(target=node.run)
     runner.start()
     conf = zenoh.Config()
@@ -199,6 +199,25 @@ zenoh_listen = "tcp/127.0.0.1:{port}"
             pub.put(ros2_image(codec, t, grey), attachment=K.attachment(i + 1, time.time_ns(), gid))
             with got:
                 got.wait_for(lambda n=i: len(scans) > n, timeout=5.0)
+        # A late joiner asking for history (as rmw_zenoh's transient-local subscriptions do)
+        # gets the latest map from the publisher's cache. Maps are only published after a
+        # frame: past the last one (and a pause) nothing live is left to receive.
+        from zenoh import ext
+
+        time.sleep(0.5)
+        late = []
+        late_sub = ext.declare_advanced_subscriber(
+            robot,
+            map_key,
+            lambda smp: late.append(smp.payload.to_bytes()),
+            history=ext.HistoryConfig(detect_late_publishers=True),
+        )
+        deadline = time.monotonic() + 5
+        while not late and time.monotonic() < deadline:
+            time.sleep(0.05)
+        late_sub.undeclare()
+        assert late, "no map from the transient-local cache"
+        node.source.close()
         runner.join(30)
         assert not runner.is_alive()
     finally:
