@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 from . import _native
 from .config import Config
@@ -45,7 +46,11 @@ def check_ranger(cfg: Config) -> None:
 def check_calibration(cfg: Config) -> None:
     from .calibration.options import CalibrationOptions
 
-    CalibrationOptions(**cfg.calibration.kwargs())
+    options = cfg.calibration.kwargs()
+    intrinsics = options.pop("intrinsics", None)  # a file, read when calibrating
+    CalibrationOptions(**options)
+    if intrinsics is not None and not Path(intrinsics).is_file():
+        raise OptionError(f"invalid option `calibration.intrinsics`: no file {intrinsics}")
 
 
 def check_config(cfg: Config) -> Config:
