@@ -12,4 +12,5 @@ COMMAND_MODULES = [
     "floorscan.commands.eval",
     "floorscan.commands.tune",
     "floorscan.commands.node",
+    "floorscan.commands.drive",
 ]

@@ -1,0 +1,169 @@
+"""Fits the visual sensor model on simulated runs (truth), then measures on a held-out run
+the avoidance map's reliability diagram, its frames to a reliable view (floorscan eval's
+definition) and the fused map's log loss, beside OctoMap's constant +0.85 / -0.4 evidence.
+
+    .venv/bin/python bench/drive_sensor_model.py [--seconds 30] [--out sensor_model.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import numpy as np
+from floorscan.drive import AvoidanceMapOptions, VisualSensorModel, make_table
+from floorscan.drive.sensor_fit import (
+    fit_probability_calibration,
+    fit_sensor_model,
+    fused_map,
+    log_loss,
+    reliability,
+)
+from floorscan.sim import Camera, World, simulate_run
+
+HELD_OUT = """
+name = "held-out office"
+seed = 11
+tour = [[6.0, 1.2], [6.0, 4.0], [1.0, 4.0], [1.0, 1.2]]
+[start]
+x = 1.0
+y = 1.2
+yaw = 0.0
+[coverings.carpet]
+kind = "carpet"
+brightness = 0.28
+contrast = 0.08
+[lighting]
+ambient = 0.5
+grid = { spacing_m = 2.5, power = 0.7 }
+[[walls]]
+from = [0.0, 0.0]
+to = [7.0, 0.0]
+[[walls]]
+from = [7.0, 0.0]
+to = [7.0, 5.2]
+[[walls]]
+from = [7.0, 5.2]
+to = [0.0, 5.2]
+[[walls]]
+from = [0.0, 5.2]
+to = [0.0, 0.0]
+[[boxes]]
+center = [3.5, 2.6]
+size = [1.2, 0.6]
+height_m = 0.8
+appearance = "wood"
+[[chairs]]
+center = [5.0, 2.6]
+yaw = 1.0
+[[boxes]]
+center = [2.2, 0.4]
+radius = 0.15
+height_m = 0.35
+appearance = "metal"
+"""
+
+
+def frames_to_reliable_view(run, table, model, starts, max_frames=10, cell=0.05, map_options=None):
+    from floorscan.drive.avoidance_map import AvoidanceMap, _compose
+    from floorscan.evaluation.map_metrics import RELIABLE_AGREEMENT, agreement_at, view_cells
+    from floorscan.ranger import VisualRanger
+    from floorscan.scoring import sample_truth
+
+    raster = run.world.occupancy(resolution_m=cell)
+    ranger = VisualRanger(table, columns=160)
+    mount = tuple(run.camera.robot_from_camera)
+    out = []
+    for k0 in starts:
+        pose0 = tuple(run.poses[k0])
+        from dataclasses import replace
+
+        m = AvoidanceMap(
+            replace(map_options, size_m=3.84, cell_size_m=cell, half_life_s=None),
+            center=pose0[:2],
+        )
+        (x0, y0), (x1, y1) = m.extent.bounds_m
+        vx, vy = view_cells(
+            run.truth.status[k0],
+            run.truth.points[k0],
+            _compose(pose0, mount),
+            table=table,
+            cell_size_m=cell,
+            max_range_m=3.0,
+            window=((x0, y0), (x1, y1)),
+        )
+        truth = sample_truth(raster.cells, raster.origin, raster.resolution_m, vx, vy)
+        keep = truth >= 0
+        vx, vy, truth = vx[keep], vy[keep], truth[keep]
+        found = None
+        for n in range(max_frames):
+            k = k0 + n
+            if k >= len(run.timestamps):
+                break
+            scan = ranger.scan(run.images[k], timestamp=float(run.timestamps[k]))
+            m.insert_visual(scan, tuple(run.poses[k]), mount=mount, table=table, model=model)
+            if agreement_at(m, vx, vy, truth) > RELIABLE_AGREEMENT:
+                found = n + 1
+                break
+        out.append(found)
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--seconds", type=float, default=30.0)
+    ap.add_argument("--out", default="sensor_model.json")
+    args = ap.parse_args()
+    camera = Camera()
+    table = make_table(camera, "exact")
+    train = [
+        simulate_run(World.builtin(n), camera=camera, seconds=args.seconds, seed=1)
+        for n in ("corridor", "room")
+    ]
+    fitted, counts = fit_sensor_model(train, table)
+    test = simulate_run(World.from_toml(HELD_OUT), camera=camera, seconds=args.seconds, seed=3)
+    raster = test.world.occupancy(resolution_m=0.05)
+    constant = VisualSensorModel(
+        free_a=-0.4,
+        free_b=0.0,
+        hit_a=0.85,
+        hit_b=0.0,
+        too_close_logit=0.85,
+        fusion_weight=1.0,
+        margin_sigmas=0.5,
+    )
+    starts = np.linspace(0, len(test.timestamps) - 11, 8).astype(int).tolist()
+    report = {"fitted_model": fitted.as_dict(), "fit_counts": counts}
+    cases = (
+        ("default_raw", VisualSensorModel(), False),
+        ("default", VisualSensorModel(), True),
+        ("fitted", fitted, True),
+        ("octomap_constant", constant, False),
+    )
+    for name, m, calibrate_output in cases:
+        if calibrate_output:
+            scale, offset = fit_probability_calibration(train, table, m)
+        else:
+            scale, offset = 1.0, 0.0
+        mo = AvoidanceMapOptions(probability_scale=scale, probability_offset=offset)
+        fm = fused_map(test, table, m, map_options=mo)
+        frames = frames_to_reliable_view(test, table, m, starts, map_options=mo)
+        finite = sorted(f if f is not None else 99 for f in frames)
+        rel = reliability(fm, raster)
+        report[name] = {
+            "model": m.as_dict(),
+            "probability_scale": scale,
+            "probability_offset": offset,
+            "reliability": rel,
+            "max_gap_points": max(100 * abs(r["predicted"] - r["observed"]) for r in rel),
+            "log_loss": log_loss(fm, raster),
+            "frames_to_reliable": frames,
+            "median_frames": float(np.median(finite)),
+        }
+    print(json.dumps(report, indent=1))
+    with open(args.out, "w") as f:
+        json.dump(report, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()

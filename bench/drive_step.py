@@ -1,0 +1,98 @@
+"""Closed-loop step time (ranging + avoidance map + costmap + dynamic window; the plan's
+navigation function separately, it runs every fifth frame) per frame, at a resolution.
+
+    .venv/bin/python bench/drive_step.py --width 640 --height 480 --seconds 10
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from floorscan.drive import DriveOptions, drive
+from floorscan.sim import Camera, World
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--width", type=int, default=640)
+    ap.add_argument("--height", type=int, default=480)
+    ap.add_argument("--seconds", type=float, default=10.0)
+    ap.add_argument("--sensor", default="camera")
+    ap.add_argument("--stages", action="store_true", help="time each stage on a fixed frame")
+    a = ap.parse_args()
+    if a.stages:
+        print(json.dumps({"resolution": f"{a.width}x{a.height}", **stages(a.width, a.height)}))
+        return
+    cam = Camera(width=a.width, height=a.height)
+    r = drive(
+        World.builtin("corridor"),
+        DriveOptions(
+            seconds=a.seconds, table="exact", sensor=a.sensor, keep_frames=0, columns=a.width // 2
+        ),
+        camera=cam,
+    )
+    s = r.summary()
+    print(
+        json.dumps(
+            {
+                "resolution": f"{a.width}x{a.height}",
+                "frames": len(r.record.step_s),
+                "step_ms_median": s["step_ms_median"],
+                "plan_ms_median": s["plan_ms_median"],
+            }
+        )
+    )
+
+
+def stages(width: int = 640, height: int = 480, repeats: int = 50) -> dict:
+    """Median time [ms] of each stage of one closed-loop step on a fixed corridor frame."""
+    import time
+
+    import numpy as np
+    from floorscan.drive import (
+        AvoidanceMap,
+        CostmapOptions,
+        DwaOptions,
+        choose_velocity,
+        inflate,
+        make_table,
+        navigation_function,
+    )
+    from floorscan.ranger import VisualRanger
+    from floorscan.sim import render_image
+
+    world, cam = World.builtin("corridor"), Camera(width=width, height=height)
+    table = make_table(cam, "exact")
+    ranger = VisualRanger(table, columns=width // 2)
+    pose = tuple(world.start)
+    image = render_image(world, cam, pose)
+    m = AvoidanceMap(center=pose[:2])
+    co, dwa = CostmapOptions(), DwaOptions()
+    out: dict = {"ranging": [], "map": [], "costmap": [], "dwa": [], "plan": []}
+    nav = None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        scan = ranger.scan(image)
+        t1 = time.perf_counter()
+        m.decay(0.1)
+        m.insert_visual(scan, pose, mount=cam.robot_from_camera, table=table)
+        t2 = time.perf_counter()
+        cost = inflate(m.occupied(), m.cell, co)
+        t3 = time.perf_counter()
+        nav = navigation_function(
+            cost, m.cell, m.origin_m, (3.95, 0.0), co, known=np.abs(m.log_odds) >= 0.05
+        )
+        t4 = time.perf_counter()
+        choose_velocity(pose, (0.3, 0.0), cost, m.origin_m, m.cell, nav, (3.95, 0.0), 0.1, dwa)
+        t5 = time.perf_counter()
+        for k, dt in zip(
+            ("ranging", "map", "costmap", "plan", "dwa"),
+            (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4),
+        ):
+            out[k].append(1e3 * dt)
+    return {k: round(float(np.median(v)), 3) for k, v in out.items()}
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,153 @@
+"""A costmap with inflation (ROS costmap_2d's inflation layer) and a navigation function over
+it (the wavefront/Dijkstra potential of ROS navfn), from the avoidance map.
+
+Costs follow costmap_2d: 254 lethal (an occupied cell), 253 inscribed (the robot's centre
+there puts its footprint on an obstacle), and beyond the inscribed radius
+252 exp(-cost_scaling_factor (d - inscribed_radius)) up to ``inflation_radius_m``.
+Unknown cells cost nothing (the local costmap's ``track_unknown_space: false``).
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import OptionError
+
+LETHAL = 254
+INSCRIBED = 253
+
+
+@dataclass(frozen=True)
+class CostmapOptions:
+    """- ``robot_radius_m`` [m]: the circular footprint's radius. Default 0.18 (a TurtleBot 2 /
+      Kobuki base, 0.354 m across).
+    - ``footprint_padding_m`` [m]: added to the radius for the inscribed cost, >= 0. Default
+      0.07: one 5 cm cell of discretisation plus the camera map's few-centimetre placement
+      error near obstacles (costmap_2d's ``footprint_padding`` is 0.01 for a laser).
+    - ``inflation_radius_m`` [m]: default 0.55 (costmap_2d's default).
+    - ``cost_scaling_factor`` [1/m]: default 10 (costmap_2d's default).
+    - ``plan_cell_m`` [m]: cell of the navigation function, a multiple of the map's cell.
+      Default 0.1.
+    - ``goal_seed_radius_m`` [m]: when the map blocks the goal's cell, the plan leads to the
+      nearest free cell within this distance of it. Default 0.6.
+    - ``unknown_cost``: extra cost per metre of planning through cells without evidence, in
+      units of a metre of known floor. Default 2 (an unseen route must be three times
+      shorter to win).
+    """
+
+    robot_radius_m: float = 0.18
+    footprint_padding_m: float = 0.07
+    inflation_radius_m: float = 0.55
+    cost_scaling_factor: float = 10.0
+    plan_cell_m: float = 0.1
+    goal_seed_radius_m: float = 0.6
+    unknown_cost: float = 2.0
+
+    def __post_init__(self) -> None:
+        for name in (
+            "robot_radius_m",
+            "inflation_radius_m",
+            "cost_scaling_factor",
+            "plan_cell_m",
+            "goal_seed_radius_m",
+            "unknown_cost",
+        ):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise OptionError(f"invalid option `{name}`: must be a number > 0, got {v!r}")
+        if not (math.isfinite(self.footprint_padding_m) and 0 <= self.footprint_padding_m < 1):
+            raise OptionError(
+                f"invalid option `footprint_padding_m`: must be in [0, 1), got "
+                f"{self.footprint_padding_m}"
+            )
+        if self.inflation_radius_m < self.robot_radius_m:
+            raise OptionError("invalid option `inflation_radius_m`: must be >= robot_radius_m")
+
+
+def inflate(occupied: np.ndarray, cell_size_m: float, options: CostmapOptions) -> np.ndarray:
+    """(H, W) uint8 costs from a boolean occupied mask."""
+    import cv2
+
+    if not occupied.any():
+        return np.zeros(occupied.shape, np.uint8)
+    free = np.where(occupied, 0, 255).astype(np.uint8)
+    d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * cell_size_m
+    cost = np.zeros(occupied.shape, np.float64)
+    r_in = options.robot_radius_m + options.footprint_padding_m
+    band = (d > r_in) & (d <= options.inflation_radius_m)
+    cost[band] = 252.0 * np.exp(-options.cost_scaling_factor * (d[band] - r_in))
+    cost[d <= r_in] = INSCRIBED
+    cost[occupied] = LETHAL
+    return cost.astype(np.uint8)
+
+
+def navigation_function(
+    cost: np.ndarray, cell_size_m: float, origin_m, goal_xy, options, known=None
+):
+    """Geodesic cost-to-goal [m] over the costmap at ``plan_cell_m``, as a function
+    f(x, y) of world points (arrays) [m]. Coarse cells all of whose cells are at or above INSCRIBED are impassable; a
+    cell's step costs its length times (1 + cost / 64) (navfn's neutral cost of 50 over
+    lethal 253, rounded). A goal outside the window (or blocked) is reached through the
+    window's border: each border cell starts at its straight-line distance to the goal."""
+    f = max(1, int(round(options.plan_cell_m / cell_size_m)))
+    h, w = cost.shape[0] // f, cost.shape[1] // f
+    blocks = cost[: h * f, : w * f].reshape(h, f, w, f).astype(np.float64)
+    step = f * cell_size_m
+    # optimistic: a coarse cell is passable when any of its cells is (the dynamic window
+    # checks every trajectory on the fine costmap); it costs its cells' mean
+    blocked = blocks.min(axis=(1, 3)) >= INSCRIBED
+    weight = 1.0 + np.minimum(blocks.mean(axis=(1, 3)), INSCRIBED) / 64.0
+    if known is not None:
+        # unknown space costs more to plan through than floor seen free (navfn's
+        # allow_unknown with a penalty): detours through unseen rooms lose to known floor
+        k = known[: h * f, : w * f].reshape(h, f, w, f).mean(axis=(1, 3))
+        weight = weight + options.unknown_cost * (1.0 - k)
+    ox, oy = origin_m
+    gx, gy = goal_xy
+    gi, gj = int((gx - ox) // step), int((gy - oy) // step)
+    dist = np.full((h, w), np.inf)
+    heap = []
+    jj, ii = np.nonzero(~blocked)
+    cx, cy = ox + (ii + 0.5) * step, oy + (jj + 0.5) * step
+    d0 = np.hypot(cx - gx, cy - gy)
+    if 0 <= gi < w and 0 <= gj < h:
+        # the goal's cell, or (when the map blocks it) the free cells around it
+        sel = d0 <= max(d0.min() if d0.size else 0.0, step) + 1e-9
+        if not (d0.size and d0.min() <= options.goal_seed_radius_m):
+            sel = np.zeros(d0.shape, bool)
+    else:
+        sel = (ii == 0) | (ii == w - 1) | (jj == 0) | (jj == h - 1)
+    dist[jj[sel], ii[sel]] = d0[sel]
+    heap = list(zip(d0[sel].tolist(), jj[sel].tolist(), ii[sel].tolist()))
+    heapq.heapify(heap)
+    nbrs = [(-1, 0, 1.0), (1, 0, 1.0), (0, -1, 1.0), (0, 1, 1.0)]
+    nbrs += [(a, b, math.sqrt(2)) for a in (-1, 1) for b in (-1, 1)]
+    bl = blocked.tolist()
+    wt = weight.tolist()
+    dl = dist.tolist()
+    while heap:
+        d, j, i = heapq.heappop(heap)
+        if d > dl[j][i]:
+            continue
+        for dj, di, ln in nbrs:
+            jn, inn = j + dj, i + di
+            if 0 <= jn < h and 0 <= inn < w and not bl[jn][inn]:
+                nd = d + ln * step * 0.5 * (wt[j][i] + wt[jn][inn])
+                if nd < dl[jn][inn]:
+                    dl[jn][inn] = nd
+                    heapq.heappush(heap, (nd, jn, inn))
+    dist = np.array(dl)
+
+    def at(x, y):
+        i = np.floor((np.asarray(x) - ox) / step).astype(np.int64)
+        j = np.floor((np.asarray(y) - oy) / step).astype(np.int64)
+        inside = (i >= 0) & (i < w) & (j >= 0) & (j < h)
+        out = np.full(np.shape(i), np.inf)
+        out[inside] = dist[j[inside], i[inside]]
+        return out
+
+    return at

@@ -1,0 +1,144 @@
+"""The dynamic window approach (Fox, Burgard & Thrun 1997) as ROS's dwa_local_planner runs it:
+sample velocities (v, omega) reachable within one control period from the current ones,
+roll each out at constant velocity for ``sim_time_s``, drop those whose path enters an
+inscribed or lethal costmap cell, and take the cheapest of
+
+    path_distance_bias * nav(forward point) + goal_distance_bias * nav(end)
+    + occdist_scale * (largest cost along the path)
+
+where nav is the navigation function [cells] and the forward point lies
+``forward_point_distance_m`` ahead of the rolled-out end pose. When no sample is admissible
+the robot turns on the spot towards the plan (a circular robot may always turn in place).
+Within two forward-point distances of the goal both terms use the straight-line distance of
+the end point to the goal, so the robot settles on it instead of circling.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Tuple
+
+import numpy as np
+
+from ..errors import OptionError
+from .costmap import INSCRIBED
+
+
+@dataclass(frozen=True)
+class DwaOptions:
+    """Defaults are dwa_local_planner's unless said otherwise.
+
+    - ``max_speed_m_s``: top speed [m/s] (the drive's ``--speed``). Default 0.3.
+    - ``max_turn_rad_s``: top turn rate [rad/s]. Default 1.0 (``max_vel_theta``).
+    - ``acc_lim_x``: [m/s^2], default 2.5; ``acc_lim_theta``: [rad/s^2], default 3.2.
+    - ``sim_time_s``: roll-out horizon [s], default 1.7; ``sim_granularity_m``: step along
+      it [m], default 0.025.
+    - ``vx_samples``: default 5 (dwa_local_planner's 3 gives too coarse a choice of speed
+      at 10 Hz control); ``vth_samples``: default 21 (20, made odd so omega = 0 is a sample).
+    - ``path_distance_bias``: 32; ``goal_distance_bias``: 24; ``occdist_scale``: 0.01;
+      ``forward_point_distance_m``: 0.325.
+    """
+
+    max_speed_m_s: float = 0.3
+    max_turn_rad_s: float = 1.0
+    acc_lim_x: float = 2.5
+    acc_lim_theta: float = 3.2
+    sim_time_s: float = 1.7
+    sim_granularity_m: float = 0.025
+    vx_samples: int = 5
+    vth_samples: int = 21
+    path_distance_bias: float = 32.0
+    goal_distance_bias: float = 24.0
+    occdist_scale: float = 0.01
+    forward_point_distance_m: float = 0.325
+
+    def __post_init__(self) -> None:
+        for name, v in self.__dict__.items():
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise OptionError(f"invalid option `{name}`: must be a number > 0, got {v!r}")
+        if self.max_speed_m_s > 3.0:
+            raise OptionError(
+                f"invalid option `max_speed_m_s`: must be <= 3, got {self.max_speed_m_s}"
+            )
+
+
+def choose_velocity(
+    pose: Tuple[float, float, float],
+    velocity: Tuple[float, float],
+    cost: np.ndarray,
+    origin_m,
+    cell_size_m: float,
+    nav,
+    goal_xy,
+    dt_s: float,
+    options: DwaOptions,
+) -> Tuple[float, float, bool]:
+    """(v [m/s], omega [rad/s], admissible) for the next control period ``dt_s`` [s]."""
+    o = options
+    v0, w0 = velocity
+    vs = np.linspace(
+        max(0.0, v0 - o.acc_lim_x * dt_s),
+        min(o.max_speed_m_s, v0 + o.acc_lim_x * dt_s),
+        o.vx_samples,
+    )
+    ws = np.linspace(
+        max(-o.max_turn_rad_s, w0 - o.acc_lim_theta * dt_s),
+        min(o.max_turn_rad_s, w0 + o.acc_lim_theta * dt_s),
+        o.vth_samples,
+    )
+    V, W = (a.ravel() for a in np.meshgrid(vs, ws))
+    steps = max(2, int(math.ceil(o.max_speed_m_s * o.sim_time_s / o.sim_granularity_m)))
+    t = np.linspace(o.sim_time_s / steps, o.sim_time_s, steps)
+    x0, y0, th0 = pose
+    th = th0 + W[:, None] * t[None, :]
+    small = np.abs(W) < 1e-6
+    Wsafe = np.where(small, 1.0, W)
+    xs = np.where(
+        small[:, None],
+        x0 + V[:, None] * t * math.cos(th0),
+        x0 + (V / Wsafe)[:, None] * (np.sin(th) - math.sin(th0)),
+    )
+    ys = np.where(
+        small[:, None],
+        y0 + V[:, None] * t * math.sin(th0),
+        y0 - (V / Wsafe)[:, None] * (np.cos(th) - math.cos(th0)),
+    )
+    h, w = cost.shape
+    ci = np.floor((xs - origin_m[0]) / cell_size_m).astype(np.int64)
+    cj = np.floor((ys - origin_m[1]) / cell_size_m).astype(np.int64)
+    inside = (ci >= 0) & (ci < w) & (cj >= 0) & (cj < h)
+    c = np.zeros(xs.shape, np.float64)
+    c[inside] = cost[cj[inside], ci[inside]]
+    worst = c.max(axis=1)
+    ok = worst < INSCRIBED
+    ex, ey, eth = xs[:, -1], ys[:, -1], th[:, -1]
+    fx = ex + o.forward_point_distance_m * np.cos(eth)
+    fy = ey + o.forward_point_distance_m * np.sin(eth)
+    n_end, n_fwd = nav(ex, ey), nav(fx, fy)
+    # where the plan does not reach (e.g. the robot already sits in an inflated cell), fall
+    # back to the straight-line distance, so the robot still heads for the goal
+    far = 1e3
+    n_end = np.where(np.isfinite(n_end), n_end, far + np.hypot(ex - goal_xy[0], ey - goal_xy[1]))
+    n_fwd = np.where(np.isfinite(n_fwd), n_fwd, far + np.hypot(fx - goal_xy[0], fy - goal_xy[1]))
+    if math.hypot(x0 - goal_xy[0], y0 - goal_xy[1]) < o.forward_point_distance_m * 2:
+        # arriving (as dwa_local_planner's goal latch): the end point alone, to the metre
+        n_end = np.where(
+            np.isfinite(nav(ex, ey)), np.hypot(ex - goal_xy[0], ey - goal_xy[1]), n_end
+        )
+        n_fwd = n_end
+    score = (
+        o.path_distance_bias * n_fwd / cell_size_m
+        + o.goal_distance_bias * n_end / cell_size_m
+        + o.occdist_scale * worst
+    )
+    if ok.any():
+        k = int(np.argmin(np.where(ok, score, np.inf)))
+        return float(V[k]), float(W[k]), True
+    # recovery: turn on the spot towards the cheaper side
+    ahead = nav(
+        x0 + 0.3 * np.cos(th0 + np.array([0.5, -0.5])),
+        y0 + 0.3 * np.sin(th0 + np.array([0.5, -0.5])),
+    )
+    sign = 1.0 if ahead[0] <= ahead[1] else -1.0
+    return 0.0, sign * min(o.max_turn_rad_s, 0.6), False

@@ -1,0 +1,328 @@
+"""The closed loop in the simulator: sense (the camera through the ranger, or an ideal laser),
+map (the avoidance map, in the odometry frame), plan (costmap with inflation, navigation
+function, dynamic window), act (the simulator's differential drive with odometry noise), and
+judge (contact between the robot's footprint and any solid, from truth the robot never sees).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, List, Sequence
+
+import numpy as np
+
+from ..errors import OptionError
+from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
+from .costmap import CostmapOptions, inflate, navigation_function
+from .dwa import DwaOptions, choose_velocity
+from .sensor_model import VisualSensorModel
+from .solids import Solids
+
+if TYPE_CHECKING:
+    from .result import DriveResult
+
+SENSORS = ("camera", "laser")
+TABLES = ("calibrated", "exact")
+
+
+@dataclass(frozen=True)
+class DriveOptions:
+    """Options of :func:`drive` (components have their own documented options).
+
+    - ``speed_m_s``: top speed [m/s], in (0, 3]. Default 0.3 (the paper's top speed).
+    - ``seconds``: longest run [s], > 0. Default 600; the run ends earlier when the tour is
+      done once.
+    - ``seed``: odometry noise and image noise. Default 0.
+    - ``sensor``: ``"camera"`` (the product) or ``"laser"`` (an ideal 2-D laser, the anchor).
+    - ``table``: ``"calibrated"`` (from the simulated pattern of dark lines, as ``floorscan
+      demo``; the default) or ``"exact"`` (the camera's perfect table).
+    - ``columns``: ranger columns, default 160 (every second column of a 320-wide image: a
+      2.5 cm chair leg at 1 m spans at least one).
+    - ``goal_tolerance_m``: a waypoint counts as reached (by the robot, from its odometry)
+      within this distance [m]. Default 0.15.
+    - ``waypoint_timeout_s``: the robot gives a waypoint up after 20 s plus three times its
+      straight-line travel time. Default 20.
+    - ``laser_fov_rad``, ``laser_range_m``, ``laser_beams``: the ideal laser; defaults
+      270 degrees, 4 m, 271 beams (a Hokuyo UTM-30LX-like scanner cut to the camera's range).
+    - ``replan_every``: frames between navigation-function updates. Default 5.
+    - ``keep_frames``: keep camera images and map views for a GIF every this many frames
+      (0: none). Default 5.
+    """
+
+    speed_m_s: float = 0.3
+    seconds: float = 600.0
+    seed: int = 0
+    sensor: str = "camera"
+    table: str = "calibrated"
+    columns: int = 160
+    goal_tolerance_m: float = 0.15
+    waypoint_timeout_s: float = 20.0
+    laser_fov_rad: float = 3 * math.pi / 2
+    laser_range_m: float = 4.0
+    laser_beams: int = 271
+    replan_every: int = 5
+    keep_frames: int = 5
+    map: AvoidanceMapOptions = field(default_factory=AvoidanceMapOptions)
+    costmap: CostmapOptions = field(default_factory=CostmapOptions)
+    model: VisualSensorModel = field(default_factory=VisualSensorModel)
+
+    def __post_init__(self) -> None:
+        if not (0 < self.speed_m_s <= 3):
+            raise OptionError(
+                f"invalid option `speed`: must be in (0, 3] m/s, got {self.speed_m_s}"
+            )
+        if not (0 < self.seconds <= 1e5):
+            raise OptionError(f"invalid option `seconds`: must be in (0, 1e5], got {self.seconds}")
+        if self.sensor not in SENSORS:
+            raise OptionError(
+                f"invalid option `sensor`: expected one of {SENSORS}, got {self.sensor!r}"
+            )
+        if self.table not in TABLES:
+            raise OptionError(
+                f"invalid option `table`: expected one of {TABLES}, got {self.table!r}"
+            )
+        if not 2 <= int(self.columns) <= 4096:
+            raise OptionError(f"invalid option `columns`: must be in 2..=4096, got {self.columns}")
+        if not 1 <= int(self.laser_beams) <= 10000:
+            raise OptionError(
+                f"invalid option `laser_beams`: must be in 1..=10000, got {self.laser_beams}"
+            )
+
+
+@dataclass
+class DriveRecord:
+    """What happened: per frame ``times_s``, true ``poses`` and ``odometry`` (N, 3),
+    commands (N, 2) and clearance (N,) [m]; contact events; waypoint outcomes; keyframes."""
+
+    times_s: List[float] = field(default_factory=list)
+    poses: List[Sequence[float]] = field(default_factory=list)
+    odometry: List[Sequence[float]] = field(default_factory=list)
+    commands: List[Sequence[float]] = field(default_factory=list)
+    clearance_m: List[float] = field(default_factory=list)
+    contacts: List[dict] = field(default_factory=list)
+    waypoints: List[dict] = field(default_factory=list)
+    frames: List[tuple] = field(default_factory=list)
+    step_s: List[float] = field(default_factory=list)
+    plan_s: List[float] = field(default_factory=list)
+
+
+def _compose(a, b):
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
+
+
+def _between(a, b):
+    """a^-1 * b."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    return (c * dx + s * dy, -s * dx + c * dy, b[2] - a[2])
+
+
+def make_table(camera, kind: str):
+    """The ranger's ground table: the camera's exact one or calibrated from the simulated
+    pattern of dark lines (as ``floorscan demo``), with the calibration's error bars."""
+    if kind == "exact":
+        return camera.ground_table(spacing_px=4, max_range_m=10.0)
+    import tempfile
+    from pathlib import Path
+
+    from ..calibration import calibrate
+    from ..sim import render_calibration
+
+    image, pattern = render_calibration(camera, kind="lines")
+    with tempfile.TemporaryDirectory() as d:
+        p = pattern.save(Path(d) / "pattern.toml")
+        table, _ = calibrate(image, p, extrapolate=True)
+    return table
+
+
+class Stepper:
+    """Advances the simulated robot by one control period with the simulator's kinematics
+    and odometry noise (floorscan.sim.Robot)."""
+
+    def __init__(self, frame_rate_hz: float, seed: int) -> None:
+        from ..sim import Robot
+
+        self.dt = 1.0 / frame_rate_hz
+        # 5 samples per period for contact checks along the motion
+        self.robot = Robot(frame_rate_hz=5 * frame_rate_hz, speed_mps=3.0, turn_rate_radps=10.0)
+        self.seed = int(seed)
+
+    def step(self, pose, v: float, w: float, k: int):
+        """(true poses along the period (M, 3), odometry increment robot_before_from_after)."""
+        tr = self.robot.drive(
+            start=pose,
+            seconds=self.dt,
+            commands=[[self.dt, v, w]],
+            seed=self.seed * 1_000_003 + k,
+        )
+        odo = tr.odometry
+        return tr.poses, _between(tuple(odo[0]), tuple(odo[-1]))
+
+
+def drive(
+    world,
+    options: DriveOptions = DriveOptions(),
+    *,
+    camera=None,
+    waypoints=None,
+    changes=None,
+    table=None,
+) -> DriveResult:
+    """Drives the world's tour once (or ``waypoints`` (K, 2) [m, world frame]) in closed loop.
+
+    ``changes``: optional list of (time [s], World) switching the world the robot moves in
+    (a moved or removed obstacle); contact and the laser always use the current one.
+    ``table``: a ready ground table (skips calibration). Returns a :class:`DriveResult`.
+    """
+    from ..ranger import VisualRanger
+    from ..sim import Camera, render_image
+    from .result import DriveResult
+
+    o = options
+    camera = camera or Camera()
+    tour = np.asarray(world.tour if waypoints is None else waypoints, np.float64).reshape(-1, 2)
+    if len(tour) == 0:
+        raise OptionError("the world has no tour and no waypoints were given")
+    frame_rate = 10.0
+    stepper = Stepper(frame_rate, o.seed)
+    dt = stepper.dt
+    radius = o.costmap.robot_radius_m
+    schedule = sorted(changes or [], key=lambda c: c[0])
+    current = world
+    solids = Solids.of_world(current)
+    mount = tuple(camera.robot_from_camera)
+    ranger = None
+    if o.sensor == "camera":
+        table = table if table is not None else make_table(camera, o.table)
+        ranger = VisualRanger(table, columns=int(o.columns))
+    angles = np.linspace(-o.laser_fov_rad / 2, o.laser_fov_rad / 2, int(o.laser_beams))
+    true_pose = tuple(world.start)
+    odo_pose = tuple(world.start)  # the odometry frame starts at the true start pose
+    map_options = o.map
+    if o.sensor == "laser":  # the laser's evidence is read as it is (no visual calibration)
+        from dataclasses import replace
+
+        map_options = replace(o.map, probability_scale=1.0, probability_offset=0.0)
+    amap = AvoidanceMap(map_options, center=odo_pose[:2])
+    dwa = DwaOptions(max_speed_m_s=o.speed_m_s)
+    rec = DriveRecord()
+    velocity = (0.0, 0.0)
+    target, target_since = 0, 0.0
+    in_contact = False
+    backup = 0
+    nav = None
+    steps = int(round(o.seconds * frame_rate))
+    budget = o.waypoint_timeout_s + 3 * math.dist(tour[0], true_pose[:2]) / o.speed_m_s
+    for k in range(steps + 1):
+        t = k * dt
+        while schedule and schedule[0][0] <= t:
+            current = schedule.pop(0)[1]
+            solids = Solids.of_world(current)
+        rec.times_s.append(t)
+        rec.poses.append(true_pose)
+        rec.odometry.append(odo_pose)
+        rec.clearance_m.append(solids.clearance(*true_pose[:2]) - radius)
+        if target >= len(tour):
+            rec.commands.append((0.0, 0.0))
+            break
+        # --- sense and map (the robot's own information: images or laser, odometry) ----
+        image = None
+        if ranger is not None:
+            image = render_image(current, camera, true_pose, seed=o.seed, frame=k)
+        t0 = time.perf_counter()
+        amap.decay(dt)
+        amap.recenter(*odo_pose[:2])
+        if ranger is not None:
+            scan = ranger.scan(image, timestamp=t)
+            amap.insert_visual(scan, odo_pose, mount=mount, table=ranger.table, model=o.model)
+        else:
+            r = solids.laser(true_pose, angles, range_max_m=o.laser_range_m)
+            amap.insert_laser(r, angles, odo_pose, range_max_m=o.laser_range_m)
+        # --- waypoints (judged by the robot from its odometry) -------------------------
+        goal = tuple(tour[target])
+        reached = math.dist(goal, odo_pose[:2]) < o.goal_tolerance_m
+        if reached or t - target_since > budget:
+            rec.waypoints.append(
+                {
+                    "index": target,
+                    "x": goal[0],
+                    "y": goal[1],
+                    "time_s": round(t, 3),
+                    "reached": bool(reached),
+                    "true_error_m": round(math.dist(goal, true_pose[:2]), 4),
+                }
+            )
+            target, target_since = target + 1, t
+            nav = None
+            if target >= len(tour):
+                rec.commands.append((0.0, 0.0))
+                rec.step_s.append(time.perf_counter() - t0)
+                break
+            goal = tuple(tour[target])
+            budget = o.waypoint_timeout_s + 3 * math.dist(goal, odo_pose[:2]) / o.speed_m_s
+        # --- plan ---------------------------------------------------------------------
+        cost = inflate(amap.occupied(), amap.cell, o.costmap)
+        if nav is None or k % o.replan_every == 0:
+            tp = time.perf_counter()
+            nav = navigation_function(
+                cost,
+                amap.cell,
+                amap.origin_m,
+                goal,
+                o.costmap,
+                known=np.abs(amap.log_odds) >= 0.05,
+            )
+            rec.plan_s.append(time.perf_counter() - tp)
+        if backup > 0:
+            backup -= 1
+            v, w = -0.1, 0.0
+        else:
+            v, w, _ = choose_velocity(
+                odo_pose, velocity, cost, amap.origin_m, amap.cell, nav, goal, dt, dwa
+            )
+        rec.step_s.append(time.perf_counter() - t0)
+        rec.commands.append((v, w))
+        if o.keep_frames and k % o.keep_frames == 0 and len(rec.frames) < 400:
+            rec.frames.append(
+                (image, amap.probabilities().astype(np.float32), odo_pose, amap.origin_m)
+            )
+        # --- act, and judge contact from truth ----------------------------------------
+        poses, inc = stepper.step(true_pose, v, w, k)
+        blocked = False
+        for p in poses[1:]:
+            if solids.clearance(p[0], p[1]) < radius:
+                blocked = True
+                break
+        if blocked:
+            # the robot's bumper: it knows it touched something ahead (or behind when
+            # reversing), marks it in its map and backs off
+            amap.mark_bump(odo_pose, 0.0 if v >= 0 else math.pi, radius + 0.03)
+            backup = 5 if v >= 0 else 0
+            if not in_contact:
+                rec.contacts.append(
+                    {"time_s": round(t, 3), "x": float(true_pose[0]), "y": float(true_pose[1])}
+                )
+            in_contact = True
+            velocity = (0.0, 0.0)  # a bumper stop: the robot does not enter the solid
+            continue
+        in_contact = False
+        true_pose = tuple(float(c) for c in poses[-1])
+        odo_pose = _compose(odo_pose, inc)
+        velocity = (v, w)
+    for i in range(target, len(tour)):
+        rec.waypoints.append(
+            {
+                "index": i,
+                "x": float(tour[i][0]),
+                "y": float(tour[i][1]),
+                "time_s": None,
+                "reached": False,
+                "true_error_m": None,
+            }
+        )
+    return DriveResult(
+        world=world, final_world=current, options=o, record=rec, map=amap, camera=camera
+    )

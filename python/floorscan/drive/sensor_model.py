@@ -1,0 +1,111 @@
+"""A calibrated inverse sensor model for visual scans: how much evidence one reading adds to a
+cell, from what is known about the reading.
+
+For a column reading with status ``boundary`` at range r [m] (camera ground frame), footprint f
+(the floor length one pixel row covers there [m]) and the table's predicted floor-position
+error e (``GroundTable.lookup_error`` [m]), the boundary's position is uncertain by
+sigma = sqrt(e^2 + (f / 2)^2 + (cell / 2)^2). The model then says:
+
+- floor from the near edge of view to ``margin_sigmas`` * sigma before the boundary is free,
+  with P(occupied | seen free at range r) = logistic(free_a + free_b r);
+- the cells within max(sigma, cell / 2) of the boundary (and of the face between two adjacent
+  boundary points) are occupied with P = logistic(hit_a + hit_b r);
+- ``no_boundary`` columns are free up to their farthest point, as above;
+- ``too_close`` columns mark the near edge of view occupied with P = logistic(too_close_logit);
+- ``invalid`` columns say nothing.
+
+Each probability becomes evidence (log odds against an even prior) times ``fusion_weight``.
+Successive frames of a moving camera are correlated (the same carpet, the same errors), so
+summed evidence overstates certainty; the avoidance map corrects that on its output with a
+Platt calibration (``AvoidanceMapOptions.probability_scale`` / ``probability_offset``).
+
+Where the defaults come from: :func:`floorscan.drive.sensor_fit.fit_sensor_model` estimates
+the four logits from simulator truth (``bench/drive_sensor_model.py``: corridor and room,
+30 s each, seed 1, exact table), giving free -2.97 - 0.07 r and hit 2.0 - 0.99 r. Driven in
+closed loop, those fitted values make the robot hesitate (hits beyond 2 m add free evidence
+to the obstacle's cell, and the room's tour is not finished in 120 s), so the defaults are
+the hand-set values below, chosen before the fit and checked in the closed loop (room tour:
+0 contacts, 4 of 4 waypoints, 42 s); their map is then made to mean what it says by the
+avoidance map's Platt calibration, fitted on the same truth. EVALUATION.md has both models'
+reliability diagrams. ``floorscan tune`` keeps tuning the ranger and OctoMap-style constant
+evidence; this model is the avoidance map's.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields, replace
+from typing import Any, Dict
+
+import numpy as np
+
+from ..errors import OptionError
+
+
+@dataclass(frozen=True)
+class VisualSensorModel:
+    """Parameters (logits are natural-log odds of the cell being occupied).
+
+    - ``free_a``, ``free_b`` [1, 1/m]: logit P(occupied | seen free at range r) = a + b r.
+      Defaults -3.2, 0.55 (see the module docstring).
+    - ``hit_a``, ``hit_b`` [1, 1/m]: logit P(occupied | boundary cell at range r) = a + b r.
+      Defaults 2.0, -0.45 (see the module docstring).
+    - ``too_close_logit``: logit P(occupied) at the near edge of a ``too_close`` column.
+      Default 1.0 (fitted share of too_close near edges that touch an obstacle).
+    - ``margin_sigmas``: floor left unobserved before a boundary, in sigmas, in [0, 10].
+      Default 2 (95 % of the boundary's position errors lie within 2 sigma).
+    - ``default_error_m`` [m]: e where the table predicts none, > 0. Default 0.01 (the
+      calibration's typical error bar inside the pattern, docs/calibration.md).
+    - ``fusion_weight``: evidence multiplier per frame, in (0, 1]. Default 0.7; the
+      correlation of successive frames is corrected once more on the map's output
+      (``AvoidanceMapOptions.probability_scale``).
+    """
+
+    free_a: float = -3.2
+    free_b: float = 0.55
+    hit_a: float = 2.0
+    hit_b: float = -0.45
+    too_close_logit: float = 1.0
+    margin_sigmas: float = 2.0
+    default_error_m: float = 0.01
+    fusion_weight: float = 0.7
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if not isinstance(v, (int, float)) or not math.isfinite(float(v)):
+                raise OptionError(f"invalid option `{f.name}`: must be a finite number, got {v!r}")
+        if not 0.0 <= self.margin_sigmas <= 10.0:
+            raise OptionError(
+                f"invalid option `margin_sigmas`: must be in [0, 10], got {self.margin_sigmas}"
+            )
+        if self.default_error_m <= 0:
+            raise OptionError(
+                f"invalid option `default_error_m`: must be > 0, got {self.default_error_m}"
+            )
+        if not 0.0 < self.fusion_weight <= 1.0:
+            raise OptionError(
+                f"invalid option `fusion_weight`: must be in (0, 1], got {self.fusion_weight}"
+            )
+
+    def with_(self, **changes: Any) -> VisualSensorModel:
+        return replace(self, **changes)
+
+    def as_dict(self) -> Dict[str, float]:
+        return {k: float(v) for k, v in asdict(self).items()}
+
+    def sigma_m(self, error_m: np.ndarray, footprint_m: np.ndarray, cell_size_m: float):
+        """Boundary position uncertainty [m] (see the module docstring)."""
+        e = np.where(np.isfinite(error_m), error_m, self.default_error_m)
+        f = np.where(np.isfinite(footprint_m), footprint_m, 0.0)
+        return np.sqrt(e * e + 0.25 * f * f + 0.25 * cell_size_m**2)
+
+    def free_logit(self, range_m: np.ndarray) -> np.ndarray:
+        return self.free_a + self.free_b * np.asarray(range_m)
+
+    def hit_logit(self, range_m: np.ndarray) -> np.ndarray:
+        return self.hit_a + self.hit_b * np.asarray(range_m)
+
+
+def logistic(z):
+    return 1.0 / (1.0 + np.exp(-np.asarray(z, dtype=np.float64)))
