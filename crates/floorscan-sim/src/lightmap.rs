@@ -11,6 +11,8 @@ use crate::world::Lighting;
 
 /// Raster resolution of the light map [m].
 pub const LIGHT_CELL_M: f64 = 0.1;
+/// Most (cell, light) pairs the light map evaluates (a bound on its build time).
+pub const MAX_LIGHT_EVALUATIONS: f64 = 4.0e8;
 
 #[derive(Debug, Clone)]
 pub struct LightMap {
@@ -29,7 +31,12 @@ impl LightMap {
     pub fn new(lighting: &Lighting, bounds: Aabb, reference: Aabb) -> LightMap {
         let mut cell = LIGHT_CELL_M;
         let (w, h) = (bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y);
-        while (w / cell) * (h / cell) > 4.0e6 {
+        // At most 4 M cells and 4e8 light evaluations: a huge world, or one with a light grid
+        // of thousands of lights, gets a coarser (still smooth) light map, never minutes of work.
+        let lights = lighting.lights.len().max(1) as f64;
+        while (w / cell) * (h / cell) > 4.0e6
+            || (w / cell) * (h / cell) * lights > MAX_LIGHT_EVALUATIONS
+        {
             cell *= 2.0;
         }
         let nx = (w / cell).ceil() as usize + 2;
@@ -134,5 +141,35 @@ mod tests {
             assert!((m.at(p) as f64 - exact).abs() < 2e-3, "{p:?}");
         }
         assert_eq!(m.at(Point2::new(-10.0, 0.0)), 0.3);
+    }
+
+    #[test]
+    fn a_huge_world_with_a_light_grid_gets_a_bounded_light_map() {
+        // Issue 12 fuzzing: a 2 km region in the lab world with its light grid took 38 s to
+        // build. The work (cells x lights) is now bounded, whatever the world.
+        let lights: Vec<Light> = (0..10_000)
+            .map(|k| Light {
+                position: Point2::new((k % 100) as f64 * 40.0, (k / 100) as f64 * 40.0),
+                height_m: 2.5,
+                power: 0.1,
+            })
+            .collect();
+        let lighting = Lighting {
+            ambient: 0.3,
+            lights,
+            exposure: 1.0,
+            exposure_jitter: 0.0,
+            wall_factor: 0.7,
+            ceiling_brightness: 0.5,
+        };
+        let b = Aabb {
+            min: Point2::new(-2000.0, -2000.0),
+            max: Point2::new(2000.0, 2000.0),
+        };
+        let m = LightMap::new(&lighting, b, b);
+        let evaluations = (m.nx * m.ny) as f64 * lighting.lights.len() as f64;
+        // The bound, plus the two border rows and columns of cells.
+        assert!(evaluations <= MAX_LIGHT_EVALUATIONS * 1.1, "{evaluations}");
+        assert!(m.at(Point2::new(0.0, 0.0)) >= 0.3);
     }
 }
