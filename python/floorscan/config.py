@@ -187,6 +187,53 @@ class LimitsConfig:
 
 
 @dataclass
+class NodeConfig:
+    transport: str = doc(
+        "middleware of `floorscan node`: ros1 (rospy, a ROS 1 master) | zenoh (ROS 2's rmw_zenoh)",
+        "ros1",
+    )
+    image_topic: str = doc(
+        "camera topic (sensor_msgs/Image mono8/rgb8/bgr8/mono16 or CompressedImage)",
+        "/camera/image_raw",
+    )
+    compressed: bool = doc("the image topic carries sensor_msgs/CompressedImage", False)
+    odom_topic: str = doc(
+        'odometry topic (nav_msgs/Odometry); "" for none (local map only)', "/odom"
+    )
+    odom_source: str = doc(
+        "where poses come from: odometry (nav_msgs/Odometry on odom_topic) | tf (odom_frame -> base_frame on tf_topic)",
+        "odometry",
+    )
+    tf_topic: str = doc("transform topic read when odom_source = tf (tf2_msgs/TFMessage)", "/tf")
+    odom_frame: str = doc("parent frame of the robot's pose when odom_source = tf", "odom")
+    scan_topic: str = doc("LaserScan output topic (REP 117 ranges)", "/scan")
+    map_topic: str = doc("global OccupancyGrid output topic", "/map")
+    local_map_topic: str = doc("local (robot-centred) OccupancyGrid output topic", "/local_map")
+    overlay_topic: str = doc(
+        'camera frames with the boundary points drawn (sensor_msgs/Image rgb8); "" for none', ""
+    )
+    tf_static_topic: str = doc("static transform topic (base_frame -> scan_frame)", "/tf_static")
+    base_frame: str = doc("robot frame (REP 105 base_link)", "base_link")
+    scan_frame: str = doc("frame of the scans: the camera ground frame", "camera_ground")
+    map_frame: str = doc("frame of both maps: the odometry frame they are built in", "odom")
+    map_period_s: float = doc("seconds between map publications, > 0", 1.0)
+    odom_timeout_s: float = doc(
+        "a frame newer than the last odometry by more than this [s] is skipped and counted (odometry stopped)",
+        0.5,
+    )
+    node_name: str = doc("node name on the ROS graph", "floorscan")
+    domain_id: int = doc("ROS 2 domain id (zenoh transport), 0..=232", 0)
+    zenoh_connect: str = doc(
+        'zenoh endpoint to connect to (zenoh transport), "" for none', "tcp/localhost:7447"
+    )
+    zenoh_listen: str = doc('zenoh endpoint to listen on (zenoh transport), "" for none', "")
+    zenoh_mode: str = doc("zenoh session mode: peer | client", "peer")
+    foxglove_port: int = doc(
+        "port of the Foxglove WebSocket live view on 127.0.0.1 (needs foxglove-sdk); 0: off", 0
+    )
+
+
+@dataclass
 class Config:
     ranger: RangerConfig = field(default_factory=RangerConfig)
     appearance: AppearanceConfig = field(default_factory=AppearanceConfig)
@@ -196,6 +243,7 @@ class Config:
     sensors: SensorsConfig = field(default_factory=SensorsConfig)
     outputs: OutputsConfig = field(default_factory=OutputsConfig)
     limits: LimitsConfig = field(default_factory=LimitsConfig)
+    node: NodeConfig = field(default_factory=NodeConfig)
 
     # --- reading ------------------------------------------------------------------------
     @classmethod

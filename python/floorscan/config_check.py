@@ -69,4 +69,7 @@ def check_config(cfg: Config) -> Config:
     LocalMap(size_m=cfg.map.local_size_m, **kw)
     check_outputs(cfg.outputs)
     check_max_image_pixels(cfg.limits.max_image_pixels)
+    from .node.options import check_node
+
+    check_node(cfg.node)
     return cfg

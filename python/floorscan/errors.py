@@ -71,6 +71,10 @@ class OutputError(FloorscanError, OSError):
     """An output path cannot be written (a folder, read-only, under a file, too long, ...)."""
 
 
+class MiddlewareError(FloorscanError, RuntimeError):
+    """The robot's middleware (a ROS 1 master, rospy, Zenoh) is missing or unreachable."""
+
+
 class InternalError(FloorscanError, RuntimeError):
     """A bug in floorscan (a Rust panic caught at the FFI boundary); please report it."""
 
@@ -92,5 +96,6 @@ __all__ = [
     "DatasetError",
     "WorldError",
     "OutputError",
+    "MiddlewareError",
     "InternalError",
 ]

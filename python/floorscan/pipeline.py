@@ -212,6 +212,7 @@ def run(
     start = time.perf_counter()
     shape = (mapper.ranger.table.image_height, mapper.ranger.table.image_width)
     stop = StopRequest()
+    source.bind_stop(stop)
     with stop.installed():
         try:
             with stop.loop():

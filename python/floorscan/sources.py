@@ -46,6 +46,10 @@ class FrameSource:
     def __len__(self) -> int:
         return 0
 
+    def bind_stop(self, stop) -> None:
+        """The run's :class:`~floorscan._signals.StopRequest`: a source that waits for frames
+        (a live subscription) ends its iteration once a stop is requested."""
+
     def close(self) -> None:
         pass
 

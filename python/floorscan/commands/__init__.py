@@ -13,5 +13,6 @@ COMMAND_MODULES = [
     "floorscan.commands.tune",
     "floorscan.commands.merge",
     "floorscan.commands.fleet",
+    "floorscan.commands.node",
     "floorscan.commands.drive",
 ]
