@@ -16,6 +16,21 @@ pub struct PyGroundTable {
     pub inner: GroundTable,
 }
 
+/// The pixel coordinates of a lookup, copied out of numpy (equal lengths, or an error).
+fn pixel_pairs(
+    u: &PyReadonlyArray1<'_, f64>,
+    v: &PyReadonlyArray1<'_, f64>,
+) -> PyResult<(Vec<f64>, Vec<f64>)> {
+    let (u, v) = (u.as_array(), v.as_array());
+    if u.len() != v.len() {
+        return Err(error(
+            "LengthMismatchError",
+            format!("u has {} values, v has {}", u.len(), v.len()),
+        ));
+    }
+    Ok((u.to_vec(), v.to_vec()))
+}
+
 fn parse_json<T: serde::de::DeserializeOwned>(what: &str, text: &str) -> PyResult<T> {
     serde_json::from_str(text).map_err(|e| error("OptionError", format!("invalid {what}: {e}")))
 }
@@ -89,14 +104,7 @@ impl PyGroundTable {
         v: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<ArrayPair<'py, PyArray1<f64>>> {
         crate::errors::guard(|| {
-            let (u, v) = (u.as_array(), v.as_array());
-            if u.len() != v.len() {
-                return Err(error(
-                    "LengthMismatchError",
-                    format!("u has {} values, v has {}", u.len(), v.len()),
-                ));
-            }
-            let (u, v) = (u.to_vec(), v.to_vec());
+            let (u, v) = pixel_pairs(&u, &v)?;
             let (xs, ys): (Vec<f64>, Vec<f64>) = py.detach(|| {
                 u.iter()
                     .zip(&v)
@@ -144,14 +152,7 @@ impl PyGroundTable {
         v: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         crate::errors::guard(|| {
-            let (u, v) = (u.as_array(), v.as_array());
-            if u.len() != v.len() {
-                return Err(error(
-                    "LengthMismatchError",
-                    format!("u has {} values, v has {}", u.len(), v.len()),
-                ));
-            }
-            let (u, v) = (u.to_vec(), v.to_vec());
+            let (u, v) = pixel_pairs(&u, &v)?;
             let out: Vec<f64> = py.detach(|| {
                 u.iter()
                     .zip(&v)
