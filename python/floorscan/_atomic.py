@@ -3,10 +3,13 @@ so a crash never leaves a half-written file where a good one was."""
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 import tempfile
+import threading
 from pathlib import Path
-from typing import Callable, Union
+from typing import Callable, Iterator, Union
 
 from .errors import OutputError
 
@@ -52,16 +55,36 @@ def _prepare(target: Path) -> None:
         raise output_error(target, e) from None
 
 
+@contextlib.contextmanager
+def deferred_signals() -> Iterator[None]:
+    """Holds SIGINT, SIGTERM and SIGHUP back (they are delivered when the block ends), so that
+    creating a temporary file and recording its name happen together: a signal can then never
+    leave a temporary file that no cleanup knows about. Main thread only; elsewhere a no-op."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(
+        signal, "pthread_sigmask"
+    ):
+        yield
+        return
+    held = {s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)) if s}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix: str = "") -> Path:
     """Calls ``write(binary_file)`` on a temporary file, then renames it to ``path``. An
     output that cannot be written raises OutputError (also an OSError); nothing is left
     behind."""
     target = Path(path)
     _prepare(target)
+    tmp = None
     try:
-        fd, tmp = tempfile.mkstemp(
-            prefix=f".{target.name[:200]}.", suffix=suffix or ".tmp", dir=target.parent
-        )
+        with deferred_signals():
+            fd, tmp = tempfile.mkstemp(
+                prefix=f".{target.name[:200]}.", suffix=suffix or ".tmp", dir=target.parent
+            )
     except OSError as e:
         raise output_error(target, e) from None
     try:
@@ -84,7 +107,9 @@ def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix:
 
 def temp_path_for(path: PathLike, suffix: str) -> Path:
     """A fresh temporary path beside ``path`` (for writers that insist on a file name, such as
-    image encoders choosing a format by extension). Rename it with ``os.replace`` when done."""
+    image encoders choosing a format by extension). Rename it with ``os.replace`` when done.
+    Call it inside ``with deferred_signals():`` and assign the result there, so a signal cannot
+    fall between the file's creation and the caller knowing its name."""
     target = Path(path)
     _prepare(target)
     try:

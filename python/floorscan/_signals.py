@@ -24,6 +24,18 @@ STOP_SIGNALS = tuple(
 )
 
 
+_ABANDONED: Optional[int] = None
+"""The signal that abandoned a run's unfinished outputs (see :func:`abandoned_by`)."""
+
+
+def abandoned_by() -> Optional[int]:
+    """The signal number that abandoned the outputs not yet written, if one did. An error a
+    library raises while it is being torn down by that interruption (a writer left half-way
+    asserting its state, say) is the interruption's, not a bug of its own: the command line
+    reports it as interrupted."""
+    return _ABANDONED
+
+
 class Interrupted(KeyboardInterrupt):
     """A stop signal (SIGINT, SIGTERM or SIGHUP) arrived; ``signum`` says which."""
 
@@ -96,6 +108,8 @@ class StopRequest:
         self.signum = self.signum or int(signum)
         self._after_loop += 1
         if self._after_loop >= 2:
+            global _ABANDONED
+            _ABANDONED = int(signum)
             raise Interrupted(signum)
         print(
             "floorscan: saving the outputs (signal once more to abandon the rest)",

@@ -11,7 +11,7 @@ import importlib
 import sys
 from typing import List, Optional
 
-from ._signals import exit_code, handle_signals, ignore_stop_signals
+from ._signals import abandoned_by, exit_code, handle_signals, ignore_stop_signals
 from .errors import FloorscanError
 
 EXIT_OK = 0
@@ -103,6 +103,10 @@ def _main(argv: Optional[List[str]]) -> int:
     except Exception as e:
         if debug:
             raise
+        signum = abandoned_by()
+        if signum is not None:
+            print(f"{command}: interrupted (unfinished outputs abandoned)", file=sys.stderr)
+            return 128 + signum
         print(
             f"{command}: internal error ({type(e).__name__}: {_one_line(e)}); "
             "please report it with the output of --debug",

@@ -13,7 +13,7 @@ from typing import Optional, Tuple, Union
 
 import numpy as np
 
-from ._atomic import PathLike, temp_path_for
+from ._atomic import PathLike, deferred_signals, temp_path_for
 from .errors import LengthMismatchError, OptionError, OutOfBoundsError
 
 UNITS_PER_NAT = 1000.0
@@ -208,12 +208,15 @@ class GridViews:
             )
         if scale > 1:
             img = np.repeat(np.repeat(img, scale, axis=0), scale, axis=1)
-        tmp = temp_path_for(path, ".png")
+        tmp = None
         try:
+            with deferred_signals():
+                tmp = temp_path_for(path, ".png")
             Image.fromarray(img, mode="L").save(tmp, format="PNG", optimize=True)
             os.replace(tmp, path)
         except BaseException:
-            tmp.unlink(missing_ok=True)
+            if tmp is not None:
+                tmp.unlink(missing_ok=True)
             raise
         return Path(path)
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._atomic import PathLike, temp_path_for
+from ._atomic import PathLike, deferred_signals, temp_path_for
 from .errors import ImageError, ImageTypeError, OptionError
 
 
@@ -145,11 +145,14 @@ def write_png(path: PathLike, image: np.ndarray) -> Path:
     from PIL import Image
 
     target = Path(path)
-    tmp = temp_path_for(target, ".png")
+    tmp = None
     try:
+        with deferred_signals():
+            tmp = temp_path_for(target, ".png")
         Image.fromarray(np.ascontiguousarray(image)).save(tmp, format="PNG")
         tmp.replace(target)
     except BaseException:
-        tmp.unlink(missing_ok=True)
+        if tmp is not None:
+            tmp.unlink(missing_ok=True)
         raise
     return target
