@@ -20,7 +20,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 from floorscan.calibration import Pattern, calibrate
-from floorscan.image_io import read_grey
+from floorscan.formats.image_io import read_grey
 from floorscan.sim import Camera, render_calibration
 
 STAGES = ("detect", "fit", "table", "leave_one_out", "report")

@@ -15,7 +15,7 @@ import time
 
 import floorscan
 import numpy as np
-from floorscan.lens import CameraMount, Lens
+from floorscan.ranging.lens import CameraMount, Lens
 from floorscan.sim import Camera
 from floorscan.sim.calibration import CalibrationPattern, render_calibration
 

@@ -67,8 +67,8 @@ appearance = "metal"
 def frames_to_reliable_view(run, table, model, starts, max_frames=10, cell=0.05, map_options=None):
     from floorscan.drive.avoidance_map import AvoidanceMap, _compose
     from floorscan.evaluation.map_metrics import RELIABLE_AGREEMENT, agreement_at, view_cells
-    from floorscan.ranger import VisualRanger
-    from floorscan.scoring import sample_truth
+    from floorscan.evaluation.scoring import sample_truth
+    from floorscan.ranging.ranger import VisualRanger
 
     raster = run.world.occupancy(resolution_m=cell)
     ranger = VisualRanger(table, columns=160)

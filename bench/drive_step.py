@@ -59,7 +59,7 @@ def stages(width: int = 640, height: int = 480, repeats: int = 50) -> dict:
         make_table,
         navigation_function,
     )
-    from floorscan.ranger import VisualRanger
+    from floorscan.ranging.ranger import VisualRanger
     from floorscan.sim import render_image
 
     world, cam = World.builtin("corridor"), Camera(width=width, height=height)

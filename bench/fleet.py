@@ -52,7 +52,7 @@ def timed(fn, *args) -> float:
 
 def _warm_up():
     import floorscan.commands.run  # noqa: F401
-    import floorscan.fleet  # noqa: F401
+    import floorscan.fleet.jobs  # noqa: F401
 
     return True
 
@@ -65,8 +65,8 @@ def plain_loop(recs, table, out: Path) -> None:
 
 
 def fleet(recs, table, out: Path, ray, workers=None) -> None:
-    from floorscan.fleet import map_fleet
-    from floorscan.fleet_spec import Recording
+    from floorscan.fleet.jobs import map_fleet
+    from floorscan.fleet.spec import Recording
 
     res = map_fleet(
         [Recording(str(r)) for r in recs],
@@ -83,7 +83,7 @@ def fleet(recs, table, out: Path, ray, workers=None) -> None:
 def evidence_overhead(run_dir: Path, dataset: Path, repeats: int) -> dict:
     """Mapping time of one recording's scans with and without the evidence layer."""
     from floorscan import OccupancyGrid, read_scans_csv
-    from floorscan.sources import DatasetSource
+    from floorscan.pipeline.sources import DatasetSource
 
     scans = read_scans_csv(run_dir / "scans.csv")
     src = DatasetSource(dataset)

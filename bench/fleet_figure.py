@@ -1,7 +1,7 @@
 """The fleet figure: four recordings of one building (the built-in `lab` world, seeds and start
 points not used anywhere else, true poses), each robot with its own calibration, mapped by
 `floorscan fleet` on Ray and merged; every map scored against the true occupancy with
-floorscan.scoring (agreement on the cells both know, known cells).
+floorscan.evaluation.scoring (agreement on the cells both know, known cells).
 
     .venv/bin/python bench/fleet_figure.py --out bench-out/fleet-figure    # docs/images/fleet-lab.png
 
@@ -60,9 +60,9 @@ def simulate(out: Path, world_name: str, seconds: float, starts, seeds) -> list:
 
 
 def classes_of(map_yaml: Path):
-    from floorscan.map_server import load_map
+    from floorscan import OccupancyGrid
 
-    grid = load_map(map_yaml)
+    grid = OccupancyGrid.load(map_yaml)
     e = grid.extent
     return grid.occupancy_classes(), e.origin_m, e.cell_size_m
 
@@ -86,8 +86,8 @@ def main() -> int:
     ap.add_argument("--seeds", default="31,32,33,34")
     ap.add_argument("--figure", default="docs/images/fleet-lab.png")
     args = ap.parse_args()
-    from floorscan.demo import side_by_side
-    from floorscan.scoring import score_map
+    from floorscan.evaluation.demo import side_by_side
+    from floorscan.evaluation.scoring import score_map
 
     out = Path(args.out)
     starts = [int(s) for s in args.starts.split(",")]

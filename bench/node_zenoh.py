@@ -36,12 +36,12 @@ def main() -> None:
     import zenoh
     from floorscan import read_scans_csv
     from floorscan.cli import main as cli
-    from floorscan.config import Config
+    from floorscan.formats.trajectory import quaternion_from_yaw
     from floorscan.node import NodeRun
     from floorscan.node import rmw_zenoh_keys as K
     from floorscan.node.messages import Codec
+    from floorscan.pipeline.config import Config
     from floorscan.sim import Camera, World, simulate_run
-    from floorscan.trajectory import quaternion_from_yaw
 
     tmp = Path(tempfile.mkdtemp(prefix="floorscan-zenoh-bench-"))
     cam = Camera(width=640, height=480)

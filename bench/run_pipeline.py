@@ -16,11 +16,11 @@ import tempfile
 import time
 from pathlib import Path
 
-from floorscan.config import Config
-from floorscan.pipeline import Mapper, run
-from floorscan.run_outputs import RunOutputs
+from floorscan.pipeline.config import Config
+from floorscan.pipeline.mapper import Mapper, run
+from floorscan.pipeline.outputs import RunOutputs
+from floorscan.pipeline.sources import DatasetSource
 from floorscan.sim import Camera, World, simulate_run
-from floorscan.sources import DatasetSource
 
 
 def fps(tmp: Path) -> None:

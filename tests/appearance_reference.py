@@ -1,5 +1,5 @@
 """The appearance ranger's method written independently with numpy (whole-image arrays, no
-shared code with the Rust core): the brute-force reference of tests/test_appearance.py and the
+shared code with the Rust core): the brute-force reference of tests/ranging/test_appearance.py and the
 side-by-side baseline of bench/appearance_vs_numpy.py. Ground everywhere, columns scanned from
 ``start_row`` to the top row."""
 

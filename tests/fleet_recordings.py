@@ -6,9 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from floorscan.image_io import write_png
-from floorscan.rig import Rig, write_rig
-from floorscan.trajectory import Trajectory, write_tum
+from floorscan.formats.image_io import write_png
+from floorscan.formats.rig import Rig, write_rig
+from floorscan.formats.trajectory import Trajectory, write_tum
 from synthetic_dataset import camera_table, render, true_poses
 
 

@@ -235,10 +235,10 @@ def _cases() -> List[Case]:
     def bomb_in_bag(d, s):
         import cv2
         import numpy as np
-        from floorscan.dataset import read_images_txt
-        from floorscan.image_io import read_grey
-        from floorscan.rosbag_io import write_image_odometry_bag
-        from floorscan.trajectory import read_tum
+        from floorscan.formats.dataset import read_images_txt
+        from floorscan.formats.image_io import read_grey
+        from floorscan.formats.rosbag import write_image_odometry_bag
+        from floorscan.formats.trajectory import read_tum
 
         entries = read_images_txt(s / "room")
         frames = [(e.timestamp, read_grey(e.path)) for e in entries]
@@ -376,10 +376,10 @@ def _cases() -> List[Case]:
 
     def ros2_bag(damage: str):
         def build(d, s):
-            from floorscan.dataset import read_images_txt
-            from floorscan.image_io import read_grey
-            from floorscan.rosbag_io import write_image_odometry_bag
-            from floorscan.trajectory import read_tum
+            from floorscan.formats.dataset import read_images_txt
+            from floorscan.formats.image_io import read_grey
+            from floorscan.formats.rosbag import write_image_odometry_bag
+            from floorscan.formats.trajectory import read_tum
 
             frames = [(e.timestamp, read_grey(e.path)) for e in read_images_txt(s / "room")]
             bag = write_image_odometry_bag(

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 from floorscan import CameraMount, GroundTable, Lens
-from floorscan.image_io import write_png
-from floorscan.rig import Rig, write_rig
-from floorscan.trajectory import Trajectory, write_tum
+from floorscan.formats.image_io import write_png
+from floorscan.formats.rig import Rig, write_rig
+from floorscan.formats.trajectory import Trajectory, write_tum
 
 W, H = 192, 144
 ROOM = (-1.0, 3.0, -1.2, 1.2)  # x_min, x_max, y_min, y_max [m]

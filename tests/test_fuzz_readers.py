@@ -14,14 +14,14 @@ import random
 
 from floorscan import FloorscanError
 from floorscan.calibration.pattern import Pattern
-from floorscan.carmen import read_carmen
-from floorscan.config import Config
-from floorscan.config_check import check_config
-from floorscan.dataset import read_images_txt
-from floorscan.map_server import read_map_yaml
-from floorscan.rig import read_rig
-from floorscan.scan import parse_scans_csv
-from floorscan.trajectory import read_tum
+from floorscan.formats.carmen import read_carmen
+from floorscan.formats.dataset import read_images_txt
+from floorscan.formats.map_server import read_map_yaml
+from floorscan.formats.rig import read_rig
+from floorscan.formats.trajectory import read_tum
+from floorscan.pipeline.config import Config
+from floorscan.pipeline.config_check import check_config
+from floorscan.ranging.scan import parse_scans_csv
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -190,7 +190,7 @@ def test_map_yaml(tmp_path_factory, data):
 @settings(settings.get_profile(PROFILE), max_examples=10 if PROFILE == "ci" else 300)
 @given(data=st.binary(max_size=2000), ros1=st.booleans())
 def test_bags(tmp_path_factory, data, ros1):
-    from floorscan.rosbag_io import iter_bag_images, read_bag_odometry
+    from floorscan.formats.rosbag import iter_bag_images, read_bag_odometry
 
     folder = tmp_path_factory.mktemp("b")
     if ros1:

@@ -21,11 +21,11 @@ from floorscan import (
     OutOfBoundsError,
     Scan,
 )
-from floorscan.dataset import read_images_txt
 from floorscan.errors import InternalError
-from floorscan.image_io import read_grey
-from floorscan.scan import parse_scans_csv, scans_to_csv
-from floorscan.trajectory import read_tum, yaw_from_quaternion
+from floorscan.formats.dataset import read_images_txt
+from floorscan.formats.image_io import read_grey
+from floorscan.formats.trajectory import read_tum, yaw_from_quaternion
+from floorscan.ranging.scan import parse_scans_csv, scans_to_csv
 from hostile_corpus import png_claiming, table_json
 from synthetic_dataset import camera_table
 
@@ -186,7 +186,7 @@ def test_sixteen_bit_frames_scan_like_the_eight_bit_frame():
     assert a.count()["boundary"] >= 30
     np.testing.assert_array_equal(a.status_codes, b.status_codes)
     np.testing.assert_allclose(a.rows, b.rows, equal_nan=True)
-    from floorscan.auto_threshold import texture_noise
+    from floorscan.ranging.auto_threshold import texture_noise
 
     cols = ranger.columns
     n8 = texture_noise([img8], half_width=4, columns=cols)
@@ -195,7 +195,7 @@ def test_sixteen_bit_frames_scan_like_the_eight_bit_frame():
 
 
 def test_config_with_limits_round_trips():
-    from floorscan.config import Config
+    from floorscan.pipeline.config import Config
 
     cfg = Config.from_toml("[limits]\nmax_image_pixels = 1000\n[map]\nmax_cells = 4096\n")
     assert cfg.limits.max_image_pixels == 1000 and cfg.map.max_cells == 4096

@@ -41,7 +41,7 @@ def test_config_check_and_run_refuse_the_same_files():
 
 def test_the_default_configuration_passes_both(shared, tmp_path):
     from floorscan.cli import main
-    from floorscan.config import Config
+    from floorscan.pipeline.config import Config
 
     (tmp_path / "c.toml").write_text(Config().to_toml())
     assert main(["config", "--check", str(tmp_path / "c.toml")]) == 0

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import floorscan
 import numpy as np
-from floorscan.carmen import read_carmen
+from floorscan.formats.carmen import read_carmen
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent.parent

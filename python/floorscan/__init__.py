@@ -10,7 +10,6 @@ from . import _startup  # noqa: F401  (first: a Ctrl-C while importing exits qui
 
 # isort: on
 from . import _native
-from .appearance import AppearanceRanger
 from .errors import (
     CalibrationError,
     ConfigError,
@@ -29,15 +28,16 @@ from .errors import (
     UnsupportedVersionError,
     WorldError,
 )
-from .evidence import EvidenceMap, merge_evidence
-from .grid import InsertStats, OccupancyGrid
-from .grid_options import Evidence
-from .grid_views import GridExtent
-from .ground_table import GroundTable
-from .lens import CameraMount, Lens
-from .local_map import LocalMap
-from .ranger import VisualRanger
-from .scan import SCAN_CSV_HEADER, Scan, read_scans_csv, write_scans_csv
+from .mapping.evidence import EvidenceMap, merge_evidence
+from .mapping.grid import InsertStats, OccupancyGrid
+from .mapping.grid_options import Evidence
+from .mapping.grid_views import GridExtent
+from .mapping.local_map import LocalMap
+from .ranging.appearance import AppearanceRanger
+from .ranging.ground_table import GroundTable
+from .ranging.lens import CameraMount, Lens
+from .ranging.ranger import VisualRanger
+from .ranging.scan import SCAN_CSV_HEADER, Scan, read_scans_csv, write_scans_csv
 
 __version__ = _native.__version__
 

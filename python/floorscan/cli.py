@@ -11,7 +11,9 @@ import importlib
 import sys
 from typing import List, Optional
 
+from . import __version__
 from ._signals import abandoned_by, exit_code, handle_signals, ignore_stop_signals
+from .commands import COMMAND_MODULES
 from .errors import FloorscanError
 
 EXIT_OK = 0
@@ -29,9 +31,6 @@ EXIT_INTERNAL = 5
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import __version__
-    from .commands import COMMAND_MODULES
-
     parser = argparse.ArgumentParser(
         prog="floorscan", description="One camera as a range sensor, fused into occupancy maps."
     )

@@ -1,5 +1,5 @@
 //! Bindings of `floorscan_core::evidence`: the exact merge of evidence maps. The Python
-//! wrapper is `floorscan.evidence`.
+//! wrapper is `floorscan.mapping.evidence`.
 
 use floorscan_core::evidence::{merge, EvidenceRaster, MAX_RASTER_CELLS};
 use floorscan_core::Point2;

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._atomic import PathLike
 from ..errors import CalibrationError, ImageError, OptionError
-from ..ground_table import GroundTable
+from ..ranging.ground_table import GroundTable
 from .camera_fit import refine
 from .detect import Detection, detect, to_uint8
 from .intrinsics import Intrinsics

@@ -11,7 +11,7 @@ import numpy as np
 
 from .._atomic import PathLike
 from ..errors import ImageError
-from ..ground_table import GroundTable
+from ..ranging.ground_table import GroundTable
 from .detect import detect, to_uint8
 from .pattern import Pattern
 from .report import RING_STEP_M, _json_number

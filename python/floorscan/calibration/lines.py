@@ -26,7 +26,7 @@ import cv2
 import numpy as np
 
 from ..errors import CalibrationError
-from .detect import Detection
+from .lattice import Detection, label_lattice
 from .pattern import Pattern
 
 # Lattice directions faced by a cell's four edges, in rotational order.
@@ -468,8 +468,6 @@ def find_line_crossings(grey: np.ndarray, pattern: Pattern) -> Detection:
     farthest rows may be missing (lines too fine to resolve in the distance) if every line
     running away was found, at least ``MIN_ROWS`` rows were, and the nearest row found is
     the pattern's nearest: one step nearer, inside the image, no line crosses."""
-    from .detect import label_lattice
-
     response = line_response(grey)
     response.line_fraction = pattern.line_width_m / pattern.step_m
     found = find_cells(response.mask)

@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING, Optional, Union
 import cv2
 import numpy as np
 
-from ..ground_table import GroundTable
+from ..errors import ImageError
+from ..ranging.ground_table import GroundTable
 from .detect import to_uint8
 from .pattern import Pattern, PatternKind
 
@@ -50,8 +51,6 @@ def draw_calibration_overlay(
     grey = to_uint8(image)
     h, w = grey.shape
     if (w, h) != (table.image_width, table.image_height):
-        from ..errors import ImageError
-
         raise ImageError(
             f"image is {w} x {h} but the table is for {table.image_width} x {table.image_height}"
         )

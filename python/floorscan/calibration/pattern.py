@@ -27,8 +27,8 @@ from typing import Any, Dict, Optional, Tuple, Union
 import numpy as np
 
 from .._atomic import PathLike, write_atomic
-from .._toml import load_toml, loads_toml
 from ..errors import ArgumentTypeError, ConfigError
+from ..formats.toml_file import dumps_toml, load_toml, loads_toml
 
 MAX_COUNT = 100
 """Most inner corners (lines) in one direction."""
@@ -253,8 +253,6 @@ class Pattern:
         return d
 
     def to_toml(self) -> str:
-        from .._toml import dumps_toml
-
         return "# floorscan calibration pattern (docs/calibration.md)\n" + dumps_toml(
             self.to_dict()
         )

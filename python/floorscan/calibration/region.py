@@ -9,7 +9,7 @@ from typing import List, Optional, Tuple
 import cv2
 import numpy as np
 
-from ..ground_table import GroundTable
+from ..ranging.ground_table import GroundTable
 
 
 def convex_hull(points: np.ndarray) -> np.ndarray:

@@ -9,7 +9,12 @@ import json
 import sys
 from pathlib import Path
 
+from .._atomic import write_atomic
+from ..calibration import calibrate, check_table, draw_calibration_overlay
 from ..calibration.options import CalibrationOptions, Coverage
+from ..errors import OptionError
+from ..formats.image_io import read_grey, write_png
+from ..ranging.ground_table import GroundTable
 
 
 def register(sub) -> None:
@@ -101,11 +106,6 @@ def _patterns(args, images):
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..calibration import calibrate, check_table, draw_calibration_overlay
-    from ..errors import OptionError
-    from ..ground_table import GroundTable
-    from ..image_io import read_grey, write_png
-
     images = [read_grey(Path(p)) for p in args.images]
     patterns = _patterns(args, args.images)
     if args.check:
@@ -120,8 +120,6 @@ def run(args: argparse.Namespace) -> int:
                 f"{ring['points']} points, RMS {ring['rms_cm']} cm, max {ring['max_cm']} cm"
             )
         if args.report:
-            from .._atomic import write_atomic
-
             write_atomic(args.report, json.dumps(result.as_dict(), indent=1) + "\n")
             print(f"wrote {args.report}", file=sys.stderr)
         return 0

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..config import Config
+from ..pipeline.config import Config
+from ..pipeline.config_check import check_config
 
 
 def register(sub) -> None:
@@ -21,8 +22,6 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..config_check import check_config
-
     # --check builds every component `floorscan run` builds from the file, with the same
     # constructors: the two refuse exactly the same files.
     cfg = Config() if args.default else check_config(Config.load(args.check))

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..evaluation.demo import run_demo
+
 
 def register(sub) -> None:
     p = sub.add_parser(
@@ -18,8 +20,6 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..demo import run_demo
-
     out = Path(args.output)
     s = run_demo(out, world_name=args.world, seconds=args.seconds, seed=args.seed)
     b, m, p = s["boundary"], s["map_agreement"], s["performance"]

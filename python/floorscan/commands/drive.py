@@ -7,6 +7,11 @@ import argparse
 import json
 import sys
 
+from ..drive import DriveOptions, drive
+from ..drive.obstacles import with_obstacles
+from ..drive.suite import run_suite
+from ..sim import World
+
 
 def register(sub) -> None:
     p = sub.add_parser(
@@ -47,11 +52,6 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..drive import DriveOptions, drive
-    from ..drive.obstacles import with_obstacles
-    from ..drive.suite import run_suite
-    from ..sim import World
-
     if args.suite:
         seconds = args.seconds if args.seconds != 600.0 else 150.0
         run_suite(args.out, seeds=range(args.seeds), seconds=seconds, table=args.table)

@@ -8,6 +8,17 @@ import sys
 import time
 from pathlib import Path
 
+from .._atomic import write_atomic
+from ..errors import OptionError
+from ..evaluation.calibration_error import table_for_dataset
+from ..evaluation.case import case_from_dataset
+from ..evaluation.demo import SIMULATION_CONFIG
+from ..evaluation.floor_eval import run_floor_eval
+from ..evaluation.report import write_report
+from ..evaluation.runner import evaluate_case, run_suite
+from ..evaluation.scenarios import full_suite, quick_suite
+from ..pipeline.config import Config
+
 
 def register(sub) -> None:
     p = sub.add_parser(
@@ -54,13 +65,6 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..config import Config
-    from ..demo import SIMULATION_CONFIG
-    from ..errors import OptionError
-    from ..evaluation.report import write_report
-    from ..evaluation.runner import run_suite
-    from ..evaluation.scenarios import full_suite, quick_suite
-
     # Simulated calibration scenes place the pattern as near as fits in the image (about
     # 0.2-1.2 m out) while the ranger scans to 3 m: without a config, the suite asks the
     # calibration to extrapolate, as a user with a small pattern would.
@@ -106,10 +110,6 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _dataset_record(args: argparse.Namespace, cfg) -> dict:
-    from ..evaluation.calibration_error import table_for_dataset
-    from ..evaluation.case import case_from_dataset
-    from ..evaluation.runner import evaluate_case
-
     dataset = Path(args.dataset)
     truth = Path(args.truth) if args.truth else dataset / "truth"
     table, cal = table_for_dataset(
@@ -136,9 +136,6 @@ def _dataset_record(args: argparse.Namespace, cfg) -> dict:
 
 def _floors(args: argparse.Namespace, cfg, out: Path, command: str, t0: float) -> int:
     import json
-
-    from .._atomic import write_atomic
-    from ..evaluation.floor_eval import run_floor_eval
 
     kinds = ["edge", "appearance", "fused"] if args.ranger in (None, "all") else [args.ranger]
     res = run_floor_eval(

@@ -7,8 +7,8 @@ import argparse
 import sys
 
 from ..errors import OptionError
-from ..fleet import map_fleet
-from ..fleet_spec import parse_recording, read_fleet_toml
+from ..fleet.jobs import map_fleet
+from ..fleet.spec import parse_recording, read_fleet_toml
 
 
 def register(sub) -> None:

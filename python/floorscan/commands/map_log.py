@@ -9,8 +9,9 @@ from typing import List
 
 import numpy as np
 
-from ..carmen import LaserReading, read_carmen
-from ..grid import OccupancyGrid
+from ..errors import DatasetError
+from ..formats.carmen import LaserReading, read_carmen
+from ..mapping.grid import OccupancyGrid
 
 
 def register(sub) -> None:
@@ -146,8 +147,6 @@ def run(args: argparse.Namespace) -> int:
     for lineno, message in log.bad_lines:
         print(f"floorscan map-log: skipped bad line {lineno}: {message}", file=sys.stderr)
     if not log.lasers:
-        from ..errors import DatasetError
-
         raise DatasetError(f"{args.log}: no FLASER or ROBOTLASER1 lines")
     grid = OccupancyGrid(
         cell_size_m=args.cell_size, laser=(args.hit, args.miss), max_cells=args.max_cells

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..map_merge import cell_counts, merge_maps
+from ..mapping.merge import cell_counts, merge_maps
 
 
 def register(sub) -> None:

@@ -6,9 +6,10 @@ from __future__ import annotations
 
 import argparse
 
-from ..config import Config
-from ..ground_table import GroundTable
-from ..image_io import set_max_image_pixels
+from ..formats.image_io import set_max_image_pixels
+from ..node import NodeRun
+from ..pipeline.config import Config
+from ..ranging.ground_table import GroundTable
 
 
 def register(sub) -> None:
@@ -35,8 +36,6 @@ def register(sub) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..node import NodeRun
-
     cfg = Config.load(args.config) if args.config else Config()
     cfg = cfg.with_overrides(
         {

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..image_io import read_grey, write_png
-from ..overlay import draw_scan_overlay
+from ..formats.image_io import read_grey, write_png
+from ..ranging.overlay import draw_scan_overlay
 from .scan import add_ranger_arguments, ranger_from_args
 
 

@@ -7,16 +7,17 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..config import Config
-from ..config_check import check_config
+from ..calibration import calibrate
 from ..errors import DatasetError, OptionError
-from ..ground_table import GroundTable
-from ..image_io import read_grey, set_max_image_pixels
-from ..pipeline import Mapper, run
-from ..progress import Progress
-from ..rig import Rig
-from ..run_outputs import RunOutputs
-from ..sources import BagSource, CameraSource, DatasetSource, FrameSource, VideoSource
+from ..formats.image_io import read_grey, set_max_image_pixels
+from ..formats.rig import Rig
+from ..pipeline.config import Config
+from ..pipeline.config_check import check_config
+from ..pipeline.mapper import Mapper, run
+from ..pipeline.outputs import RunOutputs
+from ..pipeline.progress import Progress
+from ..pipeline.sources import BagSource, CameraSource, DatasetSource, FrameSource, VideoSource
+from ..ranging.ground_table import GroundTable
 
 VIDEO_SUFFIXES = {".mp4", ".avi", ".mkv", ".mov", ".webm", ".m4v", ".mpg", ".mpeg"}
 
@@ -95,8 +96,6 @@ def load_table(args: argparse.Namespace, source: FrameSource, cfg: Config) -> Gr
         image_path = source.folder / "calibration" / "pattern.png"
     if image_path is None:
         raise OptionError("no calibration: give --table TABLE.json or --calibrate PATTERN_IMAGE")
-    from ..calibration import calibrate
-
     pattern = Path(args.pattern) if args.pattern else image_path.with_name("pattern.toml")
     table, report = calibrate(
         read_grey(image_path),
@@ -136,7 +135,7 @@ def main(args: argparse.Namespace) -> int:
     try:
         outputs = RunOutputs(args.output, cfg, expected_frames=len(source) or None)
         if args.rerun:
-            from ..rerun_log import RerunOutputs
+            from ..pipeline.rerun_log import RerunOutputs
 
             outputs = RerunOutputs(outputs)
         if source.odometry is None:

@@ -5,10 +5,12 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..dataset import image_inputs
-from ..ground_table import GroundTable
-from ..image_io import read_grey, read_rgb
-from ..scan import write_scans_csv
+from ..formats.dataset import image_inputs
+from ..formats.image_io import read_grey, read_rgb
+from ..pipeline.config import Config
+from ..pipeline.mapper import ranger_from_config
+from ..ranging.ground_table import GroundTable
+from ..ranging.scan import write_scans_csv
 
 
 def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
@@ -40,9 +42,6 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def ranger_from_args(args: argparse.Namespace):
-    from ..config import Config
-    from ..pipeline import ranger_from_config
-
     cfg = Config.load(args.config) if getattr(args, "config", None) else Config()
     cfg = cfg.with_overrides(
         {

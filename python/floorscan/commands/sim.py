@@ -7,6 +7,7 @@ import math
 import sys
 import time
 
+from ..errors import OptionError
 from ..sim import PATTERN_KINDS, Camera, Imaging, Robot, World, simulate_run, write_dataset
 
 
@@ -56,8 +57,6 @@ def register(sub) -> None:
 def check_render_memory(args: argparse.Namespace) -> None:
     """The run is rendered in memory (images, and labels unless --no-labels): refuse one that
     would not fit in --max-memory-mb before rendering anything."""
-    from ..errors import OptionError
-
     if not (math.isfinite(args.seconds) and args.seconds >= 0):
         raise OptionError(
             f"invalid option `--seconds`: must be finite and >= 0, got {args.seconds}"

@@ -9,6 +9,16 @@ import json
 from pathlib import Path
 from typing import List
 
+from .._atomic import write_atomic
+from ..errors import OptionError
+from ..evaluation.calibration_error import table_for_dataset
+from ..evaluation.case import read_truth_columns
+from ..evaluation.plot import plot_curves
+from ..evaluation.tune import AUTO_K, TuneSet, auto_threshold, error_rate, read_labels_csv, tune
+from ..formats.dataset import read_images_txt
+from ..formats.image_io import read_grey
+from ..pipeline.config import Config
+
 MAX_VALUES = 1000
 """Most values one option of the grid search may list (the search is their product)."""
 
@@ -17,8 +27,6 @@ def _numbers(text: str, name: str = "values") -> List[float]:
     """``"1,2,4"`` or ``"2:40:2"`` (start:stop:step, stop included): finite numbers, at most
     MAX_VALUES of them (OptionError naming the option otherwise)."""
     import math
-
-    from ..errors import OptionError
 
     def bad(why: str) -> OptionError:
         return OptionError(f"invalid option `--{name}`: {why}, got {text!r}")
@@ -76,16 +84,6 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     import numpy as np
-
-    from .._atomic import write_atomic
-    from ..config import Config
-    from ..dataset import read_images_txt
-    from ..errors import OptionError
-    from ..evaluation.calibration_error import table_for_dataset
-    from ..evaluation.case import read_truth_columns
-    from ..evaluation.plot import plot_curves
-    from ..evaluation.tune import AUTO_K, TuneSet, auto_threshold, error_rate, read_labels_csv, tune
-    from ..image_io import read_grey
 
     if args.frames < 1:
         raise OptionError(f"invalid option `--frames`: must be >= 1, got {args.frames}")

@@ -17,7 +17,7 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ..errors import OptionError
-from ..grid_views import GridExtent
+from ..mapping.grid_views import GridExtent
 from .sensor_model import VisualSensorModel
 
 _SHIFT = 4  # sub-cell precision of rasterised polygons: 1 / 16 cell

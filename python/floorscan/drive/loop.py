@@ -13,10 +13,14 @@ from typing import TYPE_CHECKING, List, Sequence
 
 import numpy as np
 
+from ..calibration import calibrate
 from ..errors import OptionError
+from ..ranging.ranger import VisualRanger
+from ..sim import Camera, Robot, render_calibration, render_image
 from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
 from .costmap import CostmapOptions, inflate, navigation_function
 from .dwa import DwaOptions, choose_velocity
+from .result import DriveResult
 from .sensor_model import VisualSensorModel
 from .solids import Solids
 
@@ -128,9 +132,6 @@ def make_table(camera, kind: str):
     import tempfile
     from pathlib import Path
 
-    from ..calibration import calibrate
-    from ..sim import render_calibration
-
     image, pattern = render_calibration(camera, kind="lines")
     with tempfile.TemporaryDirectory() as d:
         p = pattern.save(Path(d) / "pattern.toml")
@@ -143,8 +144,6 @@ class Stepper:
     and odometry noise (floorscan.sim.Robot)."""
 
     def __init__(self, frame_rate_hz: float, seed: int) -> None:
-        from ..sim import Robot
-
         self.dt = 1.0 / frame_rate_hz
         # 5 samples per period for contact checks along the motion
         self.robot = Robot(frame_rate_hz=5 * frame_rate_hz, speed_mps=3.0, turn_rate_radps=10.0)
@@ -177,10 +176,6 @@ def drive(
     (a moved or removed obstacle); contact and the laser always use the current one.
     ``table``: a ready ground table (skips calibration). Returns a :class:`DriveResult`.
     """
-    from ..ranger import VisualRanger
-    from ..sim import Camera, render_image
-    from .result import DriveResult
-
     o = options
     camera = camera or Camera()
     tour = np.asarray(world.tour if waypoints is None else waypoints, np.float64).reshape(-1, 2)

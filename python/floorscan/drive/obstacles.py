@@ -11,6 +11,8 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
+from ..sim import World
+
 KINDS = ("box", "chair", "table", "bin")
 
 
@@ -97,8 +99,6 @@ def with_obstacles(
 ) -> Tuple[object, List[dict]]:
     """A copy of ``world`` (a :class:`floorscan.sim.World` read from TOML) with up to
     ``count`` obstacles on the tour's legs longer than ``min_leg_m`` [m], and their list."""
-    from ..sim import World
-
     text = world.source
     if text is None:
         raise ValueError("the world has no TOML source to add obstacles to")

@@ -12,6 +12,8 @@ from typing import Any, Dict
 import numpy as np
 
 from .._atomic import write_atomic, write_atomic_with
+from ..formats.image_io import write_png
+from ..sim import OccupancyRaster
 
 
 @dataclass
@@ -68,8 +70,6 @@ class DriveResult:
         return out
 
     def _write_map(self, path: Path) -> None:
-        from ..sim import OccupancyRaster
-
         c = self.map.occupancy_classes()
         cells = np.full(c.shape, -1, np.int8)
         cells[c == 0] = 0
@@ -79,8 +79,6 @@ class DriveResult:
         ).write_map_server(path)
 
     def _write_path(self, path: Path) -> None:
-        from ..image_io import write_png
-
         res = 0.02
         raster = self.final_world.occupancy(resolution_m=res)
         img = np.stack([raster.to_pgm_image()] * 3, axis=-1).copy()

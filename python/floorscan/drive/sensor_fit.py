@@ -14,8 +14,9 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..scoring import sample_truth
-from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
+from ..evaluation.scoring import sample_truth
+from ..ranging.ranger import VisualRanger
+from .avoidance_map import AvoidanceMap, AvoidanceMapOptions, _compose
 from .sensor_model import VisualSensorModel
 
 
@@ -54,8 +55,6 @@ def _frame_samples(run, k, scan, table, raster, cell):
     )
     m.insert_visual(scan, pose, mount=run.camera.robot_from_camera, table=table, model=unit)
     truth = _cells_truth(m, raster)
-    from .avoidance_map import _compose
-
     cam = _compose(pose, tuple(run.camera.robot_from_camera))
     n = m.n
     jj, ii = np.mgrid[0:n, 0:n]
@@ -78,8 +77,6 @@ def fit_sensor_model(
 ) -> Tuple[VisualSensorModel, Dict]:
     """Fits free_a/free_b and hit_a/hit_b on simulated runs (with truth) ranged with
     ``table``; returns the model and the sample counts."""
-    from ..ranger import VisualRanger
-
     base = VisualSensorModel() if base is None else base
     ranger = VisualRanger(table, columns=160)
     fr, fy, hr, hy = [], [], [], []
@@ -106,8 +103,6 @@ def fused_map(
     run, table, model, *, cell_size_m=0.05, frames=None, map_options=None
 ) -> AvoidanceMap:
     """The avoidance map (no forgetting) after ``frames`` of ``run`` with true poses."""
-    from ..ranger import VisualRanger
-
     ranger = VisualRanger(table, columns=160)
     from dataclasses import replace
 

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Dict, List, Sequence
 
 from .._atomic import write_atomic
+from ..sim import Camera, World
 from .loop import DriveOptions, drive, make_table
 from .obstacles import with_obstacles
 
@@ -34,8 +35,6 @@ def run_suite(
 ) -> List[Dict]:
     """Runs every (world, speed, seed, sensor) for at most ``seconds`` [s] each; writes
     ``suite.json`` and ``suite.md`` into ``out`` and returns the rows."""
-    from ..sim import Camera, World
-
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     camera = Camera()

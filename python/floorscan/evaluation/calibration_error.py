@@ -9,7 +9,11 @@ from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
-from ..ground_table import GroundTable
+from ..calibration import calibrate
+from ..errors import DatasetError
+from ..formats.image_io import read_grey
+from ..ranging.ground_table import GroundTable
+from ..sim import Camera, render_calibration
 
 NOT_AVAILABLE = "n/a (calibration not available)"
 
@@ -72,9 +76,6 @@ def calibrated_table(
     spacing_px = calibration.get("spacing_px", 8)
     if not calibration_available():
         return camera.ground_table(spacing_px=spacing_px), {"status": NOT_AVAILABLE}
-    from ..calibration import calibrate
-    from ..sim import render_calibration
-
     image, pattern = render_calibration(camera, kind="checkerboard")
     with tempfile.TemporaryDirectory(prefix="floorscan-eval-") as tmp:
         path = Path(tmp) / "pattern.toml"
@@ -94,9 +95,6 @@ def table_for_dataset(
     table file; else calibrated from the dataset's ``calibration/`` scene (when calibration is
     available); else the exact table of ``truth/camera.json``. The error is measured against
     ``truth/camera.json`` when it exists."""
-    from ..errors import DatasetError
-    from ..sim import Camera
-
     calibration = dict(calibration or {})
     spacing_px = calibration.get("spacing_px", 8)
     dataset, truth_dir = Path(dataset), Path(truth_dir)
@@ -106,9 +104,6 @@ def table_for_dataset(
     if table_path is not None:
         table = GroundTable.load(table_path)
     elif calibration_available() and (dataset / "calibration" / "pattern.toml").is_file():
-        from ..calibration import calibrate
-        from ..image_io import read_grey
-
         table, _ = calibrate(
             read_grey(dataset / "calibration" / "pattern.png"),
             dataset / "calibration" / "pattern.toml",

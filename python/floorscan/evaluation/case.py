@@ -12,8 +12,13 @@ import numpy as np
 
 from .._atomic import PathLike
 from ..errors import FileFormatError
-from ..ground_table import GroundTable
-from ..scan import STATUS_NAMES
+from ..formats.dataset import read_images_txt
+from ..formats.image_io import read_grey
+from ..formats.rig import read_rig
+from ..formats.trajectory import read_tum
+from ..mapping.grid import OccupancyGrid
+from ..ranging.ground_table import GroundTable
+from ..ranging.scan import STATUS_NAMES
 
 PoseTuple = Tuple[float, float, float]
 
@@ -114,9 +119,7 @@ def read_truth_columns(path: PathLike, timestamps: Sequence[float], width: int):
 
 def read_truth_map(path: PathLike) -> TruthRaster:
     """A map_server map (``map.yaml``) as a :class:`TruthRaster`."""
-    from ..map_server import load_map
-
-    grid = load_map(path)
+    grid = OccupancyGrid.load(path)
     classes = grid.occupancy_classes()
     cells = np.full(classes.shape, -1, np.int16)
     cells[classes == 0] = 0
@@ -126,8 +129,6 @@ def read_truth_map(path: PathLike) -> TruthRaster:
 
 
 def _poses_at(path: Path, timestamps: np.ndarray) -> Optional[np.ndarray]:
-    from ..trajectory import read_tum
-
     if not path.is_file():
         return None
     traj = read_tum(path)
@@ -144,10 +145,6 @@ def case_from_dataset(
 ) -> EvalCase:
     """An :class:`EvalCase` from a dataset folder and a truth folder holding ``columns.csv``
     and/or ``map.yaml`` (map_server); true poses from the dataset's ``groundtruth.txt``."""
-    from ..dataset import read_images_txt
-    from ..image_io import read_grey
-    from ..rig import read_rig
-
     dataset, truth_dir = Path(dataset), Path(truth_dir)
     entries = read_images_txt(dataset)
     timestamps = np.array([e.timestamp for e in entries], dtype=np.float64)

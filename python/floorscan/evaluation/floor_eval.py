@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from typing import Dict, Sequence
 
-from ..config import Config
+from ..pipeline.config import Config
+from ..pipeline.mapper import ranger_from_config
 from .floor_cv import cross_validate
 from .floor_masks import (
     floor_types,
@@ -34,8 +35,6 @@ CV_GRIDS["fused"] = dict(CV_GRIDS["appearance"])
 def floor_ranger_factory(cfg: Config, kind: str):
     """(image_width, image_height) -> a ranger of ``kind`` with ``cfg``'s options, scanning
     from the bottom row (the truth's) as far up as the image goes (no geometry)."""
-    from ..pipeline import ranger_from_config
-
     kcfg = cfg.with_overrides({"ranger.kind": kind})
 
     def make(width: int, height: int):

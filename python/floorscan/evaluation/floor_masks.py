@@ -21,7 +21,8 @@ from typing import Callable, Dict, Iterable, List, Optional, Sequence
 import numpy as np
 
 from ..errors import DatasetError
-from ..scoring import BOUNDARY, INVALID, NO_BOUNDARY, TOO_CLOSE
+from ..ranging.ground_table import GroundTable
+from .scoring import BOUNDARY, INVALID, NO_BOUNDARY, TOO_CLOSE
 
 RUN_PX = 3
 """Non-floor mask pixels in a run that make the true boundary."""
@@ -155,8 +156,6 @@ RangerFactory = Callable[[int, int], object]
 def image_row_table(image_width: int, image_height: int):
     """A ground table with ground at every pixel (x grows up the image), so rangers can run on
     frames without camera geometry and be scored in rows."""
-    from ..ground_table import GroundTable
-
     spacing = 8
     nu, nv = GroundTable.node_shape_for(
         image_width=image_width, image_height=image_height, spacing_px=spacing

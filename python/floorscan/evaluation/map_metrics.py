@@ -1,4 +1,4 @@
-"""Map metrics beyond :func:`floorscan.scoring.score_map`: how much of the free space along the
+"""Map metrics beyond :func:`floorscan.evaluation.scoring.score_map`: how much of the free space along the
 path the map knows, and how many frames of a new view the local map needs to be reliable."""
 
 from __future__ import annotations
@@ -7,8 +7,9 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..scoring import sample_truth
+from ..mapping.local_map import LocalMap
 from .case import TruthRaster
+from .scoring import sample_truth
 
 RELIABLE_AGREEMENT = 0.95
 """Agreement of the local map with the truth over a view above which the map is reliable."""
@@ -131,8 +132,6 @@ def frames_to_reliable(
     ... inserted (with true poses) after which the local map agrees with the truth on more than
     :data:`RELIABLE_AGREEMENT` of the cells frame k0 views inside the window; None when
     ``max_frames`` do not suffice or the view has no truth."""
-    from ..local_map import LocalMap
-
     raster = case.raster
     out: List[Optional[int]] = []
     cell = float(grid_kwargs["cell_size_m"])

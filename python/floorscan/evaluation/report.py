@@ -12,11 +12,11 @@ from typing import Any, Dict, List, Optional, Sequence
 import numpy as np
 
 from .._atomic import write_atomic
-from ..image_io import write_png
-from ..overlay import draw_scan_overlay
-from ..scoring import summarise_columns
+from ..formats.image_io import write_png
+from ..ranging.overlay import draw_scan_overlay
 from .runner import median_frames
 from .scenarios import CARPET
+from .scoring import summarise_columns
 
 COLUMNS = [
     ("scenario", "scenario"),

@@ -9,13 +9,16 @@ from typing import Any, Callable, Dict, List, Optional, Sequence
 
 import numpy as np
 
-from ..config import Config
 from ..errors import FloorscanError
-from ..pipeline import Mapper, grid_kwargs
-from ..scoring import ColumnScores, score_columns, score_map, summarise_columns
+from ..mapping.grid import OccupancyGrid
+from ..pipeline.config import Config
+from ..pipeline.mapper import Mapper, grid_kwargs
+from ..sim import simulate_run
+from .calibration_error import calibrated_table
 from .case import EvalCase, case_from_run
 from .map_metrics import frames_to_reliable, free_known_share
 from .scenarios import Scenario
+from .scoring import ColumnScores, score_columns, score_map, summarise_columns
 
 
 @dataclass
@@ -52,8 +55,6 @@ def evaluate_case(
     mapper = Mapper(case.table, cfg, robot_from_camera=case.robot_from_camera)
     true_map = None
     if case.true_poses is not None and case.odometry is not None:
-        from ..grid import OccupancyGrid
-
         true_map = OccupancyGrid(**kw)
     scans = []
     column_scores: List[ColumnScores] = []
@@ -127,9 +128,6 @@ def evaluate_case(
 def simulate_scenario(scenario: Scenario, cfg: Config, *, threads: int = 2):
     """(run, case) for a scenario: simulation, then the table ranging uses (calibrated when
     calibration is available)."""
-    from ..sim import simulate_run
-    from .calibration_error import calibrated_table
-
     world = scenario.build_world()
     camera = scenario.build_camera()
     run = simulate_run(

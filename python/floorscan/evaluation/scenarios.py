@@ -14,6 +14,8 @@ from dataclasses import asdict, dataclass, replace
 from typing import Dict, List, Optional, Tuple
 
 from ..errors import OptionError
+from ..ranging.lens import CameraMount, Lens
+from ..sim import Camera, Imaging, OdometryNoise, Robot, World
 
 # What each built-in world tests; anything but "carpet" breaks an assumption of the paper.
 WORLD_GROUPS: Dict[str, str] = {
@@ -108,8 +110,6 @@ class Scenario:
 
     # --- simulator objects ------------------------------------------------------------
     def build_world(self):
-        from ..sim import World
-
         world = World.builtin(self.world)
         if self.lighting == "normal":
             return world
@@ -120,9 +120,6 @@ class Scenario:
         )
 
     def build_camera(self):
-        from ..lens import CameraMount, Lens
-        from ..sim import Camera, Imaging
-
         read, shot = NOISE[self.noise]
         imaging = Imaging(read_noise_dn=read, shot_noise_gain=shot)
         if self.lens == "fisheye":
@@ -135,8 +132,6 @@ class Scenario:
         return Camera(lens=lens, mount=CameraMount(height_m=0.4, tilt_rad=0.75), imaging=imaging)
 
     def build_robot(self):
-        from ..sim import OdometryNoise, Robot
-
         sigma, scale, diff, base = ODOMETRY[self.odometry]
         return Robot(
             odometry=OdometryNoise(
@@ -151,8 +146,6 @@ class Scenario:
 def builtin_world_text(name: str) -> str:
     """The TOML text of a built-in world (its ``source``, else the crate's world file)."""
     from pathlib import Path
-
-    from ..sim import World
 
     text = World.builtin(name).source
     if text:

@@ -17,11 +17,11 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from .._atomic import PathLike
-from ..auto_threshold import AUTO_K, auto_threshold, texture_noise  # noqa: F401 (re-exported)
 from ..errors import FileFormatError, OptionError
-from ..ground_table import GroundTable
-from ..ranger import VisualRanger
-from ..scoring import BOUNDARY, INVALID, NO_BOUNDARY, score_columns
+from ..ranging.auto_threshold import AUTO_K, auto_threshold, texture_noise  # noqa: F401 (re-exported)
+from ..ranging.ground_table import GroundTable
+from ..ranging.ranger import VisualRanger
+from .scoring import BOUNDARY, INVALID, NO_BOUNDARY, score_columns
 
 DEFAULT_HALF_WIDTHS = (1, 2, 3, 4, 6, 8)
 DEFAULT_THRESHOLDS = tuple(float(t) for t in range(2, 41))

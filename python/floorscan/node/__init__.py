@@ -1,7 +1,7 @@
 """floorscan live on a robot: ``floorscan node`` and its Python API :func:`run_node`.
 
 The node subscribes to a camera and an odometry topic, runs every frame through the same
-:class:`~floorscan.pipeline.Mapper` and frame loop as ``floorscan run`` (:func:`floorscan.pipeline.run`,
+:class:`~floorscan.pipeline.mapper.Mapper` and frame loop as ``floorscan run`` (:func:`floorscan.pipeline.mapper.run`,
 with its signal handling: SIGINT, SIGTERM or SIGHUP stop it and every output is saved), and
 publishes scans and maps (:mod:`.outputs`). The middleware is a :class:`.transport.Transport`:
 ROS 1 through rospy (:mod:`.ros1`) or ROS 2 through rmw_zenoh's protocol (:mod:`.zenoh`).
@@ -12,14 +12,18 @@ from __future__ import annotations
 
 from typing import Optional, Tuple
 
-from ..config import Config
-from ..ground_table import GroundTable
-from ..pipeline import Mapper, RunStats, run
-from ..run_outputs import RunOutputs
+from ..pipeline.config import Config
+from ..pipeline.config_check import check_config
+from ..pipeline.mapper import Mapper, RunStats, run
+from ..pipeline.outputs import RunOutputs
+from ..ranging.ground_table import GroundTable
 from . import messages as M
 from .live_source import LiveOdometry, LiveSource, log
+from .live_view import FoxgloveView
 from .outputs import NodeOutputs
-from .transport import Transport, open_transport
+from .ros1 import Ros1Transport
+from .transport import Transport
+from .zenoh import ZenohTransport
 
 __all__ = ["run_node", "NodeRun", "Transport", "open_transport"]
 
@@ -38,8 +42,6 @@ class NodeRun:
         robot_from_camera: Tuple[float, float, float] = (0.0, 0.0, 0.0),
         max_frames: Optional[int] = None,
     ) -> None:
-        from ..config_check import check_config
-
         check_config(cfg)
         n = cfg.node
         self.transport = transport if transport is not None else open_transport(n)
@@ -65,8 +67,6 @@ class NodeRun:
             self.mapper.robot_from_camera,
         )
         if n.foxglove_port:
-            from .live_view import FoxgloveView
-
             self.outputs = FoxgloveView(self.outputs, n, self.mapper.robot_from_camera)
         self.transport.subscribe(n.image_topic, image_type, self.source.push)
         if use_tf:
@@ -110,3 +110,16 @@ class NodeRun:
 def run_node(table: GroundTable, cfg: Config, output, **kw) -> RunStats:
     """Runs the node until stopped; see :class:`NodeRun` for the arguments."""
     return NodeRun(table, cfg, output, **kw).run()
+
+
+def open_transport(node_cfg) -> Transport:
+    """The transport the ``[node]`` options name."""
+    if node_cfg.transport == "ros1":
+        return Ros1Transport(node_cfg.node_name)
+    return ZenohTransport(
+        node_cfg.node_name,
+        domain_id=node_cfg.domain_id,
+        mode=node_cfg.zenoh_mode,
+        connect=node_cfg.zenoh_connect or None,
+        listen=node_cfg.zenoh_listen or None,
+    )

@@ -1,5 +1,5 @@
-"""Frames and odometry arriving on topics, as the :class:`~floorscan.sources.FrameSource`
-that :func:`floorscan.pipeline.run` drives: the node runs the very loop ``floorscan run`` runs.
+"""Frames and odometry arriving on topics, as the :class:`~floorscan.pipeline.sources.FrameSource`
+that :func:`floorscan.pipeline.mapper.run` drives: the node runs the very loop ``floorscan run`` runs.
 
 Images wait in a one-slot mailbox: a frame that arrives while the previous one still waits
 replaces it (counted in :attr:`LiveSource.dropped`), so the node never falls behind the camera.
@@ -17,8 +17,8 @@ from collections import deque
 from typing import Callable, Deque, Iterator, Optional, Tuple
 
 from ..errors import FloorscanError
-from ..sources import Frame, FrameSource
-from ..trajectory import Pose2
+from ..formats.trajectory import Pose2
+from ..pipeline.sources import Frame, FrameSource
 
 WAIT_S = 0.05
 ODOM_HISTORY = 2000

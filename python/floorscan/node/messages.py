@@ -12,8 +12,8 @@ from typing import Dict, List, Tuple
 import numpy as np
 
 from ..errors import ImageError
-from ..rosbag_io import _header, _time, decode_image
-from ..trajectory import quaternion_from_yaw, yaw_from_quaternion
+from ..formats.rosbag import _header, _time, decode_image
+from ..formats.trajectory import quaternion_from_yaw, yaw_from_quaternion
 
 IMAGE = "sensor_msgs/msg/Image"
 COMPRESSED_IMAGE = "sensor_msgs/msg/CompressedImage"

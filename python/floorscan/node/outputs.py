@@ -1,5 +1,5 @@
 """What the node sends out, per frame and at a fixed rate, around the files ``floorscan run``
-writes (the wrapped :class:`~floorscan.run_outputs.RunOutputs`, so the map and everything else
+writes (the wrapped :class:`~floorscan.pipeline.outputs.RunOutputs`, so the map and everything else
 is saved on shutdown exactly as a run saves it):
 
 - every scan as ``sensor_msgs/LaserScan`` (REP 117) in the camera ground frame, binned as the
@@ -18,6 +18,7 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
+from ..ranging.overlay import draw_scan_overlay
 from . import messages as M
 from .live_source import log
 
@@ -63,8 +64,6 @@ class NodeOutputs:
         now = time.perf_counter()
         received = self.source.current_receive_time
         if self.overlay_pub is not None:  # after the latency: the overlay is a side output
-            from ..overlay import draw_scan_overlay
-
             rgb = draw_scan_overlay(frame.image, scan)
             self._publish(self.overlay_pub, self.codec.rgb_image(scan.timestamp, rgb, "camera"))
         if received is not None and len(self.latencies_s) < MAX_LATENCIES:

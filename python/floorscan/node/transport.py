@@ -46,20 +46,3 @@ class Transport(abc.ABC):
     @abc.abstractmethod
     def close(self) -> None:
         """Leaves the graph (idempotent)."""
-
-
-def open_transport(node_cfg) -> Transport:
-    """The transport the ``[node]`` options name."""
-    if node_cfg.transport == "ros1":
-        from .ros1 import Ros1Transport
-
-        return Ros1Transport(node_cfg.node_name)
-    from .zenoh import ZenohTransport
-
-    return ZenohTransport(
-        node_cfg.node_name,
-        domain_id=node_cfg.domain_id,
-        mode=node_cfg.zenoh_mode,
-        connect=node_cfg.zenoh_connect or None,
-        listen=node_cfg.zenoh_listen or None,
-    )

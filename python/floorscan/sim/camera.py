@@ -19,9 +19,9 @@ import numpy as np
 
 from .. import _native
 from .._atomic import PathLike, write_atomic
-from ..errors import ArgumentTypeError, FileFormatError
-from ..ground_table import GroundTable
-from ..lens import CameraMount, Lens
+from ..errors import ArgumentTypeError, FileFormatError, OptionError
+from ..ranging.ground_table import GroundTable
+from ..ranging.lens import CameraMount, Lens
 from ._options import as_dict, init_options
 
 
@@ -58,8 +58,6 @@ class Imaging:
 
 
 def _known(obj: Any, options: Dict[str, Any]) -> Dict[str, Any]:
-    from ..errors import OptionError
-
     names = {f for f in obj.__dataclass_fields__}
     unknown = sorted(set(options) - names)
     if unknown:

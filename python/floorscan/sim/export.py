@@ -13,20 +13,22 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 
 from .._atomic import PathLike
 from ..errors import DatasetError, OptionError
-from ..rig import Rig
-from ..trajectory import Trajectory, tum_text
+from ..formats.rig import Rig
+from ..formats.trajectory import Trajectory, tum_text
 from .calibration import PATTERN_KINDS, render_calibration
-from .run import Run
+
+if TYPE_CHECKING:  # only for annotations: run.py imports this module
+    from .run import Run
 
 
 def _trajectory_text(comment: str, timestamps: np.ndarray, poses: np.ndarray) -> str:
-    """A TUM trajectory file's text (floorscan.trajectory's writer) with a comment line."""
+    """A TUM trajectory file's text (floorscan.formats.trajectory's writer) with a comment line."""
     traj = Trajectory(timestamps, poses[:, 0], poses[:, 1], poses[:, 2])
     return f"# {comment}\n" + tum_text(traj)
 

@@ -9,7 +9,8 @@ from typing import Tuple
 
 import numpy as np
 
-from .._atomic import PathLike, write_atomic
+from .._atomic import PathLike
+from ..formats.map_server import write_map_files
 
 OCCUPIED = 100
 FREE = 0
@@ -46,18 +47,6 @@ class OccupancyRaster:
     def write_map_server(self, yaml_path: PathLike) -> Path:
         """Writes ``<name>.yaml`` and ``<name>.pgm`` beside it (map_server format, trinary),
         atomically. Returns the YAML path."""
-        yaml_path = Path(yaml_path)
-        pgm_path = yaml_path.with_suffix(".pgm")
-        img = self.to_pgm_image()
-        h, w = img.shape
-        write_atomic(pgm_path, f"P5\n{w} {h}\n255\n".encode("ascii") + img.tobytes())
-        text = (
-            f"image: {pgm_path.name}\n"
-            "mode: trinary\n"
-            f"resolution: {self.resolution_m:.6g}\n"
-            f"origin: [{self.origin[0]:.6g}, {self.origin[1]:.6g}, 0.0]\n"
-            "negate: 0\n"
-            "occupied_thresh: 0.65\n"
-            "free_thresh: 0.196\n"
+        return write_map_files(
+            yaml_path, self.to_pgm_image(), cell_size_m=self.resolution_m, origin_m=self.origin
         )
-        return write_atomic(yaml_path, text)

@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import _native
 from ..errors import ArgumentTypeError
-from ..scan import STATUS_NAMES
+from ..ranging.scan import STATUS_NAMES
 from .camera import Camera
 from .world import World
 
@@ -23,7 +23,7 @@ class FrameTruth:
 
     - ``labels`` (H, W) uint8: what each pixel centre sees, codes of :data:`PIXEL_LABELS`.
     - ``pose`` (3,): world_from_robot; ``world_from_camera`` (3,): the camera ground frame.
-    - ``status`` (W,) uint8: per image column, codes of ``floorscan.scan.STATUS_NAMES``
+    - ``status`` (W,) uint8: per image column, codes of ``floorscan.ranging.scan.STATUS_NAMES``
       (boundary, no_boundary, too_close, invalid); :attr:`status_names` as strings.
     - ``rows`` (W,): boundary row [px], the edge line between the last floor pixel and the
       first obstacle pixel counted from the bottom (a float between their centres); NaN

@@ -11,8 +11,9 @@ import numpy as np
 from .. import _native
 from .._atomic import PathLike
 from ..errors import OptionError
-from ..scan import STATUS_NAMES
+from ..ranging.scan import STATUS_NAMES
 from .camera import Camera
+from .export import write_dataset
 from .render import FrameTruth
 from .robot import Robot, Trajectory
 from .world import World
@@ -85,8 +86,6 @@ class Run:
 
     def write_dataset(self, folder: PathLike, **options: Any):
         """Writes the run as a dataset folder; see :func:`floorscan.sim.write_dataset`."""
-        from .export import write_dataset
-
         return write_dataset(self, folder, **options)
 
 

@@ -20,7 +20,7 @@ class World:
 
     >>> w = World.builtin("room")
     >>> w.name, w.start
-    ('room', (0.5, 0.5, 0.0))
+    ('room', (0.65, 0.5, 0.0))
     >>> sorted(World.builtin_names())
     ['corridor', 'lab', 'room', 'tiles']
     """

@@ -1,0 +1,341 @@
+"""The global occupancy grid (paper IV): log-odds cells fed by visual scans, laser scans and
+sonar readings, each with its own evidence, with the once-per-scan rule (within one scan a
+cell changes at most once, and occupied wins over free).
+
+Frames: poses are ``world_from_robot`` ``(x [m], y [m], yaw [rad])``; mounts are
+``robot_from_sensor`` in the same form (REP 103: x forward, y left, yaw counter-clockwise).
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any, Dict, NamedTuple, Optional, Sequence
+
+import numpy as np
+
+from .. import _native
+from .._atomic import PathLike
+from ..errors import ArgumentTypeError, LengthMismatchError, OptionError
+from ..formats.map_server import pixels_to_units, read_map_image, read_map_yaml, save_map
+from ..ranging.scan import Scan
+from .evidence import EvidenceMap
+from .grid_options import (
+    DEFAULT_MAX_CELLS,
+    EvidenceLike,
+    as_evidence,
+    as_pose,
+    as_poses,
+    grid_options,
+    inserter_options,
+)
+from .grid_views import GridViews, cell_index
+
+
+class InsertStats(NamedTuple):
+    """What an insert did: rays walked, cells visited (counting repeats), cells marked."""
+
+    rays: int
+    cells_traversed: int
+    cells_hit: int
+
+
+def laser_args(ranges, angles, angle_min, angle_increment, *, two_d: bool = False):
+    """Checks a laser layout: explicit ``angles`` [rad], or ``angle_min`` and
+    ``angle_increment`` [rad] (the ``sensor_msgs/LaserScan`` fields)."""
+    r = np.ascontiguousarray(ranges, dtype=np.float64)
+    if r.ndim != (2 if two_d else 1):
+        shape = "(N, B) (scans, beams)" if two_d else "(B,)"
+        raise LengthMismatchError(f"`ranges` must have shape {shape}, got {r.shape}")
+    if angles is not None:
+        if angle_min is not None or angle_increment is not None:
+            raise ArgumentTypeError(
+                "give either `angles` or `angle_min` and `angle_increment`, not both"
+            )
+        a = np.ascontiguousarray(angles, dtype=np.float64)
+        if a.ndim != 1 or a.size != r.shape[-1]:
+            raise LengthMismatchError(f"{r.shape[-1]} ranges per scan but {a.size} angles")
+        return r, a, 0.0, 0.0
+    if angle_min is None or angle_increment is None:
+        raise ArgumentTypeError("give `angles`, or both `angle_min` and `angle_increment`")
+    return r, None, float(angle_min), float(angle_increment)
+
+
+def sonar_args(ranges, mounts):
+    """(K,) ranges and (K, 3) mounts; a single mount (3,) serves every reading."""
+    r = np.ascontiguousarray(np.atleast_1d(np.asarray(ranges, dtype=np.float64)))
+    m = np.asarray(mounts, dtype=np.float64)
+    if m.shape == (3,):
+        m = np.tile(m, (r.size, 1))
+    m = np.ascontiguousarray(m)
+    if r.ndim != 1 or m.shape != (r.size, 3):
+        raise LengthMismatchError(
+            f"{r.size} sonar ranges need {r.size} mounts (x, y, yaw), got shape {np.shape(mounts)}"
+        )
+    return r, m
+
+
+class OccupancyGrid(GridViews):
+    """A global occupancy grid: fixed to the world, growing as the robot explores (tiles of
+    128 x 128 cells allocated on demand, 2 bytes per cell), or with fixed bounds.
+
+    Parameters (all keyword-only):
+        cell_size_m: side of a cell [m], in [0.001, 10]. Default 0.04 (the paper's 4 cm).
+        bounds_m: ``((x_min, y_min), (x_max, y_max))`` [m] for a fixed-size map (rays are
+            clipped to it; a pose outside it raises OutOfBoundsError); default None (grows).
+        origin_m: world position [m] of the corner of cell (0, 0): where the lattice sits.
+        clamp_min_nats, clamp_max_nats: bounds of a cell's log-odds [nats], default -2.0 and
+            3.5 (p 0.12 and 0.97, as OctoMap): the map can follow a changing world.
+        occupied_threshold, free_threshold: probabilities above / below which a cell is
+            occupied / free; default 0.65 and 0.196 (ROS map_server's).
+        visual, laser, sonar: :class:`~floorscan.Evidence` or ``(hit_nats, miss_nats)`` of
+            each sensor. Defaults (0.85, -0.4) for visual scans and lasers (OctoMap's 0.7 /
+            0.4), (0.4, -0.2) for sonar arcs.
+        boundary_margin_rows: floor left unobserved just before a visual boundary, in pixel
+            rows of the boundary's footprint (>= 0, default 0.5; 0 is the paper's rule): the
+            boundary row is uncertain by about half a row, several cells far away.
+        too_close: ``"mark"`` (default: a ``too_close`` column marks the near edge of its
+            field of view) or ``"ignore"``.
+        keep_evidence: also keep, per cell, the unclamped sum of every increment (int32, 4
+            more bytes per cell), for exact merges of maps (:meth:`evidence`,
+            :mod:`floorscan.mapping.evidence`). Default False.
+        max_cells: most cells the map may span (its tiles' bounding box, fixed bounds, or one
+            export), default 2^25 (231 m square at 4 cm): a pose far outside raises
+            OutOfBoundsError instead of allocating (docs/limits.md).
+
+    >>> import floorscan, numpy as np
+    >>> grid = floorscan.OccupancyGrid(cell_size_m=0.1)
+    >>> grid.insert_laser([1.0], angles=[0.0], range_max_m=5.0, pose=(0.05, 0.05, 0.0))
+    InsertStats(rays=1, cells_traversed=11, cells_hit=1)
+    >>> grid.is_occupied(1.05, 0.05), grid.is_free(0.5, 0.05)
+    (True, False)
+    """
+
+    def __init__(
+        self,
+        *,
+        cell_size_m: float = 0.04,
+        bounds_m: Optional[Sequence[Sequence[float]]] = None,
+        origin_m: Sequence[float] = (0.0, 0.0),
+        clamp_min_nats: float = -2.0,
+        clamp_max_nats: float = 3.5,
+        occupied_threshold: float = 0.65,
+        free_threshold: float = 0.196,
+        visual: EvidenceLike = (0.85, -0.4),
+        laser: EvidenceLike = (0.85, -0.4),
+        sonar: EvidenceLike = (0.4, -0.2),
+        too_close: str = "mark",
+        boundary_margin_rows: float = 0.5,
+        keep_evidence: bool = False,
+        max_cells: int = DEFAULT_MAX_CELLS,
+    ) -> None:
+        go = grid_options(
+            cell_size_m=cell_size_m,
+            origin_m=origin_m,
+            bounds_m=bounds_m,
+            clamp_min_nats=clamp_min_nats,
+            clamp_max_nats=clamp_max_nats,
+            occupied_threshold=occupied_threshold,
+            free_threshold=free_threshold,
+            max_cells=max_cells,
+        )
+        io = inserter_options(
+            visual=visual,
+            laser=laser,
+            sonar=sonar,
+            too_close=too_close,
+            boundary_margin_rows=boundary_margin_rows,
+        )
+        self._native = _native.OccupancyGrid(json.dumps(go), json.dumps(io))
+        if keep_evidence:
+            self._native.keep_evidence()
+
+    @classmethod
+    def _wrap(cls, native) -> OccupancyGrid:
+        g = cls.__new__(cls)
+        g._native = native
+        return g
+
+    def copy(self) -> OccupancyGrid:
+        """An independent copy."""
+        return OccupancyGrid._wrap(self._native.copy())
+
+    @property
+    def options(self) -> Dict[str, Any]:
+        """The validated grid and inserter options (the core's serde form)."""
+        return {
+            "grid": json.loads(self._native.grid_options_json),
+            "inserter": json.loads(self._native.inserter_options_json),
+        }
+
+    @property
+    def memory_bytes(self) -> int:
+        """Bytes held: cells, tile directory and the inserter's scratch memory."""
+        return self._native.memory_bytes
+
+    @property
+    def allocated_tiles(self) -> int:
+        """Tiles of 128 x 128 cells allocated so far."""
+        return self._native.allocated_tiles
+
+    def insert_scan(self, scan: Scan, pose, mount=(0.0, 0.0, 0.0)) -> InsertStats:
+        """Inserts one visual :class:`~floorscan.Scan` (points in the camera ground frame)
+        seen from ``pose`` (``world_from_robot``), the camera at ``mount``
+        (``robot_from_camera``: x, y, yaw of the camera ground frame on the robot, as in a
+        dataset's rig.toml ``[camera]``). Free space starts at each column's near edge of view;
+        see :mod:`floorscan.mapping.grid` for the rules. The GIL is released."""
+        if not isinstance(scan, Scan):
+            raise ArgumentTypeError(f"scan must be a floorscan.Scan, got {type(scan).__name__}")
+        return InsertStats(
+            *self._native.insert_scan(scan._native, as_pose(pose, "pose"), as_pose(mount, "mount"))
+        )
+
+    def insert_laser(
+        self,
+        ranges,
+        *,
+        pose,
+        range_max_m: float,
+        range_min_m: float = 0.0,
+        angles=None,
+        angle_min: Optional[float] = None,
+        angle_increment: Optional[float] = None,
+        mount=(0.0, 0.0, 0.0),
+    ) -> InsertStats:
+        """Inserts one laser scan: ``ranges`` (B,) [m], beam ``angles`` (B,) [rad] or
+        ``angle_min`` + ``angle_increment``, seen from ``pose`` (``world_from_robot``) with the
+        laser at ``mount`` (``robot_from_laser``). REP 117: ranges in [range_min_m,
+        range_max_m) mark their cell; ``+inf`` or >= ``range_max_m`` clear up to range_max_m
+        without marking; ``-inf`` or below range_min_m are ignored; NaN raises GeometryError."""
+        r, a, amin, ainc = laser_args(ranges, angles, angle_min, angle_increment)
+        out = self._native.insert_laser(
+            r,
+            a,
+            amin,
+            ainc,
+            float(range_min_m),
+            float(range_max_m),
+            as_pose(pose, "pose"),
+            as_pose(mount, "mount"),
+        )
+        return InsertStats(*out)
+
+    def insert_lasers(
+        self,
+        ranges,
+        *,
+        poses,
+        range_max_m: float,
+        range_min_m: float = 0.0,
+        angles=None,
+        angle_min: Optional[float] = None,
+        angle_increment: Optional[float] = None,
+        mount=(0.0, 0.0, 0.0),
+    ) -> InsertStats:
+        """Many laser scans at once (the fast path): ``ranges`` (N, B) [m], ``poses`` (N, 3)
+        ``world_from_robot`` rows; other arguments as :meth:`insert_laser`. Everything is
+        checked before the first scan goes in (a bad scan leaves the map unchanged); the GIL
+        is released while inserting."""
+        r, a, amin, ainc = laser_args(ranges, angles, angle_min, angle_increment, two_d=True)
+        p = as_poses(poses, "poses")
+        if p.shape[0] != r.shape[0]:
+            raise LengthMismatchError(f"{r.shape[0]} scans but {p.shape[0]} poses")
+        out = self._native.insert_lasers(
+            r, p, a, amin, ainc, float(range_min_m), float(range_max_m), as_pose(mount, "mount")
+        )
+        return InsertStats(*out)
+
+    def insert_sonar(
+        self, ranges, *, pose, beam_width_rad: float, range_max_m: float, mounts=(0.0, 0.0, 0.0)
+    ) -> InsertStats:
+        """Sonar readings fired together at ``pose``: ``ranges`` [m] (a number or (K,)), one
+        mount (``robot_from_sonar``) per reading as (K, 3). The arc at each range gets
+        occupied evidence, the cone inside it free; ``+inf`` or >= range_max_m clears the cone
+        up to range_max_m."""
+        r, m = sonar_args(ranges, mounts)
+        return InsertStats(
+            *self._native.insert_sonar(
+                r, m, float(beam_width_rad), float(range_max_m), as_pose(pose, "pose")
+            )
+        )
+
+    def insert_rays(
+        self, starts, ends, *, hits=True, evidence: EvidenceLike = (0.85, -0.4)
+    ) -> InsertStats:
+        """Any other range sensor: one batch of world rays, ``starts`` and ``ends`` (N, 2) [m];
+        ``hits`` (bool or (N,)) says whether each end is an obstacle. Free space runs from
+        start to end. GIL released."""
+        s = np.ascontiguousarray(starts, dtype=np.float64).reshape(-1, 2)
+        e = np.ascontiguousarray(ends, dtype=np.float64).reshape(-1, 2)
+        h = np.ascontiguousarray(np.broadcast_to(np.asarray(hits, dtype=bool), (s.shape[0],)))
+        ev = as_evidence(evidence, "evidence")
+        return InsertStats(
+            *self._native.insert_rays(s, e, h, float(ev.hit_nats), float(ev.miss_nats))
+        )
+
+    def evidence(self, *, name: str = ""):
+        """The unclamped evidence layer as an :class:`~floorscan.mapping.evidence.EvidenceMap` (the grid
+        must have been made with ``keep_evidence=True``)."""
+        return EvidenceMap.from_grid(self, name=name)
+
+    def write_raw(self, values: np.ndarray, *, x_cell: int, y_cell: int) -> None:
+        """Writes an (H, W) int16 array of log-odds [1/1000 nat] with its first cell at
+        (x_cell, y_cell) (values are clamped to the map's bounds)."""
+        try:
+            v = np.ascontiguousarray(values, dtype=np.int16)
+        except (TypeError, ValueError, OverflowError) as e:
+            raise LengthMismatchError(f"values must be an (H, W) int16 array: {e}") from None
+        if v.ndim != 2:
+            raise LengthMismatchError(f"values must be (H, W), got shape {v.shape}")
+        x, y = cell_index("x_cell", x_cell), cell_index("y_cell", y_cell)
+        self._native.write_values(x, y, v)
+
+    def save(self, path: PathLike, *, mode: str = "trinary", extent=None):
+        """Writes a ROS map_server map: ``path`` (.yaml) and an 8-bit PGM beside it, atomically.
+        See :func:`floorscan.formats.map_server.save_map`."""
+        return save_map(self, path, mode=mode, extent=extent)
+
+    @classmethod
+    def load(cls, path: PathLike, *, grow: bool = False, **options) -> OccupancyGrid:
+        """Reads a ROS map_server map (YAML + PGM/PNG) into a grid whose lattice is the image's:
+        cell (0, 0) is the bottom-left pixel, at the YAML's origin. The grid has the image's
+        fixed bounds, or grows (``grow=True``) if more data is to be added around it.
+        ``options`` are the grid's other options (``cell_size_m``, ``origin_m`` and
+        ``bounds_m`` come from the file). Pixels are read as map_server reads them
+        (:func:`floorscan.formats.map_server.pixels_to_units`)."""
+        for key in ("cell_size_m", "origin_m", "bounds_m"):
+            if key in options:
+                raise OptionError(f"`{key}` comes from the map file; do not pass it")
+        meta = read_map_yaml(path)
+        grey, alpha = read_map_image(meta["image"])
+        res, (ox, oy) = meta["resolution"], meta["origin"]
+        h, w = grey.shape
+        bounds = None
+        if not grow:
+            # A quarter cell inside the image's edges: exactly its cells, whatever the rounding.
+            bounds = (
+                (ox + 0.25 * res, oy + 0.25 * res),
+                (ox + (w - 0.25) * res, oy + (h - 0.25) * res),
+            )
+        grid = cls(cell_size_m=res, origin_m=(ox, oy), bounds_m=bounds, **options)
+        lo, hi, _, _ = grid._native.limits()
+        values = pixels_to_units(grey, alpha, meta, lo, hi)
+        grid.write_raw(np.ascontiguousarray(values[::-1]), x_cell=0, y_cell=0)
+        return grid
+
+    @classmethod
+    def from_evidence(cls, evidence: EvidenceMap) -> OccupancyGrid:
+        """A growing grid on the evidence map's lattice holding its clamped log-odds
+        (:meth:`~floorscan.mapping.evidence.EvidenceMap.clamped`)."""
+        grid = cls(cell_size_m=evidence.cell_size_m, origin_m=evidence.origin_m, **evidence.options)
+        if evidence.values.size:
+            grid.write_raw(evidence.clamped(), x_cell=0, y_cell=0)
+        return grid
+
+    def __repr__(self) -> str:
+        e = self.extent
+        fixed = self._native.fixed_cells
+        kind = "fixed bounds" if fixed else "growing"
+        return (
+            f"OccupancyGrid({kind}, {self.cell_size_m} m cells, "
+            f"extent {e.width} x {e.height} cells at {e.origin_m})"
+        )

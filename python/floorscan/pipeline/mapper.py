@@ -1,0 +1,285 @@
+"""The whole system as the paper's robot ran it: frames and odometry in, scans and occupancy
+maps out. :class:`Mapper` is the per-frame core (ranger + global map + local map);
+:func:`run` drives it over a frame source and writes every output through
+:class:`~floorscan.pipeline.outputs.RunOutputs`.
+"""
+
+from __future__ import annotations
+
+import signal
+import time
+from dataclasses import dataclass, field
+from typing import Dict, Optional, Tuple
+
+import numpy as np
+
+from .._signals import StopRequest
+from ..errors import ConfigError, FloorscanError, ImageError, OutOfBoundsError
+from ..formats.image_io import as_grey
+from ..formats.trajectory import Pose2, Trajectory
+from ..mapping.grid import OccupancyGrid
+from ..mapping.local_map import LocalMap
+from ..ranging.appearance import AppearanceRanger
+from ..ranging.auto_threshold import MIN_AUTO_THRESHOLD, auto_threshold
+from ..ranging.fused import FusedRanger
+from ..ranging.ground_table import GroundTable
+from ..ranging.ranger import VisualRanger
+from ..ranging.scan import Scan
+from .config import Config
+from .sources import FrameSource
+
+PoseTuple = Tuple[float, float, float]
+
+
+RANGER_KINDS = ("edge", "appearance", "fused")
+
+
+def ranger_from_config(table: GroundTable, cfg: Config, **overrides):
+    """The range sensor of ``cfg.ranger.kind`` (edge, appearance or fused) for ``table``;
+    ``overrides`` replace shared ranger options (``columns``, ``bottom_margin``,
+    ``max_range_m``)."""
+    r, a = cfg.ranger, cfg.appearance
+    shared = dict(columns=r.columns, bottom_margin=r.bottom_margin, max_range_m=r.max_range_m)
+    shared.update(overrides)
+    if r.kind not in RANGER_KINDS:
+        raise ConfigError(
+            f"invalid ranger.kind {r.kind!r}: expected one of {', '.join(RANGER_KINDS)}"
+        )
+
+    def edge() -> VisualRanger:
+        return VisualRanger(
+            table, half_width=r.half_width, threshold=r.threshold, refine=r.refine, **shared
+        )
+
+    def appearance() -> AppearanceRanger:
+        return AppearanceRanger(
+            table,
+            reference_fraction=a.reference_fraction,
+            features=a.features,
+            min_floor_share=a.min_floor_share,
+            intensity_reach=a.intensity_reach,
+            patch_half_width=a.patch_half_width,
+            min_run=a.min_run,
+            adaptation_rate=a.adaptation_rate,
+            **shared,
+        )
+
+    if r.kind == "edge":
+        return edge()
+    if r.kind == "appearance":
+        return appearance()
+    return FusedRanger(edge(), appearance(), snap_rows=a.snap_rows)
+
+
+def grid_kwargs(cfg: Config) -> Dict[str, object]:
+    m, s = cfg.map, cfg.sensors
+    return dict(
+        cell_size_m=m.cell_size_m,
+        clamp_min_nats=m.clamp_min_nats,
+        clamp_max_nats=m.clamp_max_nats,
+        occupied_threshold=m.occupied_threshold,
+        free_threshold=m.free_threshold,
+        max_cells=m.max_cells,
+        visual=(s.visual.hit_nats, s.visual.miss_nats),
+        laser=(s.laser.hit_nats, s.laser.miss_nats),
+        sonar=(s.sonar.hit_nats, s.sonar.miss_nats),
+        too_close=s.too_close,
+        boundary_margin_rows=s.boundary_margin_rows,
+    )
+
+
+@dataclass
+class StageTimes:
+    """Wall time per stage [s], summed over the run."""
+
+    decode_s: float = 0.0
+    ranging_s: float = 0.0
+    mapping_s: float = 0.0
+    output_s: float = 0.0
+
+    def as_dict(self) -> Dict[str, float]:
+        return {k: round(v, 6) for k, v in self.__dict__.items()}
+
+
+class Mapper:
+    """Ranger plus a growing global map (world frame) and a robot-centred local map.
+
+    ``robot_from_camera``: (x [m], y [m], yaw [rad]) of the camera ground frame on the robot.
+    Poses passed to :meth:`process` are ``world_from_robot`` (x, y, yaw) from odometry; with
+    ``None`` (no odometry), only the local map is updated, as if the robot stood still.
+    """
+
+    def __init__(
+        self, table: GroundTable, cfg: Config, *, robot_from_camera: PoseTuple = (0.0, 0.0, 0.0)
+    ) -> None:
+        self.cfg = cfg
+        self.ranger = ranger_from_config(table, cfg)
+        self.threshold_pending = cfg.ranger.auto_threshold
+        self.threshold = cfg.ranger.threshold
+        self.texture_noise: Optional[float] = None
+        self.robot_from_camera = tuple(float(v) for v in robot_from_camera)
+        kw = grid_kwargs(cfg)
+        # The global map keeps its unclamped evidence too, so runs merge exactly (evidence.py).
+        self.global_map = OccupancyGrid(keep_evidence=True, **kw)
+        self.local_map = LocalMap(size_m=cfg.map.local_size_m, **kw)
+        self.times = StageTimes()
+        self.frames = 0
+        self.points = 0
+
+    def process(self, image: np.ndarray, *, timestamp: float, pose: Optional[PoseTuple]) -> Scan:
+        if self.threshold_pending:
+            self._set_auto_threshold(image)
+        t0 = time.perf_counter()
+        scan = self.ranger.scan(image, timestamp=timestamp)
+        t1 = time.perf_counter()
+        if pose is not None:
+            self.global_map.insert_scan(scan, pose=pose, mount=self.robot_from_camera)
+            self.local_map.insert_scan(scan, pose=pose, mount=self.robot_from_camera)
+        else:
+            self.local_map.insert_scan(scan, pose=(0.0, 0.0, 0.0), mount=self.robot_from_camera)
+        t2 = time.perf_counter()
+        self.times.ranging_s += t1 - t0
+        self.times.mapping_s += t2 - t1
+        self.frames += 1
+        self.points += int(np.count_nonzero(scan.status_codes == 0))
+        return scan
+
+    def _set_auto_threshold(self, image: np.ndarray) -> None:
+        """The threshold from the first frame's texture noise (ranger.auto_threshold)."""
+        r = self.cfg.ranger
+        t, self.texture_noise = auto_threshold(
+            [as_grey(image)],
+            half_width=r.half_width,
+            columns=self.ranger.columns,
+            k=r.auto_threshold_k,
+            bottom_margin=r.bottom_margin,
+        )
+        self.threshold = max(t, MIN_AUTO_THRESHOLD)
+        cfg = self.cfg.with_overrides(
+            {"ranger.threshold": self.threshold, "ranger.auto_threshold": False}
+        )
+        self.ranger = ranger_from_config(self.ranger.table, cfg)
+        self.threshold_pending = False
+
+
+@dataclass
+class RunStats:
+    frames_in: int = 0
+    frames_mapped: int = 0
+    skipped_unreadable: int = 0
+    skipped_no_odometry: int = 0
+    skipped_wrong_size: int = 0
+    skipped_out_of_map: int = 0
+    dropped_live: int = 0
+    boundary_points: int = 0
+    interrupted: bool = False
+    signal: Optional[int] = None
+    error: Optional[str] = None
+    wall_s: float = 0.0
+    skip_reasons: Dict[str, str] = field(default_factory=dict)
+
+    def as_dict(self) -> Dict[str, object]:
+        d = dict(self.__dict__)
+        d["skip_reasons"] = dict(list(self.skip_reasons.items())[:20])
+        return d
+
+
+def match_pose(odometry: Optional[Trajectory], t: float) -> Tuple[Optional[Pose2], bool]:
+    """(pose, ok): the interpolated pose at ``t``; ok is False when odometry exists but does
+    not cover ``t`` (the frame is skipped and counted, never guessed)."""
+    if odometry is None:
+        return None, True
+    p = odometry.pose_at(t)
+    return p, p is not None
+
+
+def run(
+    source: FrameSource,
+    mapper: Mapper,
+    outputs,
+    *,
+    strict: bool = False,
+    progress=None,
+) -> RunStats:
+    """Runs the mapper over every frame of ``source``; outputs are always finalised, on
+    SIGINT (Ctrl-C), SIGTERM, SIGHUP and on error too, so the map built so far is never lost.
+    A signal stops the run after the current frame; see :mod:`floorscan._signals`."""
+    stats = RunStats()
+    start = time.perf_counter()
+    shape = (mapper.ranger.table.image_height, mapper.ranger.table.image_width)
+    stop = StopRequest()
+    source.bind_stop(stop)
+    with stop.installed():
+        try:
+            with stop.loop():
+                _frame_loop(source, mapper, outputs, stats, shape, stop, strict, progress)
+        except KeyboardInterrupt as e:
+            stats.interrupted = True
+            stats.signal = getattr(e, "signum", int(signal.SIGINT))
+        except FloorscanError as e:
+            stats.error = str(e)
+            raise
+        finally:
+            if progress is not None:
+                progress.close()
+            source.close()
+            if stop.requested:
+                stats.interrupted = True
+                stats.signal = stats.signal or stop.signum
+            stats.dropped_live = source.dropped
+            stats.boundary_points = mapper.points
+            stats.wall_s = time.perf_counter() - start
+            outputs.finish(mapper, stats)
+    return stats
+
+
+def _frame_loop(source, mapper, outputs, stats, shape, stop, strict, progress) -> None:
+    frames = iter(source)
+    while not stop.requested:
+        t_dec = time.perf_counter()
+        frame = next(frames, None)
+        mapper.times.decode_s += time.perf_counter() - t_dec
+        if frame is None:
+            break
+        stats.frames_in += 1
+        if frame.image is None:
+            if strict:
+                raise ImageError(f"frame {frame.index} (t={frame.timestamp}): {frame.error}")
+            stats.skipped_unreadable += 1
+            stats.skip_reasons.setdefault(f"frame {frame.index}", frame.error or "unreadable")
+            continue
+        if frame.image.shape[:2] != shape:
+            msg = f"frame {frame.index} is {frame.image.shape[1]}x{frame.image.shape[0]}, the calibration is for {shape[1]}x{shape[0]}"
+            if strict:
+                raise ImageError(msg)
+            stats.skipped_wrong_size += 1
+            stats.skip_reasons.setdefault(f"frame {frame.index}", msg)
+            continue
+        pose, ok = match_pose(source.odometry, frame.timestamp)
+        if not ok:
+            if strict:
+                raise FloorscanError(
+                    f"frame {frame.index} at t={frame.timestamp} is outside the odometry's time range"
+                )
+            stats.skipped_no_odometry += 1
+            continue
+        pose_t = pose.as_tuple() if pose is not None else None
+        try:
+            scan = mapper.process(frame.image, timestamp=frame.timestamp, pose=pose_t)
+        except OutOfBoundsError as e:
+            # A pose outside the map's limits ([map] max_cells): wrong odometry, not a map.
+            if strict:
+                raise
+            stats.skipped_out_of_map += 1
+            stats.skip_reasons.setdefault(f"frame {frame.index}", str(e))
+            continue
+        stats.frames_mapped += 1
+        t_out = time.perf_counter()
+        outputs.on_frame(frame, scan, pose_t, mapper)
+        mapper.times.output_s += time.perf_counter() - t_out
+        if progress is not None:
+            progress.update(
+                stats.frames_in,
+                skipped=stats.frames_in - stats.frames_mapped,
+                dropped=source.dropped,
+            )

@@ -1,0 +1,311 @@
+"""Everything ``floorscan run`` writes into its output folder, written as the run goes and
+finalised (atomically, file by file) at the end, on Ctrl-C and on error:
+
+- ``map.yaml`` + ``map.pgm`` (ROS map_server) and ``map.png``: the global map;
+- ``map.evidence.npz``: its unclamped evidence, for exact merges (evidence.py);
+- ``local/local_<t>.png``: local map snapshots every N seconds (the paper's Fig. 2);
+- ``scans.csv``: every scan in the public CSV format;
+- ``bag/``: a ROS 2 bag with ``/scan`` (sensor_msgs/LaserScan) and ``/map``
+  (nav_msgs/OccupancyGrid);
+- ``overlay.gif`` (or ``.mp4``): frames with the boundary points circled (Fig. 1b);
+- ``summary.json``: counts, per-stage timings, the configuration used.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from pathlib import Path
+from typing import List, Optional
+
+import numpy as np
+
+from .._atomic import _make_readable, write_atomic
+from ..errors import OptionError, OutputError
+from ..formats.rosbag import Ros2BagWriter
+from ..ranging.overlay import draw_scan_overlay
+from ..ranging.scan import SCAN_CSV_HEADER, Scan
+from .config import Config
+
+
+def _proc_status_mb(key: str) -> Optional[float]:
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith(key):
+                return round(int(line.split()[1]) / 1024, 1)
+    except OSError:
+        pass
+    return None
+
+
+def resident_mb() -> Optional[float]:
+    """Resident memory of this process [MB] (Linux; None elsewhere)."""
+    return _proc_status_mb("VmRSS:")
+
+
+def peak_resident_mb() -> Optional[float]:
+    """Peak resident memory of this process [MB] (Linux; None elsewhere)."""
+    return _proc_status_mb("VmHWM:")
+
+
+OVERLAY_FORMATS = ("gif", "mp4", "none")
+BAG_STORAGES = ("mcap", "sqlite3")
+MIN_LASER_INCREMENT_RAD = 1e-4
+"""Finest LaserScan bin (at most 62 832 bins over a full turn)."""
+
+
+def _bad(key: str, why: str, value) -> OptionError:
+    return OptionError(f"invalid option `outputs.{key}`: {why}, got {value!r}")
+
+
+def check_outputs(o) -> None:
+    """The ``[outputs]`` options' ranges (OptionError naming the key)."""
+    if o.overlay not in OVERLAY_FORMATS:
+        raise _bad("overlay", f"expected one of {', '.join(OVERLAY_FORMATS)}", o.overlay)
+    if o.bag_storage not in BAG_STORAGES:
+        raise _bad("bag_storage", f"expected one of {', '.join(BAG_STORAGES)}", o.bag_storage)
+    if not 1 <= o.overlay_max_frames <= 100_000:
+        raise _bad("overlay_max_frames", "must be in 1..=100000", o.overlay_max_frames)
+    if not 1 <= o.overlay_max_mb <= 65_536:
+        raise _bad("overlay_max_mb", "must be in 1..=65536 [MB]", o.overlay_max_mb)
+    p = o.local_snapshot_period_s
+    if not (math.isfinite(p) and p >= 0):
+        raise _bad("local_snapshot_period_s", "must be finite and >= 0 (0 disables)", p)
+    inc = o.laser_angle_increment_rad
+    if not (math.isfinite(inc) and MIN_LASER_INCREMENT_RAD <= inc <= math.pi):
+        raise _bad("laser_angle_increment_rad", "must be in [1e-4, pi] rad", inc)
+
+
+class RunOutputs:
+    def __init__(self, out_dir, cfg: Config, *, expected_frames: Optional[int] = None) -> None:
+        check_outputs(cfg.outputs)
+        self.out = Path(out_dir)
+        try:
+            self.out.mkdir(parents=True, exist_ok=True)
+        except FileExistsError:
+            raise OutputError(f"output folder {self.out} exists and is not a folder") from None
+        except OSError as e:
+            raise OutputError(f"cannot create output folder {self.out}: {e.strerror}") from None
+        if not os.access(self.out, os.W_OK | os.X_OK):
+            raise OutputError(f"output folder {self.out} is not writable")
+        self.cfg = cfg
+        self.finishing = False
+        self._bag = None
+        self._csv = None
+        self._csv_tmp: Optional[str] = None
+        try:
+            fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
+            self._csv = os.fdopen(fd, "w", encoding="utf-8")
+            self._open(cfg, expected_frames)
+        except BaseException:
+            self._discard_temporaries()  # interrupted or failed while opening: leave nothing
+            raise
+
+    def _open(self, cfg: Config, expected_frames: Optional[int]) -> None:
+        o = cfg.outputs
+        _make_readable(self._csv_tmp)
+        self._csv.write(SCAN_CSV_HEADER + "\n")
+        # Overlay frames live in one buffer allocated (and touched) at the first frame, so memory
+        # stays flat over a run however long; frames wider than 480 px are halved.
+        self._overlay: Optional[np.ndarray] = None
+        self._overlay_n = 0
+        self._overlay_cap = o.overlay_max_frames
+        self._expected_frames = expected_frames
+        self._overlay_every = (
+            max(1, (expected_frames or 0) // max(o.overlay_max_frames, 1)) if expected_frames else 1
+        )
+        self._frame_count = 0
+        self._next_snapshot: Optional[float] = None
+        self.snapshots: List[Path] = []
+        self._laser_range: Optional[tuple] = None
+        self.extra_summary: dict = {}
+        self.memory_samples: List[tuple] = []
+        if o.bag:
+            self._bag = Ros2BagWriter(self.out / "bag", storage=o.bag_storage)
+
+    # --- per frame ----------------------------------------------------------------------
+    def laser_angles(self, scan: Scan) -> tuple:
+        """Fixed angular range of the LaserScan conversion, set from the first scan's columns."""
+        if self._laser_range is None:
+            inc = self.cfg.outputs.laser_angle_increment_rad
+            b = scan.bearings[np.isfinite(scan.bearings)]
+            lo, hi = (float(b.min()), float(b.max())) if b.size else (-0.5, 0.5)
+            self._laser_range = (math.floor(lo / inc) * inc, math.ceil(hi / inc) * inc, inc)
+        return self._laser_range
+
+    def on_frame(self, frame, scan: Scan, pose, mapper) -> None:
+        self.extra_summary["last_timestamp"] = scan.timestamp
+        if pose is not None:
+            self.extra_summary.setdefault("first_pose", list(pose))
+        self._csv.write(scan.csv_lines())
+        if self._bag is not None:
+            lo, hi, inc = self.laser_angles(scan)
+            self._bag.write_laser_scan(
+                scan.timestamp, scan.to_laser_scan(angle_min=lo, angle_max=hi, angle_increment=inc)
+            )
+        o = self.cfg.outputs
+        if (
+            o.overlay != "none"
+            and self._frame_count % self._overlay_every == 0
+            and self._overlay_n < self._overlay_cap
+        ):
+            self._keep_overlay(draw_scan_overlay(frame.image, scan))
+        if self._frame_count % 600 == 0:
+            self.memory_samples.append((self._frame_count, resident_mb()))
+        self._frame_count += 1
+        period = o.local_snapshot_period_s
+        if period > 0:
+            if self._next_snapshot is None:
+                self._next_snapshot = scan.timestamp + period
+            elif scan.timestamp >= self._next_snapshot:
+                self.snapshot_local(mapper, scan.timestamp)
+                self._next_snapshot += period * max(
+                    1, math.floor((scan.timestamp - self._next_snapshot) / period) + 1
+                )
+
+    def _keep_overlay(self, rgb: np.ndarray) -> None:
+        while rgb.shape[1] > 480:
+            rgb = rgb[::2, ::2]
+        if self._overlay is None:
+            # Bounded by overlay_max_mb: fewer frames, spread over the run, when they are big.
+            o = self.cfg.outputs
+            fit = max(1, (o.overlay_max_mb << 20) // max(rgb.nbytes, 1))
+            self._overlay_cap = min(o.overlay_max_frames, fit)
+            if self._expected_frames:
+                self._overlay_every = max(1, self._expected_frames // self._overlay_cap)
+            self._overlay = np.full((self._overlay_cap,) + rgb.shape, 0, dtype=np.uint8)
+        self._overlay[self._overlay_n] = rgb
+        self._overlay_n += 1
+
+    def snapshot_local(self, mapper, t: float) -> Path:
+        path = self.out / "local" / f"local_{t:010.2f}.png"
+        mapper.local_map.to_png(path)
+        self.snapshots.append(path)
+        return path
+
+    # --- end of run ---------------------------------------------------------------------
+    def finish(self, mapper, stats) -> None:
+        """Writes every output. Each is written whole or not at all: a failing output does
+        not stop the others (the first error is raised after them all), and an interrupt
+        leaves no temporary file behind."""
+        steps = [
+            self._finish_scans,
+            lambda: self._finish_map(mapper),
+            self._write_overlay,
+            lambda: self._write_summary(mapper, stats),
+        ]
+        self.finishing = True
+        first: Optional[BaseException] = None
+        try:
+            for step in steps:
+                try:
+                    step()
+                except Exception as e:  # noqa: PERF203 - each output on its own
+                    first = first or e
+        except BaseException:
+            self._discard_temporaries()
+            raise
+        self._discard_temporaries()
+        if first is not None:
+            raise first
+
+    def _finish_scans(self) -> None:
+        self._csv.close()
+        os.replace(self._csv_tmp, self.out / "scans.csv")
+
+    def _finish_map(self, mapper) -> None:
+        grid = mapper.global_map
+        grid.save(self.out / "map.yaml")
+        grid.to_png(self.out / "map.png")
+        grid.evidence(name=self.out.name).save(self.out / "map.evidence.npz")
+        if mapper.frames:
+            mapper.local_map.to_png(self.out / "local" / "local_final.png")
+        if self._bag is not None:
+            bag, self._bag = self._bag, None
+            try:
+                data, resolution, origin = grid.to_occupancy_grid()
+                bag.write_occupancy_grid(
+                    float(self.extra_summary.get("last_timestamp", 0.0)),
+                    data,
+                    resolution_m=resolution,
+                    origin_xy_yaw=origin,
+                )
+                bag.close()
+            except BaseException:
+                bag.abort()
+                raise
+
+    def discard(self) -> None:
+        """Abandons a run that never started: removes the temporary files (see finish)."""
+        self._discard_temporaries()
+
+    def _discard_temporaries(self) -> None:
+        """Removes what an interrupted or failed finish left: the scans' temporary file, an
+        unfinished bag, a half-written overlay."""
+        if self._csv is not None and not self._csv.closed:
+            self._csv.close()
+        if self._csv_tmp is not None:
+            Path(self._csv_tmp).unlink(missing_ok=True)
+        if self._bag is not None:
+            bag, self._bag = self._bag, None
+            try:
+                bag.abort()
+            except Exception:  # the temporary bag folder is removed either way
+                pass
+        for name in (".overlay.tmp.gif", ".overlay.tmp.mp4"):
+            (self.out / name).unlink(missing_ok=True)
+
+    def _write_overlay(self) -> None:
+        o = self.cfg.outputs
+        if o.overlay == "none" or self._overlay is None or self._overlay_n == 0:
+            return
+        kept = self._overlay[: self._overlay_n]
+        if o.overlay == "mp4":
+            import cv2
+
+            h, w = kept[0].shape[:2]
+            tmp = self.out / ".overlay.tmp.mp4"
+            vw = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), 10.0, (w, h))
+            for f in kept:
+                vw.write(np.ascontiguousarray(f[..., ::-1]))
+            vw.release()
+            os.replace(tmp, self.out / "overlay.mp4")
+            return
+        from PIL import Image
+
+        frames = [Image.fromarray(f) for f in kept]
+        tmp = self.out / ".overlay.tmp.gif"
+        frames[0].save(
+            tmp, save_all=True, append_images=frames[1:], duration=100, loop=0, optimize=False
+        )
+        os.replace(tmp, self.out / "overlay.gif")
+
+    def _write_summary(self, mapper, stats) -> None:
+        t = mapper.times
+        n = max(mapper.frames, 1)
+        summary = {
+            "counts": stats.as_dict(),
+            "timings_s": t.as_dict(),
+            "ms_per_frame": {
+                "ranging": 1e3 * t.ranging_s / n,
+                "mapping": 1e3 * t.mapping_s / n,
+                "decode": 1e3 * t.decode_s / max(stats.frames_in, 1),
+            },
+            "points_per_frame": mapper.points / n,
+            "memory_mb": {"resident_by_frame": self.memory_samples, "peak": peak_resident_mb()},
+            "outputs": sorted(
+                str(p.relative_to(self.out))
+                for p in self.out.rglob("*")
+                if p.is_file() and not p.name.startswith(".")
+            ),
+            "config": self.cfg.to_dict(),
+            "ranger_threshold": {
+                "used": mapper.threshold,
+                "texture_noise": mapper.texture_noise,
+                "automatic": mapper.cfg.ranger.auto_threshold,
+            },
+            **self.extra_summary,
+        }
+        write_atomic(self.out / "summary.json", json.dumps(summary, indent=2, default=float))

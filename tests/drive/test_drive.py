@@ -1,0 +1,200 @@
+"""floorscan.drive: contact geometry against analytic distances, the ideal laser against
+analytic ranges, the closed loop against the simulator's truth on a world written here (not
+one the defaults were chosen on), the forgetting of a removed obstacle, options, the CLI."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from floorscan import OptionError
+from floorscan.drive import AvoidanceMap, DriveOptions, Solids, drive, make_table
+from floorscan.ranging.ranger import VisualRanger
+from floorscan.sim import Camera, World, render
+
+HALL = """
+name = "test hall"
+seed = 7
+tour = [[5.2, 1.5]]
+[start]
+x = 0.6
+y = 1.5
+yaw = 0.0
+[coverings.carpet]
+kind = "carpet"
+brightness = 0.33
+contrast = 0.07
+[lighting]
+ambient = 0.5
+grid = { spacing_m = 2.0, power = 0.7 }
+[[walls]]
+from = [0.0, 0.0]
+to = [6.0, 0.0]
+[[walls]]
+from = [6.0, 0.0]
+to = [6.0, 3.0]
+[[walls]]
+from = [6.0, 3.0]
+to = [0.0, 3.0]
+[[walls]]
+from = [0.0, 3.0]
+to = [0.0, 0.0]
+"""
+
+BOX = """
+[[boxes]]
+center = [2.8, 1.5]
+size = [0.45, 0.45]
+height_m = 0.6
+appearance = "metal"
+"""
+
+
+def test_clearance_is_the_distance_to_a_wall_face():
+    wall = [[1.0, -2.0], [1.1, -2.0], [1.1, 2.0], [1.0, 2.0]]
+    s = Solids.of_polygons([wall])
+    assert s.clearance(0.5, 0.0) == pytest.approx(0.5)
+    assert s.clearance(0.5, 2.3) == pytest.approx(math.hypot(0.5, 0.3))
+    assert s.clearance(1.05, 0.0) == 0.0  # inside
+    assert Solids.of_polygons([]).clearance(0, 0) == math.inf
+
+
+def test_ideal_laser_ranges_match_analytic_geometry():
+    wall = [[1.0, -5.0], [1.1, -5.0], [1.1, 5.0], [1.0, 5.0]]
+    s = Solids.of_polygons([wall])
+    angles = np.array([0.0, 0.5, -0.5, math.pi])
+    r = s.laser((0.0, 0.0, 0.0), angles, range_max_m=4.0)
+    assert r[0] == pytest.approx(1.0)
+    assert r[1] == pytest.approx(1.0 / math.cos(0.5))
+    assert r[2] == pytest.approx(1.0 / math.cos(0.5))
+    assert r[3] == math.inf  # REP 117: no return
+    r = s.laser((0.0, 0.0, 0.3), np.array([0.0]), range_max_m=4.0)
+    assert r[0] == pytest.approx(1.0 / math.cos(0.3))
+
+
+def test_world_solids_leave_out_table_tops_above_the_robot():
+    w = World.from_toml(HALL + "\n[[tables]]\ncenter = [3.0, 1.5]\nsize = [1.0, 0.6]\n")
+    s = Solids.of_world(w)
+    # under the top, between the legs (inset 5 cm, 5 cm wide): 0.2 m to the nearest leg side
+    assert s.clearance(3.0, 1.5) == pytest.approx(math.hypot(0.5 - 0.1, 0.3 - 0.1), abs=1e-6)
+
+
+@pytest.mark.parametrize("sensor", ["laser", "camera"])
+def test_the_robot_steers_around_a_box_on_the_route(sensor):
+    world = World.from_toml(HALL + BOX)
+    truth = Solids.of_world(world)
+    result = drive(world, DriveOptions(seconds=40, table="exact", sensor=sensor, keep_frames=0))
+    s = result.summary()
+    assert s["collisions"] == 0
+    assert s["waypoints_reached"] == 1
+    poses = np.asarray(result.record.poses)
+    # the robot passed the box (beyond its far face) without its footprint touching it
+    assert poses[:, 0].max() > 3.1
+    clear = [truth.clearance(x, y) for x, y, _ in poses]
+    assert min(clear) > result.options.costmap.robot_radius_m
+    assert s["min_clearance_m"] == pytest.approx(min(clear) - 0.18, abs=1e-4)
+    # it went around, not through: somewhere beside the box it was off the straight line
+    beside = np.abs(poses[:, 0] - 2.8) < 0.1
+    assert np.abs(poses[beside, 1] - 1.5).min() > 0.2 + 0.18
+
+
+def test_the_robot_stops_before_a_wall_across_the_route():
+    world = World.from_toml(HALL + "\n[[boxes]]\nrect = [2.5, 0.0, 2.6, 3.0]\nheight_m = 1.0\n")
+    result = drive(
+        world,
+        DriveOptions(
+            seconds=25, table="exact", sensor="camera", keep_frames=0, waypoint_timeout_s=10
+        ),
+    )
+    s = result.summary()
+    assert s["collisions"] == 0
+    assert s["waypoints_reached"] == 0
+    poses = np.asarray(result.record.poses)
+    assert poses[:, 0].max() < 2.5 - 0.18
+
+
+def test_summary_fields_agree_with_the_record():
+    world = World.from_toml(HALL)
+    r = drive(world, DriveOptions(seconds=10, sensor="laser", keep_frames=0))
+    s = r.summary()
+    for key in (
+        "collisions",
+        "distance_m",
+        "waypoints_reached",
+        "waypoints_total",
+        "min_clearance_m",
+        "mean_speed_m_s",
+    ):
+        assert key in s
+    poses = np.asarray(r.record.poses)
+    d = np.hypot(*np.diff(poses[:, :2], axis=0).T).sum()
+    assert s["distance_m"] == pytest.approx(d, abs=1e-3)
+    assert s["mean_speed_m_s"] == pytest.approx(d / s["duration_s"], abs=1e-3)
+    assert s["mean_speed_m_s"] <= 0.3 + 1e-9
+    assert s["waypoints_total"] == 1
+
+
+def test_a_removed_obstacle_clears_from_the_avoidance_map():
+    camera = Camera()
+    table = make_table(camera, "exact")
+    ranger = VisualRanger(table, columns=160)
+    pose = (0.8, 1.5, 0.0)
+    with_box, without = World.from_toml(HALL + BOX), World.from_toml(HALL)
+    m = AvoidanceMap(center=pose[:2])
+    box_x, box_y = m.to_cells(np.array([2.57, 2.57]), np.array([1.45, 1.55]))
+    cells = (box_y.astype(int), box_x.astype(int))  # the box's near face (x = 2.575)
+    for k in range(3):
+        image, _ = render(with_box, camera, pose, frame=k)
+        m.insert_visual(ranger.scan(image), pose, mount=camera.robot_from_camera, table=table)
+    assert m.occupancy_classes()[cells].tolist() == [2, 2]
+    frames = None
+    for k in range(10):
+        m.decay(0.1)
+        image, _ = render(without, camera, pose, frame=10 + k)
+        m.insert_visual(ranger.scan(image), pose, mount=camera.robot_from_camera, table=table)
+        if (m.occupancy_classes()[cells] == 0).all():
+            frames = k + 1
+            break
+    assert frames is not None and frames <= 3
+
+
+def test_options_are_validated():
+    with pytest.raises(OptionError):
+        DriveOptions(speed_m_s=0.0)
+    with pytest.raises(OptionError):
+        DriveOptions(sensor="sonar")
+    with pytest.raises(OptionError):
+        DriveOptions(table="guess")
+
+
+def test_cli_drive_end_to_end(tmp_path):
+    world = tmp_path / "hall.toml"
+    world.write_text(HALL + BOX)
+    out = tmp_path / "out"
+    cmd = [
+        sys.executable,
+        "-m",
+        "floorscan",
+        "drive",
+        "--world",
+        str(world),
+        "--seconds",
+        "3",
+        "--table",
+        "exact",
+        "-o",
+        str(out),
+    ]
+    subprocess.run(cmd, check=True, capture_output=True)
+    s = json.loads((out / "summary.json").read_text())
+    assert s["collisions"] == 0 and s["waypoints_total"] == 1 and s["distance_m"] > 0.3
+    for name in ("map.yaml", "map.pgm", "path.png", "drive.gif"):
+        assert (out / name).stat().st_size > 0
+    bad = subprocess.run(
+        cmd[:-2] + ["--speed", "-1", "-o", str(tmp_path / "x")], capture_output=True, text=True
+    )
+    assert bad.returncode != 0 and "speed" in bad.stderr

@@ -1,0 +1,111 @@
+"""floorscan eval: the quick suite on a reduced scenario produces a table that agrees with its
+JSON and whose group figures follow from the per-scenario ones; a dataset with truth is scored
+as the scoring functions score it directly."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from floorscan.cli import main
+from floorscan.evaluation.scenarios import Scenario, quick_suite, with_lighting
+
+
+def _table_rows(md: str, section: str):
+    block = md.split(section, 1)[1].split("\n## ", 1)[0]
+    rows = [line for line in block.splitlines() if line.startswith("| ")][1:]
+    return [[c.strip() for c in r.strip("|").split("|")] for r in rows]
+
+
+@pytest.fixture(scope="module")
+def quick_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("eval")
+    assert main(["eval", "--quick", "--seconds", "2", "-o", str(out)]) == 0
+    return out, (out / "report.md").read_text(), json.loads((out / "report.json").read_text())
+
+
+def test_quick_table_has_one_row_per_scenario_matching_the_json(quick_report):
+    _, md, doc = quick_report
+    names = [s.name for s in quick_suite(seconds=2)]
+    rows = _table_rows(md, "## Per scenario")
+    assert [r[0] for r in rows] == names
+    assert [s["scenario"]["name"] for s in doc["scenarios"]] == names
+    for row, s in zip(rows, doc["scenarios"]):
+        m = s["metrics"]
+        assert row[1] == str(m["frames"]) == "21"
+        assert row[2] == f"{100 * m['boundary']['error_rate']:.1f}"
+        assert m["boundary"]["columns"] == 21 * 64
+        agr = m["map"]["true_poses"]["agreement"]
+        assert row[5].endswith(f"{100 * agr:.1f}") and 0.0 <= agr <= 1.0
+
+
+def test_group_figures_pool_the_scenarios(quick_report):
+    _, md, doc = quick_report
+    by_group = {}
+    for s in doc["scenarios"]:
+        by_group.setdefault(s["scenario"]["group"], []).append(s["metrics"])
+    assert set(doc["groups"]) == set(by_group) == {"carpet", "overhanging table"}
+    for group, ms in by_group.items():
+        g = doc["groups"][group]
+        cols = sum(m["boundary"]["columns"] for m in ms)
+        wrong = sum(m["boundary"]["columns"] * m["boundary"]["error_rate"] for m in ms)
+        assert g["boundary"]["columns"] == cols
+        assert g["boundary"]["error_rate"] == pytest.approx(wrong / cols)
+        assert g["frames"] == sum(m["frames"] for m in ms)
+        views = [f for m in ms for f in m["reliable_local_map"]["frames_per_view"]]
+        assert g["reliable_local_map"]["frames_per_view"] == views
+    group_rows = _table_rows(md, "## Per world group")
+    assert [r[0] for r in group_rows] == ["carpet", "overhanging table"]
+    assert "## Goals" in md
+    # Every band's point count adds up to the boundary points scored in both.
+    b = doc["groups"]["carpet"]["boundary"]
+    assert sum(v["points"] for v in b["by_range"].values()) <= b["boundary_points"]
+
+
+def test_worst_frame_pictures_are_written(quick_report):
+    out, _, doc = quick_report
+    assert doc["worst_pictures"]
+    for p in doc["worst_pictures"]:
+        assert (out / p).stat().st_size > 0
+
+
+def test_eval_of_a_dataset_with_truth_matches_direct_scoring(tmp_path):
+    from floorscan.evaluation.scoring import score_columns, summarise_columns
+    from floorscan.ranging.ranger import VisualRanger
+    from floorscan.sim import World, simulate_run
+
+    run = simulate_run(World.builtin("room"), seconds=1.0, seed=4, threads=2)
+    ds = run.write_dataset(tmp_path / "ds")
+    out = tmp_path / "out"
+    table_path = tmp_path / "table.json"
+    table = run.camera.ground_table(spacing_px=8)
+    table.save(table_path)
+    rc = main(
+        ["eval", str(ds), "--truth", str(ds / "truth"), "--table", str(table_path), "-o", str(out)]
+    )
+    assert rc == 0
+    doc = json.loads((out / "report.json").read_text())
+    m = doc["scenarios"][0]["metrics"]
+    ranger = VisualRanger(table)
+    expected = summarise_columns(
+        [
+            score_columns(ranger.scan(run.images[k]), run.truth.status[k], run.truth.points[k])
+            for k in range(len(run))
+        ]
+    )
+    assert m["frames"] == len(run)
+    assert m["boundary"]["error_rate"] == pytest.approx(expected.error_rate)
+    assert m["boundary"]["columns"] == expected.columns
+    assert set(m["map"]) == {"odometry", "true_poses"}
+
+
+def test_lighting_is_written_into_the_world_file():
+    text = with_lighting(
+        "name = 'x'\n[lighting]\nambient = 0.5\n[[walls]]\nfrom = [0, 0]\n", 0.4, 0.1
+    )
+    assert "[lighting]\nambient = 0.5\nexposure = 0.4\nexposure_jitter = 0.1\n[[walls]]" in text
+    text = with_lighting("[lighting]\nexposure = 1.0\nexposure_jitter = 0.03\n", 1.5, 0.08)
+    assert text.count("exposure =") == 1 and "exposure = 1.5" in text
+    assert "exposure_jitter = 0.08" in text
+    world = Scenario("corridor", lighting="dim").build_world()
+    assert world.name == "corridor"

@@ -1,0 +1,89 @@
+"""ROS 1 and ROS 2 bags written with rosbags are read back: images, odometry, scans, maps."""
+
+from __future__ import annotations
+
+import floorscan
+import numpy as np
+import pytest
+from floorscan.formats.rosbag import (
+    Ros2BagWriter,
+    bag_topics,
+    iter_bag_images,
+    read_bag_odometry,
+    write_image_odometry_bag,
+)
+from floorscan.formats.trajectory import Trajectory
+
+
+def frames(n=3, h=24, w=32):
+    rng = np.random.default_rng(1)
+    return [(10.0 + 0.1 * i, rng.integers(0, 256, size=(h, w), dtype=np.uint8)) for i in range(n)]
+
+
+ODOM = Trajectory(
+    [9.95, 10.05, 10.15, 10.25], [0.0, 0.1, 0.2, 0.3], [0.0, 0.0, 0.01, 0.02], [0.0, 0.1, -3.1, 3.1]
+)
+
+
+@pytest.mark.parametrize("ros_version,name", [(1, "test.bag"), (2, "test_bag")])
+@pytest.mark.parametrize("compressed", [False, True])
+def test_images_and_odometry_round_trip(tmp_path, ros_version, name, compressed):
+    fr = frames()
+    path = write_image_odometry_bag(
+        tmp_path / name, fr, ODOM, ros_version=ros_version, compressed=compressed
+    )
+    topics = bag_topics(path)
+    assert topics["/odom"] == "nav_msgs/msg/Odometry"
+    got = list(iter_bag_images(path, image_topic="/camera/image_raw"))
+    assert [t for t, _, _ in got] == pytest.approx([t for t, _ in fr])
+    assert [e for _, _, e in got] == [None] * len(fr)
+    for (_, a, _), (_, b) in zip(got, fr):
+        np.testing.assert_array_equal(a, b)
+    odo = read_bag_odometry(path, odom_topic="/odom")
+    np.testing.assert_allclose(odo.x, ODOM.x)
+    np.testing.assert_allclose(np.cos(odo.yaw - ODOM.yaw), 1.0, atol=1e-9)
+
+
+def test_missing_topic_and_missing_bag_are_dataset_errors(tmp_path):
+    path = write_image_odometry_bag(tmp_path / "b", frames(1), ODOM, ros_version=2)
+    with pytest.raises(floorscan.DatasetError, match="no topic '/camera'"):
+        list(iter_bag_images(path, image_topic="/camera"))
+    with pytest.raises(floorscan.DatasetError, match="expected"):
+        list(iter_bag_images(path, image_topic="/odom"))
+    with pytest.raises(floorscan.DatasetError, match="not found"):
+        read_bag_odometry(tmp_path / "nope", odom_topic="/odom")
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_laser_scans_and_maps_are_written_and_read_back(tmp_path, storage):
+    from rosbags.highlevel import AnyReader
+
+    w = Ros2BagWriter(tmp_path / "out", storage=storage)
+    laser = dict(
+        angle_min=-0.5,
+        angle_max=0.5,
+        angle_increment=0.5,
+        range_min=0.1,
+        range_max=3.0,
+        ranges=np.array([1.0, np.inf, 2.5]),
+    )
+    w.write_laser_scan(1.5, laser)
+    grid = np.array([[-1, 0, 100], [50, -1, 0]], dtype=np.int8)
+    w.write_occupancy_grid(2.0, grid, resolution_m=0.04, origin_xy_yaw=(-1.0, -2.0, 0.0))
+    path = w.close()
+    with AnyReader([path]) as reader:
+        msgs = {c.topic: reader.deserialize(raw, c.msgtype) for c, _, raw in reader.messages()}
+    np.testing.assert_array_equal(msgs["/scan"].ranges, np.array([1.0, np.inf, 2.5], np.float32))
+    assert msgs["/scan"].header.stamp.sec == 1 and msgs["/scan"].header.stamp.nanosec == 500_000_000
+    m = msgs["/map"]
+    assert (m.info.width, m.info.height) == (3, 2) and m.info.resolution == pytest.approx(0.04)
+    np.testing.assert_array_equal(m.data.reshape(2, 3), grid)
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]
+
+
+def test_negative_times_are_refused_before_any_file_is_written(tmp_path):
+    with pytest.raises(floorscan.DatasetError, match=">= 0"):
+        write_image_odometry_bag(
+            tmp_path / "neg", [(-1.0, np.zeros((4, 4), np.uint8))], ODOM, ros_version=2
+        )
+    assert not (tmp_path / "neg").exists()

@@ -1,0 +1,143 @@
+"""The appearance ranger (floorscan.AppearanceRanger) and the fused ranger: against an
+independent numpy implementation of the same method on random textured floors with
+obstacles, against known boundaries, and on bad input."""
+
+from __future__ import annotations
+
+import floorscan as fs
+import numpy as np
+import pytest
+from appearance_reference import appearance_scan
+from floorscan.evaluation.floor_masks import image_row_table
+from floorscan.pipeline.config import Config
+from floorscan.pipeline.mapper import ranger_from_config
+from floorscan.ranging.fused import FusedRanger
+
+W, H = 96, 72
+
+
+def textured_scene(seed: int):
+    """A floor of random tiles from a small palette with noise, and obstacles of other colours
+    (random boxes, one touching the bottom)."""
+    rng = np.random.default_rng(seed)
+    palette = rng.integers(60, 200, size=(3, 3))
+    tiles = rng.integers(0, 3, size=(H // 6 + 1, W // 6 + 1))
+    img = palette[np.kron(tiles, np.ones((6, 6), int))[:H, :W]]
+    obstacle = np.zeros((H, W), bool)
+    for _ in range(4):
+        u0, u1 = sorted(rng.integers(0, W, 2))
+        base = int(rng.integers(5, H - 12))
+        obstacle[:base, u0 : u1 + 1] = True
+    u = int(rng.integers(0, W - 6))
+    obstacle[:, u : u + 6] = rng.random() < 0.5
+    colours = rng.integers(0, 256, size=(4, 3))
+    img = np.where(obstacle[..., None], colours[rng.integers(0, 4, size=(H, W))], img)
+    img = img + rng.integers(-5, 6, size=img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("features", ["colour", "colour_texture"])
+def test_matches_an_independent_numpy_implementation(seed, features):
+    img = textured_scene(seed)
+    opts = dict(min_floor_share=0.01, intensity_reach=1 + seed % 2, min_run=2 + seed % 3)
+    r = fs.AppearanceRanger(
+        image_row_table(W, H),
+        columns=W,
+        bottom_margin=0,
+        max_range_m=None,
+        features=features,
+        reference_fraction=0.15,
+        patch_half_width=seed % 3,
+        **opts,
+    )
+    scan = r.scan(img)
+    status, rows = appearance_scan(
+        img,
+        np.arange(W),
+        start_row=H - 1,
+        reference_fraction=0.15,
+        min_share=opts["min_floor_share"],
+        intensity_reach=opts["intensity_reach"],
+        patch_half_width=seed % 3,
+        min_run=opts["min_run"],
+        texture=features == "colour_texture",
+    )
+    np.testing.assert_array_equal(scan.status_codes, status)
+    np.testing.assert_array_equal(scan.rows, rows)
+    assert np.all((scan.confidence >= 0) & (scan.confidence <= 1))
+
+
+def test_a_wall_of_another_colour_over_a_plain_floor():
+    img = np.zeros((H, W, 3), np.uint8)
+    img[40:] = (120, 110, 90)
+    img[:40] = (30, 60, 160)
+    r = fs.AppearanceRanger(image_row_table(W, H), columns=8, max_range_m=None)
+    scan = r.scan(img, timestamp=2.0)
+    assert list(scan.status) == ["boundary"] * 8
+    np.testing.assert_array_equal(scan.rows, 39.5)
+    assert scan.timestamp == 2.0
+    assert r.frames_learned == 1
+    r.reset_model()
+    assert r.frames_learned == 0
+    # Grey input: every channel the same; a wall more than one intensity bin darker.
+    grey = np.full((H, W), 106, np.uint8)
+    grey[:40] = 30
+    np.testing.assert_array_equal(r.scan(grey).rows, 39.5)
+
+
+def test_bad_input_raises_floorscan_errors():
+    r = fs.AppearanceRanger(image_row_table(W, H), columns=8)
+    with pytest.raises(fs.ImageError):
+        r.scan(np.zeros((H, W + 1, 3), np.uint8))
+    with pytest.raises(fs.ImageTypeError):
+        r.scan(np.zeros((H, W, 3), np.float32))
+    with pytest.raises(fs.ImageError):
+        r.scan(np.zeros((H, W, 2), np.uint8))
+    for bad in (
+        dict(min_floor_share=0.0),
+        dict(adaptation_rate=1.5),
+        dict(reference_fraction=0.9),
+        dict(min_run=0),
+        dict(intensity_reach=0),
+        dict(features="hsv"),
+        dict(columns=0),
+    ):
+        with pytest.raises(fs.OptionError):
+            fs.AppearanceRanger(image_row_table(W, H), **bad)
+
+
+def test_fused_takes_nearby_edges_and_ignores_grout_lines():
+    # A plain floor with a thin grey grout line at row 60 (in the reference band: floor to the
+    # appearance model, an edge to the edge ranger) and a blue wall from row 30 up.
+    img = np.zeros((H, W, 3), np.uint8)
+    img[:] = (150, 140, 120)
+    img[60] = (90, 90, 90)
+    img[:30] = (30, 60, 160)
+    table = image_row_table(W, H)
+    edge = fs.VisualRanger(table, columns=8, max_range_m=None, threshold=5, half_width=2)
+    app = fs.AppearanceRanger(table, columns=8, max_range_m=None, reference_fraction=0.3)
+    e, a = edge.scan(img), app.scan(img)
+    assert np.all(e.rows > 55)  # the edge ranger stops at the grout line
+    np.testing.assert_array_equal(a.rows, 29.5)
+    fused = FusedRanger(edge, app, snap_rows=3).scan(img)
+    np.testing.assert_array_equal(fused.rows, 29.5)
+    # Edge and appearance agree at the wall once the grout line is gone: the edge's row wins.
+    img[60] = img[61]
+    fused = FusedRanger(edge, app, snap_rows=3).scan(img)
+    np.testing.assert_array_equal(fused.rows, edge.scan(img).rows)
+    with pytest.raises(fs.OptionError):
+        FusedRanger(edge, app, snap_rows=-1)
+    with pytest.raises(fs.OptionError):
+        FusedRanger(edge, fs.AppearanceRanger(table, columns=4), snap_rows=1)
+
+
+@pytest.mark.parametrize("kind", ["edge", "appearance", "fused"])
+def test_config_kind_builds_that_ranger(kind):
+    cfg = Config().with_overrides({"ranger.kind": kind, "appearance.min_run": 4})
+    r = ranger_from_config(image_row_table(W, H), cfg, max_range_m=None)
+    expected = {"edge": fs.VisualRanger, "appearance": fs.AppearanceRanger, "fused": FusedRanger}
+    assert isinstance(r, expected[kind])
+    assert len(r.scan(textured_scene(0))) == 64
+    with pytest.raises(fs.FloorscanError):
+        ranger_from_config(image_row_table(W, H), Config().with_overrides({"ranger.kind": "x"}))

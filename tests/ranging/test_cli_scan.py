@@ -1,0 +1,116 @@
+"""`floorscan scan` and `floorscan overlay` end to end."""
+
+from __future__ import annotations
+
+import numpy as np
+from conftest import affine_table
+from floorscan import read_scans_csv
+from floorscan.cli import main
+from floorscan.formats.image_io import read_grey, write_png
+
+
+def make_inputs(tmp_path):
+    h, w = 48, 64
+    table = affine_table(w, h)
+    table.save(tmp_path / "table.json")
+    v = np.arange(h)[:, None]
+    paths = []
+    for i, edge in enumerate((20, 25)):
+        img = (np.where(v >= edge, 90, 180) * np.ones((1, w))).astype(np.uint8)
+        paths.append(write_png(tmp_path / f"f{i}.png", img))
+    return table, paths
+
+
+def test_scan_command_writes_the_csv(tmp_path):
+    _, paths = make_inputs(tmp_path)
+    out = tmp_path / "scans.csv"
+    rc = main(
+        [
+            "scan",
+            "--table",
+            str(tmp_path / "table.json"),
+            *map(str, paths),
+            "-o",
+            str(out),
+            "--columns",
+            "8",
+            "--threshold",
+            "20",
+        ]
+    )
+    assert rc == 0
+    scans = read_scans_csv(out)
+    assert [s.timestamp for s in scans] == [0.0, 1.0]
+    np.testing.assert_array_equal(scans[0].rows, 19.5)
+    np.testing.assert_array_equal(scans[1].rows, 24.5)
+
+
+def test_scan_command_reads_dataset_timestamps(tmp_path):
+    _, paths = make_inputs(tmp_path)
+    ds = tmp_path / "ds"
+    (ds / "images").mkdir(parents=True)
+    for i, p in enumerate(paths):
+        p.rename(ds / "images" / f"{i:06d}.png")
+    (ds / "images.txt").write_text(
+        "# timestamp path\n10.5 images/000000.png\n10.6 images/000001.png\n"
+    )
+    out = tmp_path / "scans.csv"
+    assert main(["scan", "--table", str(tmp_path / "table.json"), str(ds), "-o", str(out)]) == 0
+    assert [s.timestamp for s in read_scans_csv(out)] == [10.5, 10.6]
+
+
+def test_overlay_command_draws_on_the_image(tmp_path):
+    _, paths = make_inputs(tmp_path)
+    out = tmp_path / "overlay.png"
+    assert (
+        main(
+            [
+                "overlay",
+                "--table",
+                str(tmp_path / "table.json"),
+                str(paths[0]),
+                "-o",
+                str(out),
+                "--columns",
+                "8",
+            ]
+        )
+        == 0
+    )
+    from PIL import Image
+
+    rgb = np.asarray(Image.open(out))
+    assert rgb.shape == (48, 64, 3)
+    # Green circles were drawn near the boundary row 19.5 and nowhere near the bottom.
+    green = (rgb[..., 1] > 200) & (rgb[..., 0] < 100)
+    rows = np.nonzero(green)[0]
+    assert rows.size > 0 and rows.min() >= 15 and rows.max() <= 24
+
+
+def test_bad_inputs_exit_with_a_message(tmp_path, capsys):
+    _, paths = make_inputs(tmp_path)
+    (tmp_path / "broken.png").write_bytes(b"not a png")
+    rc = main(
+        [
+            "scan",
+            "--table",
+            str(tmp_path / "table.json"),
+            str(tmp_path / "broken.png"),
+            "-o",
+            str(tmp_path / "s.csv"),
+        ]
+    )
+    assert rc == 1
+    assert "cannot read image" in capsys.readouterr().err
+    rc = main(
+        [
+            "scan",
+            "--table",
+            str(tmp_path / "nope.json"),
+            str(paths[0]),
+            "-o",
+            str(tmp_path / "s.csv"),
+        ]
+    )
+    assert rc == 1
+    assert read_grey(paths[0]).shape == (48, 64)
