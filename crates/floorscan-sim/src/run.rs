@@ -1,7 +1,9 @@
 //! A whole simulated run: the robot's trajectory rendered frame by frame, with the truth of
-//! every frame. Frames can be rendered on several threads; the result does not depend on it.
+//! every frame. Frames are rendered on a rayon pool of the asked number of threads; the result
+//! does not depend on it.
 
 use floorscan_core::Pose2;
+use rayon::prelude::*;
 
 use crate::camera::CameraRays;
 use crate::error::{invalid_option, Result};
@@ -69,45 +71,43 @@ pub fn render_run(
         exposures: vec![0.0; n],
     };
     let mut truths: Vec<Option<FrameTruth>> = vec![None; n];
-    let per = n.div_ceil(outputs.threads).max(1);
-    let results: Vec<Result<()>> = std::thread::scope(|s| {
-        let mut handles = Vec::new();
-        let mut images = run.images.chunks_mut(per * px);
-        let mut labels = run.labels.chunks_mut(per * px);
-        let exposures = run.exposures.chunks_mut(per);
-        let truth_chunks = truths.chunks_mut(per);
-        for (chunk, (exp, tr)) in exposures.zip(truth_chunks).enumerate() {
-            let img = images.next().unwrap_or_default();
-            let lab = labels.next().unwrap_or_default();
-            let first = chunk * per;
-            handles.push(s.spawn(move || -> Result<()> {
-                let mut buf = RenderBuffers::default();
-                for (k, e) in exp.iter_mut().enumerate() {
-                    let f = first + k;
-                    render_into(scene, rays, poses[f], seed, f as u64, &mut buf)?;
-                    img[k * px..(k + 1) * px].copy_from_slice(&buf.image);
+    if n == 0 || px == 0 {
+        return Ok(run);
+    }
+    // One frame per task on a pool of exactly `threads` workers (rayon balances the frames,
+    // whose cost varies with the view); each worker reuses its render buffers.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(outputs.threads)
+        .build()
+        .map_err(|e| invalid_option("threads", format!("cannot start the render threads: {e}")))?;
+    let mut labels: Vec<&mut [u8]> = if outputs.labels {
+        run.labels.chunks_mut(px).collect()
+    } else {
+        (0..n).map(|_| Default::default()).collect()
+    };
+    pool.install(|| {
+        run.images
+            .par_chunks_mut(px)
+            .zip(labels.par_iter_mut())
+            .zip(run.exposures.par_iter_mut())
+            .zip(truths.par_iter_mut())
+            .enumerate()
+            .try_for_each_init(
+                RenderBuffers::default,
+                |buf, (f, (((img, lab), e), tr))| -> Result<()> {
+                    render_into(scene, rays, poses[f], seed, f as u64, buf)?;
+                    img.copy_from_slice(&buf.image);
                     if !lab.is_empty() {
-                        lab[k * px..(k + 1) * px].copy_from_slice(&buf.labels);
+                        lab.copy_from_slice(&buf.labels);
                     }
                     *e = buf.exposure;
                     if let Some(opts) = &outputs.truth {
-                        tr[k] = Some(frame_truth(scene, rays, poses[f], opts));
+                        *tr = Some(frame_truth(scene, rays, poses[f], opts));
                     }
-                }
-                Ok(())
-            }));
-        }
-        handles
-            .into_iter()
-            .map(|h| {
-                h.join()
-                    .unwrap_or_else(|_| Err(invalid_option("threads", "a render thread failed")))
-            })
-            .collect()
-    });
-    for r in results {
-        r?;
-    }
+                    Ok(())
+                },
+            )
+    })?;
     run.truth = truths.into_iter().flatten().collect();
     Ok(run)
 }

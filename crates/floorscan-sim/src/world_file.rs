@@ -281,20 +281,15 @@ fn d_true() -> bool {
     true
 }
 
+/// `[lighting]`: every field has a default (`impl Default`), so a world may leave any out.
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 struct LightingFile {
-    #[serde(default = "d_ambient")]
     ambient: f64,
-    #[serde(default = "d_one")]
     exposure: f64,
-    #[serde(default = "d_jitter")]
     exposure_jitter: f64,
-    #[serde(default = "d_wall_factor")]
     wall_factor: f64,
-    #[serde(default = "d_ceiling_brightness")]
     ceiling_brightness: f64,
-    #[serde(default)]
     lights: Vec<LightFile>,
     grid: Option<LightGridFile>,
 }
@@ -302,31 +297,15 @@ struct LightingFile {
 impl Default for LightingFile {
     fn default() -> Self {
         Self {
-            ambient: d_ambient(),
-            exposure: d_one(),
-            exposure_jitter: d_jitter(),
-            wall_factor: d_wall_factor(),
-            ceiling_brightness: d_ceiling_brightness(),
+            ambient: 0.45,
+            exposure: 1.0,
+            exposure_jitter: 0.03,
+            wall_factor: 0.75,
+            ceiling_brightness: 0.6,
             lights: vec![],
             grid: None,
         }
     }
-}
-
-fn d_ambient() -> f64 {
-    0.45
-}
-fn d_one() -> f64 {
-    1.0
-}
-fn d_jitter() -> f64 {
-    0.03
-}
-fn d_wall_factor() -> f64 {
-    0.75
-}
-fn d_ceiling_brightness() -> f64 {
-    0.6
 }
 fn d_power() -> f64 {
     0.8
