@@ -2,17 +2,7 @@
 (a physical camera model fitted, with a predicted error per node), with an error report and an
 overlay picture (the paper's Fig. 1c); and checking a table on another image.
 
-A simulated photo of the paper's line grid, calibrated (a real photo and its pattern file,
-``calibrate(image, "pattern.toml")``, go the same way):
-
->>> from floorscan.calibration import Pattern, calibrate
->>> from floorscan.sim import Camera, render_calibration
->>> image, laid = render_calibration(Camera(), kind="lines")
->>> table, report = calibrate(image, Pattern.from_toml(laid.to_toml()))
->>> (table.image_width, table.image_height), report.model_name in FAMILIES
-((320, 240), True)
->>> bool(abs(report.residual_m[report.used]).max() < 0.02)   # every used point within 2 cm
-True
+Start at :func:`calibrate` (its example calibrates a simulated photo); docs/calibration.md.
 """
 
 from .build import calibrate

@@ -69,6 +69,15 @@ class Pattern:
     - ``near_left``: (x, y) [m], the inner corner / crossing nearest the camera, furthest left.
     - ``yaw``: [rad] rotation of the away axis from +x, counter-clockwise. Default 0.
     - ``line_width_m``: [m] width of the lines (``lines`` only), in (0, step / 2]. Default 0.02.
+
+    >>> board = Pattern.from_toml('''
+    ... kind = "checkerboard"
+    ... inner_corners = [7, 5]
+    ... square = 0.031
+    ... near_left = [0.16, 0.093]
+    ... ''')
+    >>> board.counts, board.ground_of([0, 6], [0, 4]).round(3).tolist()
+    ((7, 5), [[0.16, 0.093], [0.284, -0.093]])
     """
 
     kind: PatternKind
