@@ -65,18 +65,24 @@ def calibrate_board_photo(image: np.ndarray, **options):
     raise AssertionError("no turn of the board matched")
 
 
-def test_opencv_board_photos_held_out_corner_error():
+@pytest.fixture(scope="module")
+def board_photos():
+    """Every OpenCV sample photo calibrated once (no near field: the camera is not on the
+    board's plane), shared by the tests below: (name, table, report) each."""
     folder = require_shared_data("calibration", "opencv-left")
     paths = sorted(folder.glob("left*.jpg"))
     assert len(paths) >= 10
+    return [(p.name, *calibrate_board_photo(read_grey(p), near_field=False)) for p in paths]
+
+
+def test_opencv_board_photos_held_out_corner_error(board_photos):
     worst_rms = worst_max = 0.0
-    for path in paths:
-        _table, report = calibrate_board_photo(read_grey(path))
-        assert report.points_found == 54, path.name
+    for name, _table, report in board_photos:
+        assert report.points_found == 54, name
         rms, peak = report.loo_rms_cm / 100, report.loo_max_cm / 100  # squares
         worst_rms, worst_max = max(worst_rms, rms), max(worst_max, peak)
-        assert rms <= HELD_OUT_RMS_SQUARES, (path.name, rms)
-        assert peak <= HELD_OUT_MAX_SQUARES, (path.name, peak)
+        assert rms <= HELD_OUT_RMS_SQUARES, (name, rms)
+        assert peak <= HELD_OUT_MAX_SQUARES, (name, peak)
     # The bound is not loose by an order of magnitude either.
     assert worst_max > HELD_OUT_MAX_SQUARES / 10
 
@@ -119,18 +125,17 @@ OPENCV_AGREEMENT_MAX_SQUARES = 0.1
 OPENCV_AGREEMENT_RMS_SQUARES = 0.01
 
 
-def test_opencv_board_photos_agree_with_opencvs_multi_view_calibration():
+def test_opencv_board_photos_agree_with_opencvs_multi_view_calibration(board_photos):
     import cv2
 
     folder = require_shared_data("calibration", "opencv-left")
     fs = cv2.FileStorage(str(folder / "left_intrinsics.yml"), cv2.FILE_STORAGE_READ)
     k = fs.getNode("camera_matrix").mat()
     dist = fs.getNode("distortion_coefficients").mat().ravel()
-    for path in sorted(folder.glob("left*.jpg")):
-        table, report = calibrate_board_photo(read_grey(path), near_field=False)
+    for name, table, report in board_photos:
         obj = np.c_[report.ground_points, np.zeros(len(report.ground_points))]
         ok, rvec, tvec = cv2.solvePnP(obj, report.image_points.astype(np.float64), k, dist)
-        assert ok, path.name
+        assert ok, name
         rot, _ = cv2.Rodrigues(rvec)
         v, u = np.mgrid[0:480:4, 0:640:4].astype(np.float64)
         x, y = table.lookup(u, v)
@@ -141,9 +146,9 @@ def test_opencv_board_photos_agree_with_opencvs_multi_view_calibration():
         centre = -rot.T @ tvec.ravel()
         hit = centre + (-centre[2] / rays[:, 2])[:, None] * rays
         e = np.hypot(hit[:, 0] - x[seen], hit[:, 1] - y[seen])
-        assert e.size > 2000, path.name
-        assert e.max() <= OPENCV_AGREEMENT_MAX_SQUARES, (path.name, e.max())
-        assert np.sqrt(np.mean(e**2)) <= OPENCV_AGREEMENT_RMS_SQUARES, (path.name, e)
+        assert e.size > 2000, name
+        assert e.max() <= OPENCV_AGREEMENT_MAX_SQUARES, (name, e.max())
+        assert np.sqrt(np.mean(e**2)) <= OPENCV_AGREEMENT_RMS_SQUARES, (name, e)
 
 
 def test_duckietown_with_its_own_intrinsics():

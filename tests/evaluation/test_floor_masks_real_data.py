@@ -4,10 +4,9 @@ end on every frame; the figures themselves are reported in EVALUATION.md, not as
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
+from conftest import shared_data_dir
 from floorscan.evaluation.floor_eval import floor_ranger_factory
 from floorscan.evaluation.floor_masks import (
     floor_types,
@@ -18,7 +17,7 @@ from floorscan.evaluation.floor_masks import (
 )
 from floorscan.pipeline.config import Config
 
-FLOORS = Path(__file__).resolve().parents[1] / ".." / "shared" / "data" / "floors"
+FLOORS = shared_data_dir() / "floors"
 pytestmark = pytest.mark.skipif(
     not (FLOORS / "masks").is_dir(), reason=f"real floor data not found at {FLOORS}"
 )

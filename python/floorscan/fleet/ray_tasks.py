@@ -38,6 +38,10 @@ def connect(ray, address: str, workers: Optional[int]) -> bool:
     return True
 
 
+WAIT_S = 0.5
+"""Longest wait for a task between two looks at signals [s]."""
+
+
 def map_on_ray(recs, out: Path, map_one, bar, address: str, workers, max_retries: int):
     """(results in the order of ``recs``, interrupted)."""
     ray = import_ray()
@@ -50,7 +54,9 @@ def map_on_ray(recs, out: Path, map_one, bar, address: str, workers, max_retries
         interrupted = False
         try:
             while pending:
-                ready, pending = ray.wait(pending, num_returns=1)
+                # A timeout, so that Python runs (and a Ctrl-C is raised) at least twice a
+                # second even while ray.wait would block in native code.
+                ready, pending = ray.wait(pending, num_returns=1, timeout=WAIT_S)
                 for ref in ready:
                     k = refs[ref]
                     results[k] = _outcome(ray, ref, recs[k])
