@@ -23,7 +23,8 @@ def corridor():
     if missing:
         pytest.skip(f"floorscan.sim lacks {missing}: the simulator API this test uses has changed")
     world = sim.World.builtin("corridor")
-    run = sim.simulate_run(world, seconds=150.0, seed=3, labels=False, truth=True)  # the whole tour
+    # the whole tour, rendered on both cores (the frames do not depend on it)
+    run = sim.simulate_run(world, seconds=150.0, seed=3, labels=False, truth=True, threads=2)
     return world, run, world.occupancy(resolution_m=CELL_M)
 
 
