@@ -6,11 +6,13 @@ use crate::world::World;
 use crate::world_file::parse_world;
 
 /// (name, file text) of every built-in world.
-pub const BUILTIN_WORLDS: [(&str, &str); 4] = [
+pub const BUILTIN_WORLDS: [(&str, &str); 6] = [
     ("corridor", include_str!("../worlds/corridor.toml")),
     ("room", include_str!("../worlds/room.toml")),
     ("lab", include_str!("../worlds/lab.toml")),
     ("tiles", include_str!("../worlds/tiles.toml")),
+    ("parquet", include_str!("../worlds/parquet.toml")),
+    ("patterned", include_str!("../worlds/patterned.toml")),
 ];
 
 /// Names of the built-in worlds.

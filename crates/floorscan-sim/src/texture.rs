@@ -49,6 +49,29 @@ pub enum FloorPattern {
         grout_albedo: f64,
         variation: f64,
     },
+    /// Wooden planks (parquet, laminate) running along world x: `plank_m` wide, `length_m`
+    /// long, each row's joints staggered; each plank's tone varies by `variation`, grain
+    /// streaks along the plank have relative amplitude `grain`, and the joints between planks
+    /// are dark lines `joint_m` wide of albedo `joint_albedo`.
+    Wood {
+        plank_m: f64,
+        length_m: f64,
+        grain: f64,
+        variation: f64,
+        joint_m: f64,
+        joint_albedo: f64,
+    },
+    /// Carpet (as [`FloorPattern::Carpet`]) printed with a diamond pattern of period
+    /// `pattern_m` whose two tones differ by `pattern_contrast` (relative): a textured floor
+    /// with large regular edges, as in offices, hotels and malls.
+    PatternedCarpet {
+        contrast: f64,
+        grain_m: f64,
+        mottle: f64,
+        mottle_m: f64,
+        pattern_m: f64,
+        pattern_contrast: f64,
+    },
     /// Plain paper with a faint texture.
     Paper,
     /// A checkerboard: squares of side `square_m` whose inner corners are at
@@ -133,6 +156,12 @@ impl Covering {
             } => (1.0 / grain_m, 1.0 / mottle_m),
             FloorPattern::Linoleum { mottle_m, .. } => (1.0 / mottle_m, 0.0),
             FloorPattern::Tiles { tile_m, .. } => (1.0 / tile_m, 0.0),
+            FloorPattern::Wood {
+                plank_m, length_m, ..
+            } => (1.0 / plank_m, 1.0 / length_m),
+            FloorPattern::PatternedCarpet {
+                grain_m, mottle_m, ..
+            } => (1.0 / grain_m, 1.0 / mottle_m),
             _ => (0.0, 0.0),
         };
         PreparedCovering {
@@ -218,6 +247,71 @@ impl PreparedCovering {
                     fp,
                 )) as f32;
                 (tile * (1.0 + speck)) * (1.0 - g) + *grout_albedo as f32 * g
+            }
+            FloorPattern::Wood {
+                plank_m,
+                length_m,
+                grain,
+                variation,
+                joint_m,
+                joint_albedo,
+            } => {
+                // Plank rows across y; along x, each row's joints shifted by a hashed fraction
+                // of the plank length (a staggered floor, not a grid).
+                let ty = p.y * self.inv_a;
+                let row = fast_floor(ty);
+                let shift = 0.5 * (1.0 + hash2(row, 0, seed ^ 0x5EED) as f64);
+                let tx = p.x * self.inv_b + shift;
+                let col = fast_floor(tx);
+                let plank = a * (1.0 + *variation as f32 * hash2(col, row, seed));
+                // Grain: streaks along the plank (stretched noise), fading with the footprint.
+                let streak =
+                    value_noise(p.x * (1.0 / 0.15), p.y * (1.0 / 0.0025), seed ^ col as u64);
+                let wood = plank * (1.0 + *grain as f32 * 2.4 * detail(0.0025, fp) * streak);
+                // Joints: along the plank edges (offset 0 in y) and at the butt ends (in x).
+                let dy = (ty - row as f64 - 0.5).abs() * plank_m;
+                let dx = (tx - col as f64 - 0.5).abs() * length_m;
+                let g = line_coverage(plank_m / 2.0 - dy, *joint_m, fp).max(line_coverage(
+                    length_m / 2.0 - dx,
+                    *joint_m,
+                    fp,
+                )) as f32;
+                wood * (1.0 - g) + *joint_albedo as f32 * g
+            }
+            FloorPattern::PatternedCarpet {
+                contrast,
+                grain_m,
+                mottle,
+                pattern_m,
+                pattern_contrast,
+                ..
+            } => {
+                let k = detail(*grain_m, fp);
+                let (gx, gy) = (p.x * self.inv_a, p.y * self.inv_a);
+                let fine = if k >= 0.5 {
+                    value_noise(gx, gy, seed)
+                } else if k > 0.02 {
+                    VALUE_NOISE_STD / HASH_STD * hash2(fast_floor(gx), fast_floor(gy), seed)
+                } else {
+                    0.0
+                };
+                let coarse = value_noise(p.x * self.inv_b, p.y * self.inv_b, seed ^ 0xAA);
+                // Diamonds: squares turned 45 degrees, blended across their edges over the
+                // pixel's footprint (anti-aliased like the checkerboard).
+                let u = (p.x + p.y) / pattern_m;
+                let v = (p.x - p.y) / pattern_m;
+                let parity = (fast_floor(u) + fast_floor(v)).rem_euclid(2) == 0;
+                let edge = (u - u.round()).abs().min((v - v.round()).abs()) * pattern_m
+                    / std::f64::consts::SQRT_2;
+                let w = ((edge * fp.inv) + 0.5).clamp(0.5, 1.0) as f32;
+                let pc = *pattern_contrast as f32;
+                let (own, other) = if parity {
+                    (1.0 + pc, 1.0 - pc)
+                } else {
+                    (1.0 - pc, 1.0 + pc)
+                };
+                let tone = own * w + other * (1.0 - w);
+                a * tone * (1.0 + *contrast as f32 * 2.4 * k * fine + *mottle as f32 * 2.4 * coarse)
             }
             FloorPattern::Paper => {
                 a * (1.0 + 0.02 * detail(0.002, fp) * value_noise(p.x * 500.0, p.y * 500.0, seed))
@@ -374,6 +468,88 @@ mod tests {
         let far = std_along(&c, 0.04);
         assert!(near / 0.4 < 0.15, "relative std {}", near / 0.4);
         assert!(far < near * 0.6, "near {near} far {far}");
+    }
+
+    fn covering(pattern: FloorPattern) -> Covering {
+        Covering {
+            name: "floor".into(),
+            class: CoveringClass::Other,
+            albedo: 0.5,
+            pattern,
+            seed: 11,
+        }
+    }
+
+    #[test]
+    fn wood_joints_are_dark_planks_vary_and_rows_are_staggered() {
+        let c = covering(FloorPattern::Wood {
+            plank_m: 0.1,
+            length_m: 1.0,
+            grain: 0.0,
+            variation: 0.2,
+            joint_m: 0.004,
+            joint_albedo: 0.1,
+        });
+        let fp = 0.0005;
+        // On the long joint between two rows (y = 0.1) the floor is the joint's albedo.
+        assert!((c.albedo_at(Point2::new(0.37, 0.1), fp) - 0.1).abs() < 1e-3);
+        // Across one plank (no grain) the tone is constant; planks differ from each other.
+        let tone = |x: f64, y: f64| c.albedo_at(Point2::new(x, y), fp);
+        assert!((tone(0.30, 0.03) - tone(0.30, 0.07)).abs() < 1e-6);
+        let tones: Vec<f32> = (0..12).map(|r| tone(0.3, 0.05 + 0.1 * r as f64)).collect();
+        let spread = tones.iter().cloned().fold(f32::MIN, f32::max)
+            - tones.iter().cloned().fold(f32::MAX, f32::min);
+        assert!(spread > 0.05, "{tones:?}");
+        // Butt joints: along a row, exactly one dark joint per plank length, and not at the
+        // same x in every row.
+        let joints = |y: f64| -> Vec<f64> {
+            (0..4000)
+                .map(|i| i as f64 * 0.001)
+                .filter(|&x| tone(x, y) < 0.2)
+                .collect()
+        };
+        let (a, b) = (joints(0.05), joints(0.15));
+        assert!(!a.is_empty() && !b.is_empty());
+        let first = |v: &[f64]| v[0];
+        assert!(
+            (first(&a) - first(&b)).abs() > 0.01,
+            "rows not staggered: {a:?} {b:?}"
+        );
+        let runs = a.windows(2).filter(|w| w[1] - w[0] > 0.01).count() + 1;
+        assert!(
+            (3..=5).contains(&runs),
+            "{runs} joints in 4 m of 1 m planks"
+        );
+    }
+
+    #[test]
+    fn patterned_carpet_has_two_tones_of_the_given_contrast() {
+        let c = covering(FloorPattern::PatternedCarpet {
+            contrast: 0.0,
+            grain_m: 0.004,
+            mottle: 0.0,
+            mottle_m: 0.5,
+            pattern_m: 0.3,
+            pattern_contrast: 0.25,
+        });
+        let fp = 0.0005;
+        // Diamond centres: (u, v) = (0.5, 0.5) and (1.5, 0.5) in pattern units.
+        let at = |u: f64, v: f64| {
+            let (x, y) = ((u + v) * 0.15, (u - v) * 0.15);
+            c.albedo_at(Point2::new(x, y), fp)
+        };
+        let (light, dark) = (at(0.5, 0.5), at(1.5, 0.5));
+        assert!(
+            (light.max(dark) - 0.5 * 1.25).abs() < 1e-4,
+            "{light} {dark}"
+        );
+        assert!(
+            (light.min(dark) - 0.5 * 0.75).abs() < 1e-4,
+            "{light} {dark}"
+        );
+        // Far away (a footprint wider than the diamonds' edges blend) the tones average out.
+        let far = c.albedo_at(Point2::new(0.0, 0.0), 0.3);
+        assert!((far - 0.5).abs() < 0.07, "{far}");
     }
 
     #[test]

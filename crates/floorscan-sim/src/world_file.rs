@@ -107,9 +107,61 @@ enum CoveringFile {
         #[serde(default = "d_variation")]
         variation: f64,
     },
+    Wood {
+        brightness: f64,
+        #[serde(default = "d_plank")]
+        plank_m: f64,
+        #[serde(default = "d_plank_length")]
+        length_m: f64,
+        #[serde(default = "d_wood_grain")]
+        grain: f64,
+        #[serde(default = "d_variation")]
+        variation: f64,
+        #[serde(default = "d_joint")]
+        joint_m: f64,
+        #[serde(default = "d_joint_brightness")]
+        joint_brightness: f64,
+    },
+    PatternedCarpet {
+        brightness: f64,
+        #[serde(default = "d_contrast")]
+        contrast: f64,
+        #[serde(default = "d_grain")]
+        grain_m: f64,
+        #[serde(default = "d_mottle")]
+        mottle: f64,
+        #[serde(default = "d_mottle_m")]
+        mottle_m: f64,
+        #[serde(default = "d_pattern")]
+        pattern_m: f64,
+        #[serde(default = "d_pattern_contrast")]
+        pattern_contrast: f64,
+    },
     Paper {
         brightness: f64,
     },
+}
+
+fn d_plank() -> f64 {
+    0.12
+}
+fn d_plank_length() -> f64 {
+    1.2
+}
+fn d_wood_grain() -> f64 {
+    0.08
+}
+fn d_joint() -> f64 {
+    0.002
+}
+fn d_joint_brightness() -> f64 {
+    0.35
+}
+fn d_pattern() -> f64 {
+    0.3
+}
+fn d_pattern_contrast() -> f64 {
+    0.2
 }
 
 fn d_contrast() -> f64 {
@@ -538,6 +590,61 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
                         grout_m,
                         grout_albedo: grout_brightness,
                         variation,
+                    },
+                )
+            }
+            CoveringFile::Wood {
+                brightness,
+                plank_m,
+                length_m,
+                grain,
+                variation,
+                joint_m,
+                joint_brightness,
+            } => {
+                positive(plank_m, format!("{field}.plank_m"), &err)?;
+                positive(length_m, format!("{field}.length_m"), &err)?;
+                positive(joint_m, format!("{field}.joint_m"), &err)?;
+                (
+                    CoveringClass::Other,
+                    brightness,
+                    FloorPattern::Wood {
+                        plank_m,
+                        length_m,
+                        grain,
+                        variation,
+                        joint_m,
+                        joint_albedo: joint_brightness,
+                    },
+                )
+            }
+            CoveringFile::PatternedCarpet {
+                brightness,
+                contrast,
+                grain_m,
+                mottle,
+                mottle_m,
+                pattern_m,
+                pattern_contrast,
+            } => {
+                positive(grain_m, format!("{field}.grain_m"), &err)?;
+                positive(mottle_m, format!("{field}.mottle_m"), &err)?;
+                positive(pattern_m, format!("{field}.pattern_m"), &err)?;
+                if !(0.0..1.0).contains(&pattern_contrast) {
+                    return Err(err(format!(
+                        "{field}.pattern_contrast: must be in [0, 1), got {pattern_contrast}"
+                    )));
+                }
+                (
+                    CoveringClass::Other,
+                    brightness,
+                    FloorPattern::PatternedCarpet {
+                        contrast,
+                        grain_m,
+                        mottle,
+                        mottle_m,
+                        pattern_m,
+                        pattern_contrast,
                     },
                 )
             }

@@ -3,7 +3,8 @@ lens and odometry setting, with a seed.
 
 The full suite varies one factor at a time around the default on the carpet world (the
 ``corridor``) and runs every built-in world at the defaults; worlds that break an assumption
-of the paper (an overhanging table, paper scraps and linoleum doorways, tiles) are tagged so the
+of the paper (an overhanging table, paper scraps and linoleum doorways, tiles, wooden planks, a patterned
+carpet) are tagged so the
 report lists them separately. ``quick_suite`` is a small subset that runs in seconds.
 """
 
@@ -23,6 +24,8 @@ WORLD_GROUPS: Dict[str, str] = {
     "room": "overhanging table",
     "lab": "paper scraps, linoleum doorways",
     "tiles": "tiled floor",
+    "parquet": "wooden plank floor",
+    "patterned": "patterned carpet",
 }
 CARPET = "carpet"
 
