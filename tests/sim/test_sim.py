@@ -54,7 +54,7 @@ def camera_at_origin_pose(cam: Camera):
 
 def test_builtin_worlds_load_with_a_tour():
     names = World.builtin_names()
-    assert set(names) == {"corridor", "room", "lab", "tiles"}
+    assert set(names) == {"corridor", "room", "lab", "tiles", "parquet", "patterned"}
     for name in names:
         w = World.builtin(name)
         assert w.name == name and len(w.tour) >= 3 and w.source
