@@ -46,6 +46,69 @@ pub struct AppearanceRanger {
     model: FloorModel,
     outcomes: Vec<ColumnOutcome>,
     confidence: Vec<f32>,
+    /// Row-major scan buffers (dense columns): per-column state, and one image row's floor
+    /// classification as a prefix count (width + 1).
+    states: Vec<ColumnState>,
+    row_prefix: Vec<u32>,
+}
+
+/// One column's scan state: the current run of non-floor rows and the floor rows below it.
+#[derive(Debug, Clone, Copy, Default)]
+struct ColumnState {
+    run: usize,
+    run_start: usize,
+    run_not_floor: f32,
+    floor_rows: usize,
+    floor_sum: f32,
+    /// The scan has ended: at a boundary (its lowest row and confidence) or without one.
+    done: bool,
+}
+
+impl ColumnState {
+    /// Takes row `v` with `floor` of its `patch_n` patch pixels looking like floor; returns
+    /// the run's lowest row and the reading's confidence once `min_run` rows are not floor.
+    #[inline]
+    fn step(
+        &mut self,
+        v: usize,
+        floor: usize,
+        patch_n: usize,
+        min_run: usize,
+    ) -> Option<(usize, f32)> {
+        let share = floor as f32 / patch_n as f32;
+        if 2 * floor < patch_n {
+            if self.run == 0 {
+                self.run_start = v;
+                self.run_not_floor = 0.0;
+            }
+            self.run += 1;
+            self.run_not_floor += 1.0 - share;
+            if self.run >= min_run {
+                let below = if self.floor_rows > 0 {
+                    self.floor_sum / self.floor_rows as f32
+                } else {
+                    1.0
+                };
+                self.done = true;
+                let confidence = margin(self.run_not_floor / self.run as f32) * margin(below);
+                return Some((self.run_start, confidence));
+            }
+        } else {
+            self.run = 0;
+            self.floor_rows += 1;
+            self.floor_sum += share;
+        }
+        None
+    }
+
+    /// Confidence of a column that saw no boundary: the margin of its floor rows.
+    fn no_boundary_confidence(&self) -> f32 {
+        if self.floor_rows > 0 {
+            margin(self.floor_sum / self.floor_rows as f32)
+        } else {
+            0.0
+        }
+    }
 }
 
 impl AppearanceRanger {
@@ -124,6 +187,8 @@ impl AppearanceRanger {
             model: FloorModel::default(),
             outcomes: vec![ColumnOutcome::Invalid { row: None }; n],
             confidence: vec![0.0; n],
+            states: vec![ColumnState::default(); n],
+            row_prefix: vec![0; width + 1],
         })
     }
 
@@ -162,10 +227,14 @@ impl AppearanceRanger {
     ) -> Result<()> {
         self.check_size(image)?;
         self.learn(image);
-        for j in 0..self.plans.len() {
-            let (outcome, confidence) = self.scan_column(image, j);
-            self.outcomes[j] = outcome;
-            self.confidence[j] = confidence;
+        if self.row_major_pays(image.width()) {
+            self.scan_rows(image);
+        } else {
+            for j in 0..self.plans.len() {
+                let (outcome, confidence) = self.scan_column(image, j);
+                self.outcomes[j] = outcome;
+                self.confidence[j] = confidence;
+            }
         }
         out.timestamp_s = timestamp_s;
         out.readings.clear();
@@ -218,49 +287,113 @@ impl AppearanceRanger {
         );
     }
 
+    /// Whether the patches overlap enough that classifying each pixel of a row once, shared
+    /// by the patches that cover it, beats classifying each patch's pixels on their own.
+    fn row_major_pays(&self, width: usize) -> bool {
+        let w = 2 * self.options.patch_half_width_px + 1;
+        self.plans.len() * w >= 2 * width
+    }
+
+    /// Column by column: each row's patch classified on its own.
     fn scan_column<P: Pixel>(&self, image: &ColourView<P>, j: usize) -> (ColumnOutcome, f32) {
         let plan = self.plans[j];
         let Some(top) = plan.top_row else {
             return (ColumnOutcome::Invalid { row: None }, 0.0);
         };
         let (a, b) = plan.patch;
-        let patch_n = (b - a + 1) as f32;
-        let min_run = self.options.min_run_px;
-        let (mut run, mut run_start, mut run_not_floor) = (0usize, 0usize, 0f32);
-        let (mut floor_rows, mut floor_sum) = (0usize, 0f32);
+        let mut state = ColumnState::default();
         for v in (top..=plan.start_row).rev() {
             let floor = (a..=b)
                 .filter(|&u| self.looks_like_floor(image, u, v))
                 .count();
-            let share = floor as f32 / patch_n;
-            if 2 * floor < b - a + 1 {
-                if run == 0 {
-                    run_start = v;
-                    run_not_floor = 0.0;
-                }
-                run += 1;
-                run_not_floor += 1.0 - share;
-                if run >= min_run {
-                    let below = if floor_rows > 0 {
-                        floor_sum / floor_rows as f32
-                    } else {
-                        1.0
-                    };
-                    let confidence = margin(run_not_floor / run as f32) * margin(below);
-                    return (self.boundary(j, run_start), confidence);
-                }
-            } else {
-                run = 0;
-                floor_rows += 1;
-                floor_sum += share;
+            if let Some((run_start, confidence)) =
+                state.step(v, floor, b - a + 1, self.options.min_run_px)
+            {
+                return (self.boundary(j, run_start), confidence);
             }
         }
-        let confidence = if floor_rows > 0 {
-            margin(floor_sum / floor_rows as f32)
-        } else {
-            0.0
-        };
-        match self.table.lookup(plan.column as f64, top as f64) {
+        self.no_boundary(j, top, state.no_boundary_confidence())
+    }
+
+    /// Row by row from the bottom (dense columns): each pixel of a row that some active patch
+    /// covers is classified once, and every column counts its patch from the row's prefix
+    /// sums. The same readings as [`Self::scan_column`] (tested).
+    fn scan_rows<P: Pixel>(&mut self, image: &ColourView<P>) {
+        let min_run = self.options.min_run_px;
+        let (mut v_lo, mut v_hi, mut active) = (usize::MAX, 0usize, 0usize);
+        for (j, plan) in self.plans.iter().enumerate() {
+            self.states[j] = ColumnState::default();
+            match plan.top_row {
+                Some(top) => {
+                    v_lo = v_lo.min(top);
+                    v_hi = v_hi.max(plan.start_row);
+                    active += 1;
+                }
+                None => {
+                    self.states[j].done = true;
+                    self.outcomes[j] = ColumnOutcome::Invalid { row: None };
+                    self.confidence[j] = 0.0;
+                }
+            }
+        }
+        if active == 0 {
+            return;
+        }
+        for v in (v_lo..=v_hi).rev() {
+            // The row's span that open patches cover.
+            let (mut u_lo, mut u_hi) = (usize::MAX, 0usize);
+            for (j, plan) in self.plans.iter().enumerate() {
+                let open = !self.states[j].done
+                    && plan.start_row >= v
+                    && plan.top_row.is_some_and(|top| top <= v);
+                if open {
+                    u_lo = u_lo.min(plan.patch.0);
+                    u_hi = u_hi.max(plan.patch.1);
+                }
+            }
+            if u_lo > u_hi {
+                continue;
+            }
+            self.row_prefix[u_lo] = 0;
+            for u in u_lo..=u_hi {
+                let floor = self.looks_like_floor(image, u, v) as u32;
+                self.row_prefix[u + 1] = self.row_prefix[u] + floor;
+            }
+            for j in 0..self.plans.len() {
+                let plan = self.plans[j];
+                let open = !self.states[j].done
+                    && plan.start_row >= v
+                    && plan.top_row.is_some_and(|top| top <= v);
+                if !open {
+                    continue;
+                }
+                let (a, b) = plan.patch;
+                let floor = (self.row_prefix[b + 1] - self.row_prefix[a]) as usize;
+                if let Some((run_start, confidence)) =
+                    self.states[j].step(v, floor, b - a + 1, min_run)
+                {
+                    self.outcomes[j] = self.boundary(j, run_start);
+                    self.confidence[j] = confidence;
+                    active -= 1;
+                }
+            }
+            if active == 0 {
+                return;
+            }
+        }
+        for j in 0..self.plans.len() {
+            if let (false, Some(top)) = (self.states[j].done, self.plans[j].top_row) {
+                let (outcome, confidence) =
+                    self.no_boundary(j, top, self.states[j].no_boundary_confidence());
+                self.outcomes[j] = outcome;
+                self.confidence[j] = confidence;
+            }
+        }
+    }
+
+    /// The outcome of a column scanned to its top row `top` without a boundary.
+    fn no_boundary(&self, j: usize, top: usize, confidence: f32) -> (ColumnOutcome, f32) {
+        match self.table.lookup(self.plans[j].column as f64, top as f64) {
             Some(farthest) => (
                 ColumnOutcome::NoBoundary {
                     top_row: top as f64,

@@ -291,3 +291,47 @@ fn wrong_size_and_columns_without_ground_are_reported() {
     };
     assert!(AppearanceRanger::new(table(0.0), bad).is_err());
 }
+
+#[test]
+fn row_by_row_scan_gives_the_column_by_column_readings() {
+    // Dense columns go row by row (each pixel classified once); the readings must be those of
+    // the column-by-column scan, whatever the start rows, range limit and features.
+    let starts: Vec<u32> = (0..W).map(|u| (H - 1 - (u * 7) % 13) as u32).collect();
+    for (features, start, max_range_m) in [
+        (
+            AppearanceFeatures::Colour,
+            ColumnStart::BottomMargin(0),
+            None,
+        ),
+        (
+            AppearanceFeatures::ColourAndTexture,
+            ColumnStart::BottomMargin(3),
+            Some(0.9),
+        ),
+        (
+            AppearanceFeatures::ColourAndTexture,
+            ColumnStart::PerColumn(starts.clone()),
+            None,
+        ),
+    ] {
+        let o = AppearanceOptions {
+            start,
+            max_range_m,
+            ..options(features)
+        };
+        let mut ranger = AppearanceRanger::new(table(10.0), o).unwrap();
+        assert!(ranger.row_major_pays(W));
+        for seed in 0..3 {
+            let img = tiled_image(&scene, seed);
+            let view = ColourView::interleaved(&img, W, H).unwrap();
+            let mut by_column = ranger.clone();
+            let scan = ranger.scan(&view, seed as f64).unwrap();
+            by_column.learn(&view);
+            for (j, reading) in scan.readings.iter().enumerate() {
+                let (outcome, confidence) = by_column.scan_column(&view, j);
+                assert_eq!(reading.outcome, outcome, "column {j}, seed {seed}");
+                assert_eq!(reading.confidence, confidence, "column {j}, seed {seed}");
+            }
+        }
+    }
+}
