@@ -8,6 +8,8 @@ use crate::pose::Point2;
 
 /// A world-aligned rectangle [m]: `min` is the lower-left corner, `max` the upper-right.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Bounds {
     pub min: Point2,
     pub max: Point2,
@@ -16,6 +18,7 @@ pub struct Bounds {
 /// What a cell's evidence says, by the grid's thresholds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum Occupancy {
     Free,
     Unknown,
@@ -36,6 +39,7 @@ impl Occupancy {
 /// Options of [`crate::grid::Grid`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct GridOptions {
     /// Side of a square cell [m], in [0.001, 10]. Default 0.04 (the paper's 4 cm).
     pub cell_size_m: f64,

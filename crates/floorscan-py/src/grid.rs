@@ -1,6 +1,6 @@
 //! Bindings of the map builder's global grid (`floorscan_core::{grid, inserter, queries}`):
-//! a grid and the inserter that feeds it. Options arrive as JSON (the core's serde form),
-//! built and validated by the Python wrapper `floorscan.OccupancyGrid`. Batch inserts release
+//! a grid and the inserter that feeds it. Options arrive as dicts of `GridOptions` and
+//! `InserterOptions` fields (their serde form), read and validated here. Batch inserts release
 //! the GIL.
 
 use floorscan_core::{
@@ -13,6 +13,7 @@ use numpy::{
 use pyo3::prelude::*;
 
 use crate::errors::{error, IntoPyResult};
+use crate::options::{from_py, options_functions, to_py};
 use crate::scan::PyScan;
 
 pub type Stats = (u64, u64, u64);
@@ -23,10 +24,6 @@ pub fn stats(s: UpdateStats) -> Stats {
 
 pub fn pose(p: [f64; 3]) -> Pose2 {
     Pose2::new(p[0], p[1], p[2])
-}
-
-pub fn parse_json<T: serde::de::DeserializeOwned>(what: &str, text: &str) -> PyResult<T> {
-    serde_json::from_str(text).map_err(|e| error("OptionError", format!("invalid {what}: {e}")))
 }
 
 /// A contiguous 1-D view, or a clear error naming the argument.
@@ -202,10 +199,10 @@ pub struct PyOccupancyGrid {
 #[pymethods]
 impl PyOccupancyGrid {
     #[new]
-    fn new(grid_options_json: &str, inserter_options_json: &str) -> PyResult<Self> {
+    fn new(grid_options: &Bound<'_, PyAny>, inserter_options: &Bound<'_, PyAny>) -> PyResult<Self> {
         crate::errors::guard(|| {
-            let go: GridOptions = parse_json("grid options", grid_options_json)?;
-            let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
+            let go: GridOptions = from_py(grid_options)?;
+            let io: InserterOptions = from_py(inserter_options)?;
             Ok(Self {
                 grid: Grid::new(go).py()?,
                 inserter: Inserter::new(io).py()?,
@@ -522,15 +519,28 @@ impl PyOccupancyGrid {
         crate::errors::guard(|| Ok(self.grid.allocated_tiles()))
     }
 
+    /// The grid options (every field, serde form).
     #[getter]
-    fn grid_options_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| Ok(serde_json::to_string(self.grid.options()).unwrap_or_default()))
+    fn grid_options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| to_py(py, self.grid.options()))
     }
 
+    /// The inserter options (every field, serde form).
     #[getter]
-    fn inserter_options_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| {
-            Ok(serde_json::to_string(self.inserter.options()).unwrap_or_default())
-        })
+    fn inserter_options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| to_py(py, self.inserter.options()))
     }
 }
+
+options_functions!(
+    GridOptions,
+    default_grid_options,
+    check_grid_options,
+    grid_options_schema
+);
+options_functions!(
+    InserterOptions,
+    default_inserter_options,
+    check_inserter_options,
+    inserter_options_schema
+);

@@ -5,9 +5,8 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArra
 use pyo3::prelude::*;
 
 use crate::errors::IntoPyResult;
-use crate::grid::{
-    self, laser_layout, parse_json, pose, rows, slice1, sonar_readings, stats, Stats,
-};
+use crate::grid::{self, laser_layout, pose, rows, slice1, sonar_readings, stats, Stats};
+use crate::options::{from_py, options_functions, to_py};
 use crate::scan::PyScan;
 
 #[pyclass(name = "LocalMap", module = "floorscan._native")]
@@ -19,13 +18,13 @@ pub struct PyLocalMap {
 impl PyLocalMap {
     #[new]
     fn new(
-        options_json: &str,
-        inserter_options_json: &str,
+        options: &Bound<'_, PyAny>,
+        inserter_options: &Bound<'_, PyAny>,
         local_from_robot: [f64; 3],
     ) -> PyResult<Self> {
         crate::errors::guard(|| {
-            let o: LocalMapOptions = parse_json("local map options", options_json)?;
-            let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
+            let o: LocalMapOptions = from_py(options)?;
+            let io: InserterOptions = from_py(inserter_options)?;
             Ok(Self {
                 inner: LocalMap::new(o, io, pose(local_from_robot)).py()?,
             })
@@ -190,8 +189,16 @@ impl PyLocalMap {
         })
     }
 
+    /// The options (every field, serde form).
     #[getter]
-    fn options_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| Ok(serde_json::to_string(self.inner.options()).unwrap_or_default()))
+    fn options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| to_py(py, self.inner.options()))
     }
 }
+
+options_functions!(
+    LocalMapOptions,
+    default_local_map_options,
+    check_local_map_options,
+    local_map_options_schema
+);
