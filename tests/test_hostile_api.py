@@ -190,9 +190,7 @@ def test_sixteen_bit_frames_scan_like_the_eight_bit_frame():
 
     cols = ranger.columns
     n8 = texture_noise([img8], half_width=4, columns=cols, bottom_margin=2)
-    n16 = texture_noise(
-        [img8.astype(np.uint16) * 257], half_width=4, columns=cols, bottom_margin=2
-    )
+    n16 = texture_noise([img8.astype(np.uint16) * 257], half_width=4, columns=cols, bottom_margin=2)
     assert n16 == pytest.approx(n8)
 
 

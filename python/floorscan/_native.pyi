@@ -6,6 +6,16 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+SCAN_CSV_HEADER: str
+UNITS_PER_NAT: float
+MAX_ABS_UNITS: int
+
+def column_statuses() -> List[Tuple[str, int]]: ...
+def occupancy_classes() -> List[Tuple[str, int]]: ...
+def probabilities_from_units(units: npt.NDArray[np.int32]) -> npt.NDArray[np.float64]: ...
+def units_from_probabilities(
+    probabilities: npt.NDArray[np.float64], lo: int, hi: int
+) -> npt.NDArray[np.int16]: ...
 
 class GroundTable:
     @staticmethod

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from conftest import affine_table
 from floorscan import read_scans_csv
-from floorscan.formats.image_io import write_png
 from floorscan.cli import main
+from floorscan.formats.image_io import write_png
 from floorscan.options import defaults
 from floorscan.pipeline.config import SHARED_WITH_RANGER, Config
 
@@ -152,7 +152,9 @@ def test_scan_reads_the_config_file(tmp_path):
     table = affine_table(64, 48)
     table.save(tmp_path / "table.json")
     v = np.arange(48)[:, None]
-    image = write_png(tmp_path / "f.png", (np.where(v >= 20, 90, 110) * np.ones((1, 64))).astype(np.uint8))
+    image = write_png(
+        tmp_path / "f.png", (np.where(v >= 20, 90, 110) * np.ones((1, 64))).astype(np.uint8)
+    )
     cfg = tmp_path / "c.toml"
     cfg.write_text("[ranger]\nthreshold = 50\ncolumns = 4\n")  # the step is 20: no boundary
     base = ["scan", "--table", str(tmp_path / "table.json"), str(image), "--config", str(cfg)]

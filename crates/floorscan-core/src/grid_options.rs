@@ -26,6 +26,18 @@ pub enum Occupancy {
 }
 
 impl Occupancy {
+    /// Every class, in code order.
+    pub const ALL: [Occupancy; 3] = [Occupancy::Free, Occupancy::Unknown, Occupancy::Occupied];
+
+    /// The name used in Python (the serde name).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Occupancy::Free => "free",
+            Occupancy::Unknown => "unknown",
+            Occupancy::Occupied => "occupied",
+        }
+    }
+
     /// Small integer code used in numpy arrays: free 0, unknown 1, occupied 2.
     pub fn code(self) -> u8 {
         match self {

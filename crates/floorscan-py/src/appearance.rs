@@ -6,9 +6,9 @@ use numpy::{Element, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArra
 use pyo3::prelude::*;
 
 use crate::errors::{error, IntoPyResult};
-use crate::options::{from_py, options_functions, to_py};
 use crate::ground_table::PyGroundTable;
 use crate::image::BorrowedImage;
+use crate::options::{from_py, options_functions, to_py};
 use crate::scan::PyScan;
 
 #[pyclass(name = "AppearanceRanger", module = "floorscan._native")]

@@ -11,6 +11,7 @@ mod grid;
 mod ground_table;
 mod image;
 mod local_map;
+mod log_odds;
 mod options;
 mod ranger;
 mod scan;
@@ -49,6 +50,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scan::PyScan>()?;
     m.add_class::<grid::PyOccupancyGrid>()?;
     m.add_class::<local_map::PyLocalMap>()?;
+    m.add_function(wrap_pyfunction!(scan::column_statuses, m)?)?;
+    m.add("SCAN_CSV_HEADER", floorscan_core::scan::SCAN_CSV_HEADER)?;
+    log_odds::register(m)?;
     sim::register(m)?;
     evidence::register(m)?;
     Ok(())

@@ -39,7 +39,10 @@ fn describe(path: &str, inner: &str) -> String {
 }
 
 /// A value's serde form as Python objects (dicts, lists, numbers, strings).
-pub fn to_py<'py, T: Serialize + ?Sized>(py: Python<'py>, value: &T) -> PyResult<Bound<'py, PyAny>> {
+pub fn to_py<'py, T: Serialize + ?Sized>(
+    py: Python<'py>,
+    value: &T,
+) -> PyResult<Bound<'py, PyAny>> {
     pythonize::pythonize(py, value).map_err(|e| {
         error(
             "InternalError",

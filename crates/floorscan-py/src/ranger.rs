@@ -6,9 +6,9 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
 use crate::errors::{error, IntoPyResult};
-use crate::options::{from_py, options_functions, to_py};
 use crate::ground_table::PyGroundTable;
 use crate::image::BorrowedImage;
+use crate::options::{from_py, options_functions, to_py};
 use crate::scan::PyScan;
 
 #[pyclass(name = "VisualRanger", module = "floorscan._native")]

@@ -214,3 +214,13 @@ impl PyScan {
         })
     }
 }
+
+/// Every column status as (name, code), in code order (`floorscan.ColumnStatus` is built
+/// from it).
+#[pyfunction]
+pub fn column_statuses() -> Vec<(&'static str, u8)> {
+    ColumnStatus::ALL
+        .iter()
+        .map(|s| (s.as_str(), s.code()))
+        .collect()
+}

@@ -54,6 +54,16 @@ type RenderedRun<'py> = (
     Bound<'py, PyAny>,
 );
 
+/// A value's JSON text; a failure is an InternalError, never an empty string.
+fn to_json<T: serde::Serialize>(value: &T) -> PyResult<String> {
+    serde_json::to_string(value).map_err(|e| {
+        error(
+            "InternalError",
+            format!("internal error (a bug; please report it): cannot write JSON: {e}"),
+        )
+    })
+}
+
 fn parse_json<T: serde::de::DeserializeOwned>(what: &str, text: &str) -> PyResult<T> {
     serde_json::from_str(text).map_err(|e| error("OptionError", format!("invalid {what}: {e}")))
 }
@@ -134,7 +144,7 @@ impl PyWorld {
     }
     /// The world as JSON (the simulator's serde form; for inspection).
     fn to_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| Ok(serde_json::to_string(&self.scene.world).unwrap_or_default()))
+        crate::errors::guard(|| to_json(&self.scene.world))
     }
 
     /// True occupancy raster: (cells (H, W) int8 with 100/0/-1, row 0 = lowest y; origin x, y).
@@ -174,13 +184,11 @@ impl PyCamera {
     /// The default wide-angle camera at a resolution, as JSON.
     #[staticmethod]
     fn default_json(width: usize, height: usize) -> PyResult<String> {
-        crate::errors::guard(|| {
-            Ok(serde_json::to_string(&Camera::wide_angle(width, height)).unwrap_or_default())
-        })
+        crate::errors::guard(|| to_json(&Camera::wide_angle(width, height)))
     }
 
     fn to_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| Ok(serde_json::to_string(&self.rays.camera).unwrap_or_default()))
+        crate::errors::guard(|| to_json(&self.rays.camera))
     }
 
     /// Exact ground points (camera ground frame) of pixels: two float64 arrays, NaN where none.
@@ -533,7 +541,7 @@ fn sim_default_pattern(camera: &PyCamera, kind: &str) -> PyResult<String> {
     crate::errors::guard(|| {
         let kind: PatternKind = parse_json("pattern kind", &format!("\"{kind}\""))?;
         let spec = default_pattern(kind, &camera.rays.camera).sim()?;
-        Ok(serde_json::to_string(&spec).unwrap_or_default())
+        to_json(&spec)
     })
 }
 

@@ -22,7 +22,9 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
         return f"(default {default_value('ranger.' + key)})"
 
     p.add_argument("--table", required=True, help="ground table JSON (from `floorscan calibrate`)")
-    p.add_argument("--columns", type=int, help=f"number of evenly spaced columns {default('columns')}")
+    p.add_argument(
+        "--columns", type=int, help=f"number of evenly spaced columns {default('columns')}"
+    )
     p.add_argument(
         "--half-width-px",
         "--half-width",

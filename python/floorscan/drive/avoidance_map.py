@@ -18,6 +18,7 @@ import numpy as np
 
 from ..errors import OptionError
 from ..mapping.grid_views import GridExtent
+from ..ranging.scan import ColumnStatus
 from .sensor_model import VisualSensorModel
 
 _SHIFT = 4  # sub-cell precision of rasterised polygons: 1 / 16 cell
@@ -238,7 +239,8 @@ class AvoidanceMap:
         with np.errstate(invalid="ignore", divide="ignore"):
             scale = np.where(rng > 0, end_r / rng, 0.0)
         ex, ey = px * scale, py * scale
-        valid = ((status == 0) | (status == 1)) & np.isfinite(ex + ey + nx + ny)
+        seen = (status == ColumnStatus.BOUNDARY) | (status == ColumnStatus.NO_BOUNDARY)
+        valid = seen & np.isfinite(ex + ey + nx + ny)
 
         def world(gx, gy):
             return cam[0] + c * gx - s * gy, cam[1] + s * gx + c * gy

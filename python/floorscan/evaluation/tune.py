@@ -20,12 +20,12 @@ from .._atomic import PathLike
 from ..errors import FileFormatError, OptionError
 from ..ranging.auto_threshold import AUTO_K, auto_threshold, texture_noise  # noqa: F401 (re-exported)
 from ..ranging.ground_table import GroundTable
-from ..ranging.ranger import VisualRanger
+from ..ranging.ranger import Refinement, VisualRanger
 from .scoring import BOUNDARY, INVALID, NO_BOUNDARY, score_columns
 
 DEFAULT_HALF_WIDTHS = (1, 2, 3, 4, 6, 8)
 DEFAULT_THRESHOLDS = tuple(float(t) for t in range(2, 41))
-REFINEMENTS = ("sub_pixel", "peak", "first_crossing")
+REFINEMENTS = tuple(r.value for r in Refinement)
 """Every ``refinement`` of the core's ``RangerOptions`` (serde names)."""
 
 

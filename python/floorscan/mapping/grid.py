@@ -8,7 +8,7 @@ Frames: poses are ``world_from_robot`` ``(x [m], y [m], yaw [rad])``; mounts are
 
 from __future__ import annotations
 
-from typing import Any, Dict, NamedTuple, Optional, Sequence
+from typing import Any, Dict, NamedTuple, Optional
 
 import numpy as np
 

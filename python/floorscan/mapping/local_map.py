@@ -8,7 +8,7 @@ own frame.
 
 from __future__ import annotations
 
-from typing import Any, Dict, Optional, Sequence
+from typing import Any, Dict, Optional
 
 import numpy as np
 
@@ -18,7 +18,8 @@ from ..options import plain
 from ..ranging.scan import Scan
 from .grid import InsertStats, laser_args, sonar_args
 from .grid_options import as_pose, split_options
-from .grid_views import UNITS_PER_NAT, GridViews
+from .grid_views import GridViews
+from .log_odds import UNITS_PER_NAT, probabilities_from_units
 
 
 class LocalMap(GridViews):
@@ -150,7 +151,7 @@ class LocalMap(GridViews):
         if kind == "log_odds":
             return (raw.astype(np.float32) / np.float32(UNITS_PER_NAT)).astype(np.float32)
         if kind == "probability":
-            return 1.0 / (1.0 + np.exp(-raw.astype(np.float64) / UNITS_PER_NAT))
+            return probabilities_from_units(raw)
         raise OptionError(
             f"invalid option `kind`: expected probability, log_odds or raw, got {kind!r}"
         )

@@ -389,7 +389,9 @@ class Config:
             values, extras = split("appearance")
             for k in SHARED_WITH_RANGER:
                 if k in values:
-                    raise ConfigError(f"{source}: `appearance.{k}` is set in [ranger] (`ranger.{k}`)")
+                    raise ConfigError(
+                        f"{source}: `appearance.{k}` is set in [ranger] (`ranger.{k}`)"
+                    )
             tables["appearance"] = _appearance_table(values, tables["ranger"], extras)
         with _named(source, "grid"):
             tables["grid"] = OptionsTable("grid", check("grid", split("grid")[0]))

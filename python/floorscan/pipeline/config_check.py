@@ -24,6 +24,7 @@ from .mapper import grid_kwargs
 from .node_options import check_node
 from .outputs import check_outputs
 
+
 def check_ranger(cfg: Config) -> None:
     """The pipeline's own ``[ranger]`` keys (the Rust options were checked when loaded)."""
     k = cfg.ranger.auto_threshold_k

@@ -24,7 +24,7 @@ from ..ranging.auto_threshold import MIN_AUTO_THRESHOLD, auto_threshold
 from ..ranging.fused import FusedRanger
 from ..ranging.ground_table import GroundTable
 from ..ranging.ranger import VisualRanger
-from ..ranging.scan import Scan
+from ..ranging.scan import ColumnStatus, Scan
 from .config import SHARED_WITH_RANGER, Config
 from .sources import FrameSource
 
@@ -118,7 +118,7 @@ class Mapper:
         self.times.ranging_s += t1 - t0
         self.times.mapping_s += t2 - t1
         self.frames += 1
-        self.points += int(np.count_nonzero(scan.status_codes == 0))
+        self.points += int(np.count_nonzero(scan.status_codes == ColumnStatus.BOUNDARY))
         return scan
 
     def _set_auto_threshold(self, image: np.ndarray) -> None:

@@ -16,11 +16,12 @@ from typing import Any, Dict, Optional
 import numpy as np
 
 from .. import _native
-from ..options import plain
 from ..errors import ImageError, ImageTypeError, OptionError
+from ..options import plain
 from .ground_table import GroundTable
 from .ranger import start_rows_from_mask
 from .scan import Scan
+
 
 class AppearanceRanger:
     """Turns colour (or grey) images into :class:`~floorscan.Scan` s by floor appearance.

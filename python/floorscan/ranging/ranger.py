@@ -7,17 +7,34 @@ into a point in the camera ground frame.
 
 from __future__ import annotations
 
+import enum
 import math
 from typing import Any, Dict, Optional
 
 import numpy as np
 
 from .. import _native
-from ..options import plain
 from ..errors import ArgumentTypeError, ImageError, OptionError
 from ..formats.image_io import as_grey
+from ..options import plain
 from .ground_table import GroundTable
 from .scan import Scan
+
+Refinement = enum.Enum(
+    "Refinement",
+    {
+        v["const"].upper(): v["const"]
+        for v in _native.ranger_options_schema()["$defs"]["Refinement"]["oneOf"]
+    },
+    type=str,
+)
+Refinement.__doc__ = """How the boundary row is placed (floorscan-core's ``Refinement``, built from
+its schema): the values are the ``refinement`` option's spellings.
+
+>>> [r.value for r in Refinement]
+['first_crossing', 'peak', 'sub_pixel']
+"""
+
 
 U16_PER_U8 = 257.0
 """65535 / 255: one 8-bit intensity unit in a uint16 image (the threshold's scale there)."""
