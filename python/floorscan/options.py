@@ -16,32 +16,32 @@ from typing import Any, Callable, Dict
 
 import numpy as np
 
-from . import _native
+from ._native import mapping, ranging
 
 KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
-    "ranger": _native.default_ranger_options,
-    "appearance": _native.default_appearance_options,
-    "grid": _native.default_grid_options,
-    "inserter": _native.default_inserter_options,
-    "local_map": _native.default_local_map_options,
+    "ranger": ranging.default_ranger_options,
+    "appearance": ranging.default_appearance_options,
+    "grid": mapping.default_grid_options,
+    "inserter": mapping.default_inserter_options,
+    "local_map": mapping.default_local_map_options,
 }
 """Each options type by its name, with its defaults function."""
 
 CHECKS: Dict[str, Callable[[Dict[str, Any]], Dict[str, Any]]] = {
-    "ranger": _native.check_ranger_options,
-    "appearance": _native.check_appearance_options,
-    "grid": _native.check_grid_options,
-    "inserter": _native.check_inserter_options,
-    "local_map": _native.check_local_map_options,
+    "ranger": ranging.check_ranger_options,
+    "appearance": ranging.check_appearance_options,
+    "grid": mapping.check_grid_options,
+    "inserter": mapping.check_inserter_options,
+    "local_map": mapping.check_local_map_options,
 }
 """Each options type's check: a dict of any of its fields in, every field out (validated)."""
 
 SCHEMAS: Dict[str, Callable[[], Dict[str, Any]]] = {
-    "ranger": _native.ranger_options_schema,
-    "appearance": _native.appearance_options_schema,
-    "grid": _native.grid_options_schema,
-    "inserter": _native.inserter_options_schema,
-    "local_map": _native.local_map_options_schema,
+    "ranger": ranging.ranger_options_schema,
+    "appearance": ranging.appearance_options_schema,
+    "grid": mapping.grid_options_schema,
+    "inserter": mapping.inserter_options_schema,
+    "local_map": mapping.local_map_options_schema,
 }
 
 

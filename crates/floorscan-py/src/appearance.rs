@@ -8,10 +8,10 @@ use pyo3::prelude::*;
 use crate::errors::{error, IntoPyResult};
 use crate::ground_table::PyGroundTable;
 use crate::image::BorrowedImage;
-use crate::options::{from_py, options_functions, to_py};
+use crate::options::{from_py, to_py};
 use crate::scan::PyScan;
 
-#[pyclass(name = "AppearanceRanger", module = "floorscan._native")]
+#[pyclass(name = "AppearanceRanger", module = "floorscan._native.ranging")]
 pub struct PyAppearanceRanger {
     inner: AppearanceRanger,
 }
@@ -120,10 +120,3 @@ pub fn fuse(edge: &PyScan, appearance: &PyScan, snap_rows: f64) -> PyResult<PySc
     fuse_scans(&edge.inner, &appearance.inner, snap_rows, &mut out).py()?;
     Ok(PyScan { inner: out })
 }
-
-options_functions!(
-    AppearanceOptions,
-    default_appearance_options,
-    check_appearance_options,
-    appearance_options_schema
-);

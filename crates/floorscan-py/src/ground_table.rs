@@ -11,7 +11,7 @@ use crate::options::{from_py, to_py};
 /// Two numpy arrays (x and y).
 type ArrayPair<'py, A> = (Bound<'py, A>, Bound<'py, A>);
 
-#[pyclass(name = "GroundTable", module = "floorscan._native", frozen)]
+#[pyclass(name = "GroundTable", module = "floorscan._native.ranging", frozen)]
 #[derive(Clone)]
 pub struct PyGroundTable {
     pub inner: GroundTable,

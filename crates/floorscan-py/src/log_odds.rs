@@ -65,12 +65,3 @@ pub fn occupancy_classes() -> Vec<(&'static str, u8)> {
         .map(|o| (o.as_str(), o.code()))
         .collect()
 }
-
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("UNITS_PER_NAT", UNITS_PER_NAT)?;
-    m.add("MAX_ABS_UNITS", MAX_ABS_UNITS)?;
-    m.add_function(wrap_pyfunction!(probabilities_from_units, m)?)?;
-    m.add_function(wrap_pyfunction!(units_from_probabilities, m)?)?;
-    m.add_function(wrap_pyfunction!(occupancy_classes, m)?)?;
-    Ok(())
-}

@@ -8,10 +8,10 @@ use pyo3::prelude::*;
 use crate::errors::{error, IntoPyResult};
 use crate::ground_table::PyGroundTable;
 use crate::image::BorrowedImage;
-use crate::options::{from_py, options_functions, to_py};
+use crate::options::{from_py, to_py};
 use crate::scan::PyScan;
 
-#[pyclass(name = "VisualRanger", module = "floorscan._native")]
+#[pyclass(name = "VisualRanger", module = "floorscan._native.ranging")]
 pub struct PyVisualRanger {
     inner: VisualRanger,
 }
@@ -80,10 +80,3 @@ impl PyVisualRanger {
         })
     }
 }
-
-options_functions!(
-    RangerOptions,
-    default_ranger_options,
-    check_ranger_options,
-    ranger_options_schema
-);

@@ -8,7 +8,7 @@ use pyo3::types::PyDict;
 
 use crate::errors::{error, IntoPyResult};
 
-#[pyclass(name = "Scan", module = "floorscan._native", frozen)]
+#[pyclass(name = "Scan", module = "floorscan._native.ranging", frozen)]
 #[derive(Clone)]
 pub struct PyScan {
     pub inner: Scan,

@@ -19,8 +19,8 @@ from typing import Dict, Sequence, Tuple
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike, write_atomic_with
+from .._native import mapping as _native
 from ..errors import FileFormatError, OptionError, UnsupportedVersionError
 from ..options import defaults
 from .log_odds import UNITS_PER_NAT

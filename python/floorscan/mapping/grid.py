@@ -12,8 +12,8 @@ from typing import Any, Dict, NamedTuple, Optional
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike
+from .._native import mapping as _native
 from ..errors import ArgumentTypeError, LengthMismatchError, OptionError
 from ..formats.map_server import pixels_to_units, read_map_image, read_map_yaml, save_map
 from ..ranging.scan import Scan

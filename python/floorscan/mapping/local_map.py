@@ -12,7 +12,7 @@ from typing import Any, Dict, Optional
 
 import numpy as np
 
-from .. import _native
+from .._native import mapping as _native
 from ..errors import ArgumentTypeError, OptionError
 from ..options import plain
 from ..ranging.scan import Scan

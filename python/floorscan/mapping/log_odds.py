@@ -9,7 +9,7 @@ import enum
 
 import numpy as np
 
-from .. import _native
+from .._native import mapping as _native
 
 UNITS_PER_NAT: float = _native.UNITS_PER_NAT
 """Stored log-odds units per nat (floorscan-core's ``log_odds::UNITS_PER_NAT``: cells hold

@@ -15,7 +15,7 @@ from typing import Any, Dict, Optional
 
 import numpy as np
 
-from .. import _native
+from .._native import ranging as _native
 from ..errors import ImageError, ImageTypeError, OptionError
 from ..options import plain
 from .ground_table import GroundTable

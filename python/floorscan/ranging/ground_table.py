@@ -13,8 +13,8 @@ from typing import Any, Callable, Dict, Optional, Tuple
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike, write_atomic
+from .._native import ranging as _native
 from ..errors import FileFormatError, TableError
 from .lens import CameraMount, Lens
 

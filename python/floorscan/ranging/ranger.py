@@ -13,7 +13,7 @@ from typing import Any, Dict, Optional
 
 import numpy as np
 
-from .. import _native
+from .._native import ranging as _native
 from ..errors import ArgumentTypeError, ImageError, OptionError
 from ..formats.image_io import as_grey
 from ..options import plain

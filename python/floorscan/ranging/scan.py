@@ -17,8 +17,8 @@ from typing import Dict, Iterable, Iterator, List
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike, write_atomic
+from .._native import ranging as _native
 from ..errors import FileFormatError
 
 SCAN_CSV_HEADER: str = _native.SCAN_CSV_HEADER

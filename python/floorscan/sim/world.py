@@ -9,8 +9,8 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike
+from .._native import sim as _native
 from ..errors import WorldError
 from .occupancy import OccupancyRaster
 
