@@ -53,7 +53,9 @@ class AvoidanceMapOptions:
     cell_size_m: float = 0.05
     clamp_nats: Tuple[float, float] = (-2.0, 3.5)
     half_life_s: Optional[float] = 3.0
-    occupied_threshold: float = field(default_factory=lambda: defaults("grid")["occupied_threshold"])
+    occupied_threshold: float = field(
+        default_factory=lambda: defaults("grid")["occupied_threshold"]
+    )
     free_threshold: float = field(default_factory=lambda: defaults("grid")["free_threshold"])
     probability_scale: float = 0.612
     probability_offset: float = -1.581
