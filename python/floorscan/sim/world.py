@@ -22,7 +22,7 @@ class World:
     >>> w.name, w.start
     ('room', (0.65, 0.5, 0.0))
     >>> sorted(World.builtin_names())
-    ['corridor', 'lab', 'room', 'tiles']
+    ['corridor', 'lab', 'parquet', 'patterned', 'room', 'tiles']
     """
 
     __slots__ = ("_native",)
