@@ -7,7 +7,7 @@ PY      := $(VENV)/bin/python
 STAMP   := $(VENV)/.deps-stamp
 CARGO   ?= cargo
 
-.PHONY: test demo dev deps lint fmt bench bench-py clean rust-toolchain fuzz
+.PHONY: test demo dev deps lint fmt bench bench-py clean rust-toolchain fuzz stubs
 
 FUZZ_CASES   ?= 20000
 FUZZ_SECONDS ?= 600
@@ -32,6 +32,12 @@ deps: $(STAMP)
 dev: rust-toolchain deps
 	VIRTUAL_ENV=$(abspath $(VENV)) PATH=$(abspath $(VENV))/bin:$$PATH \
 	    $(VENV)/bin/maturin develop --release -q
+
+# The type stubs of floorscan._native, generated from the bindings (pyo3-introspection reads the
+# metadata PyO3 compiles into the extension); `make test` fails when they are stale.
+stubs: dev
+	$(CARGO) run -q -p floorscan-stubgen -- \
+	    "$$($(PY) -c 'import floorscan._native as n; print(n.__file__)')" python/floorscan/_native
 
 test: dev
 	$(CARGO) test --workspace -q

@@ -48,7 +48,9 @@ def main() -> None:
     print("| columns | floorscan [ms] | numpy [ms] | ratio |")
     print("|---:|---:|---:|---:|")
     for n in (64, 640):
-        r = fs.AppearanceRanger(image_row_table(W, H), columns=n, bottom_margin=0, max_range_m=None)
+        r = fs.AppearanceRanger(
+            image_row_table(W, H), columns=n, start={"bottom_margin": 0}, max_range_m=None
+        )
         cols = r.columns.astype(np.int64)
         s = r.scan(img)
         status, rows = appearance_scan(img, cols, start_row=H - 1)

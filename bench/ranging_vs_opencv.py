@@ -81,7 +81,7 @@ def main() -> None:
     tab = table()
     rows = []
     for n in (32, 64, 640):
-        ranger = floorscan.VisualRanger(tab, columns=n, half_width=D, threshold=T)
+        ranger = floorscan.VisualRanger(tab, columns=n, half_width_px=D, threshold=T)
         cols = ranger.columns.astype(np.intp)
         ours = per_frame_us(lambda r=ranger: r.scan(img), 2000 if n < 640 else 500)
         box = per_frame_us(lambda c=cols: opencv_box(img, c), 50)

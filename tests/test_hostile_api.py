@@ -189,8 +189,8 @@ def test_sixteen_bit_frames_scan_like_the_eight_bit_frame():
     from floorscan.ranging.auto_threshold import texture_noise
 
     cols = ranger.columns
-    n8 = texture_noise([img8], half_width=4, columns=cols)
-    n16 = texture_noise([img8.astype(np.uint16) * 257], half_width=4, columns=cols)
+    n8 = texture_noise([img8], half_width=4, columns=cols, bottom_margin=2)
+    n16 = texture_noise([img8.astype(np.uint16) * 257], half_width=4, columns=cols, bottom_margin=2)
     assert n16 == pytest.approx(n8)
 
 
@@ -198,5 +198,5 @@ def test_config_with_limits_round_trips():
     from floorscan.pipeline.config import Config
 
     cfg = Config.from_toml("[limits]\nmax_image_pixels = 1000\n[map]\nmax_cells = 4096\n")
-    assert cfg.limits.max_image_pixels == 1000 and cfg.map.max_cells == 4096
+    assert cfg.limits.max_image_pixels == 1000 and cfg.grid.max_cells == 4096
     assert json.loads(json.dumps(cfg.to_dict()))["limits"]["max_image_pixels"] == 1000

@@ -33,17 +33,19 @@ from .mapping.grid import InsertStats, OccupancyGrid
 from .mapping.grid_options import Evidence
 from .mapping.grid_views import GridExtent
 from .mapping.local_map import LocalMap
+from .mapping.log_odds import Occupancy
 from .ranging.appearance import AppearanceRanger
 from .ranging.ground_table import GroundTable
 from .ranging.lens import CameraMount, Lens
-from .ranging.ranger import VisualRanger
-from .ranging.scan import SCAN_CSV_HEADER, Scan, read_scans_csv, write_scans_csv
+from .ranging.ranger import Refinement, VisualRanger
+from .ranging.scan import SCAN_CSV_HEADER, ColumnStatus, Scan, read_scans_csv, write_scans_csv
 
 __version__ = _native.__version__
 
 __all__ = [
     "CalibrationError",
     "CameraMount",
+    "ColumnStatus",
     "ConfigError",
     "DatasetError",
     "Evidence",
@@ -60,10 +62,12 @@ __all__ = [
     "Lens",
     "LengthMismatchError",
     "LocalMap",
+    "Occupancy",
     "OccupancyGrid",
     "OptionError",
     "OutOfBoundsError",
     "OutputError",
+    "Refinement",
     "SCAN_CSV_HEADER",
     "Scan",
     "TableError",

@@ -49,11 +49,11 @@ def test_tune_finds_the_optimum_computed_by_hand():
         tune_set(table),
         half_widths=[1, 2, 4],
         thresholds=list(range(1, 26)),
-        refinements=["subpixel"],
+        refinements=["sub_pixel"],
     )
     assert (result.half_width, result.threshold) == EXPECTED
     assert result.error_rate == 0.0
-    errors = result.errors["subpixel"]
+    errors = result.errors["sub_pixel"]
     for d, lo in ((1, 12), (2, 6), (4, 3)):
         zero = [t for t, e in zip(result.thresholds, errors[d]) if e == 0.0]
         assert zero == [float(t) for t in range(lo, 20)]
@@ -86,7 +86,7 @@ def test_tune_command_with_hand_labels_writes_the_config_and_plot(tmp_path):
     )  # fmt: skip
     assert rc == 0
     ranger = tomllib.loads(out.read_text())["ranger"]
-    assert (ranger["half_width"], ranger["threshold"]) == EXPECTED
+    assert (ranger["half_width_px"], ranger["threshold"]) == EXPECTED
     assert (tmp_path / "tune.png").stat().st_size > 1000
     assert (tmp_path / "tune.json").is_file()
 
@@ -111,5 +111,5 @@ def test_texture_noise_matches_the_filter_noise_of_white_noise(d):
     rng = np.random.default_rng(3)
     sigma = 6.0
     images = [np.clip(rng.normal(120, sigma, (H, W)), 0, 255) for _ in range(4)]
-    est = texture_noise(images, half_width=d, columns=np.arange(W))
+    est = texture_noise(images, half_width=d, columns=np.arange(W), bottom_margin=2)
     assert est == pytest.approx(sigma / np.sqrt(2 * d), rel=0.06)

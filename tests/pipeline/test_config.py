@@ -2,10 +2,22 @@
 
 from __future__ import annotations
 
+import sys
+
 import floorscan
+import numpy as np
 import pytest
+from conftest import affine_table
+from floorscan import read_scans_csv
 from floorscan.cli import main
-from floorscan.pipeline.config import Config
+from floorscan.formats.image_io import write_png
+from floorscan.options import defaults
+from floorscan.pipeline.config import SHARED_WITH_RANGER, Config
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
 
 
 def test_default_config_round_trips_through_toml():
@@ -32,7 +44,13 @@ def test_default_config_round_trips_through_toml():
         ("[ranger]\ncolumns = 2.5\n", "ranger.columns"),
         ("[calibration]\nextrapolate = 1\n", "calibration.extrapolate"),
         ("[sensors.visual]\nhit = 1\n", "sensors.visual.hit"),
-        ("[map]\ncell_size_m = nan\n", "map.cell_size_m"),
+        ("[grid]\ncell_size_m = nan\n", "grid.cell_size_m"),
+        ("[map]\ncell_size_m = nan\n", "grid.cell_size_m"),  # the older spelling of [grid]
+        ("[ranger]\nhalf_width_px = 0\n", "ranger.half_width_px"),
+        ("[ranger]\nrefinement = 'best'\n", "ranger.refinement"),
+        ("[local_map]\nsize_m = 0.01\n", "local_map.size_m"),
+        ("[sensors]\ntoo_close = 'maybe'\n", "sensors.too_close"),
+        ("[appearance]\nmin_run_px = 0\n", "appearance.min_run_px"),
         ("ranger = 3\n", "ranger"),
     ],
 )
@@ -43,9 +61,10 @@ def test_unknown_or_ill_typed_keys_name_the_key(text, key):
 
 def test_overrides_replace_dotted_keys_and_are_checked():
     cfg = Config().with_overrides(
-        {"ranger.threshold": 7.5, "ranger.columns": None, "map.cell_size_m": 0.05}
+        {"ranger.threshold": 7.5, "ranger.columns": None, "grid.cell_size_m": 0.05}
     )
-    assert cfg.ranger.threshold == 7.5 and cfg.ranger.columns == 64 and cfg.map.cell_size_m == 0.05
+    assert cfg.ranger.threshold == 7.5 and cfg.grid.cell_size_m == 0.05
+    assert cfg.ranger.columns == defaults("ranger")["columns"]
     with pytest.raises(floorscan.ConfigError, match="ranger.nope"):
         Config().with_overrides({"ranger.nope": 1})
     with pytest.raises(floorscan.ConfigError, match="ranger.columns"):
@@ -60,3 +79,88 @@ def test_config_command_prints_and_checks(tmp_path, capsys):
     bad.write_text("[map]\nsize = 3\n")
     assert main(["config", "--check", str(bad)]) == 1
     assert "map.size" in capsys.readouterr().err
+
+
+def test_every_printed_default_is_the_rust_default(capsys):
+    """`config --default` prints the Rust `impl Default` of each options table, read back."""
+    assert main(["config", "--default"]) == 0
+    printed = tomllib.loads(capsys.readouterr().out)
+    ranger = {k: v for k, v in printed["ranger"].items() if k not in RANGER_EXTRAS}
+    assert ranger == defaults("ranger")
+    appearance = {k: v for k, v in printed["appearance"].items() if k != "snap_rows"}
+    expected = {k: v for k, v in defaults("appearance").items() if k not in SHARED_WITH_RANGER}
+    assert appearance == expected
+    grid = {k: v for k, v in defaults("grid").items() if v is not None}  # TOML has no null
+    assert printed["grid"] == grid
+    assert printed["local_map"] == {"size_m": defaults("local_map")["size_m"]}
+    assert printed["sensors"] == defaults("inserter")
+    # The shared appearance fields are the ranger's; the local map's grid is [grid].
+    assert {k: defaults("appearance")[k] for k in SHARED_WITH_RANGER} == {
+        k: defaults("ranger")[k] for k in SHARED_WITH_RANGER
+    }
+    assert defaults("local_map")["grid"] == defaults("grid")
+
+
+RANGER_EXTRAS = ("kind", "auto_threshold", "auto_threshold_k")
+
+
+def test_older_spellings_of_config_files_still_read():
+    old = Config.from_toml(
+        "[ranger]\nhalf_width = 3\nrefine = 'none'\nbottom_margin = 5\n"
+        "[appearance]\nmin_run = 4\nfeatures = 'colour_texture'\n"
+        "[map]\ncell_size_m = 0.05\nlocal_size_m = 2.0\n"
+    )
+    new = Config.from_toml(
+        "[ranger]\nhalf_width_px = 3\nrefinement = 'first_crossing'\nstart = {bottom_margin = 5}\n"
+        "[appearance]\nmin_run_px = 4\nfeatures = 'colour_and_texture'\n"
+        "[grid]\ncell_size_m = 0.05\n[local_map]\nsize_m = 2.0\n"
+    )
+    assert old == new
+    assert "half_width_px = 3" in old.to_toml() and "half_width =" not in old.to_toml()
+
+
+def test_a_bad_value_gives_the_same_error_from_toml_kwargs_and_cli(tmp_path, capsys):
+    """One rule (the Rust validate) and one message naming the key, however the value came."""
+    table = affine_table(64, 48)
+    table.save(tmp_path / "table.json")
+    with pytest.raises(floorscan.OptionError) as kwargs:
+        floorscan.VisualRanger(table, half_width_px=0)
+    reason = str(kwargs.value).split("`half_width_px`: ", 1)[1]
+    assert "\n" not in str(kwargs.value) and reason.startswith("must be in 1..=")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[ranger]\nhalf_width_px = 0\n")
+    with pytest.raises(floorscan.ConfigError) as toml:
+        Config.load(bad)
+    assert str(toml.value).endswith(f"invalid option `ranger.half_width_px`: {reason}")
+    image = tmp_path / "f.png"
+    write_png(image, np.full((48, 64), 100, np.uint8))
+    scan = ["scan", "--table", str(tmp_path / "table.json"), str(image), "-o", "s.csv"]
+    assert main([*scan, "--half-width-px", "0"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(f"invalid option `ranger.half_width_px`: {reason}") and "\n" not in err
+    assert main([*scan, "--config", str(bad)]) == 1
+    assert capsys.readouterr().err.strip().endswith(f"`ranger.half_width_px`: {reason}")
+    # Type errors and unknown keys too: the serde error, with the key.
+    with pytest.raises(floorscan.OptionError, match="invalid option `threshold`: "):
+        floorscan.VisualRanger(table, threshold="high")
+    with pytest.raises(floorscan.OptionError, match="`half_width`: unknown option"):
+        floorscan.VisualRanger(table, half_width=4)
+
+
+def test_scan_reads_the_config_file(tmp_path):
+    """`floorscan scan --config`: the file's [ranger] table, flags over it."""
+    table = affine_table(64, 48)
+    table.save(tmp_path / "table.json")
+    v = np.arange(48)[:, None]
+    image = write_png(
+        tmp_path / "f.png", (np.where(v >= 20, 90, 110) * np.ones((1, 64))).astype(np.uint8)
+    )
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[ranger]\nthreshold = 50\ncolumns = 4\n")  # the step is 20: no boundary
+    base = ["scan", "--table", str(tmp_path / "table.json"), str(image), "--config", str(cfg)]
+    assert main([*base, "-o", str(tmp_path / "a.csv")]) == 0
+    a = read_scans_csv(tmp_path / "a.csv")[0]
+    assert len(a) == 4 and "boundary" not in a.status
+    assert main([*base, "-o", str(tmp_path / "b.csv"), "--threshold", "5"]) == 0
+    b = read_scans_csv(tmp_path / "b.csv")[0]
+    assert len(b) == 4 and set(b.status) == {"boundary"}

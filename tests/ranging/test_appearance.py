@@ -37,18 +37,18 @@ def textured_scene(seed: int):
 
 
 @pytest.mark.parametrize("seed", range(6))
-@pytest.mark.parametrize("features", ["colour", "colour_texture"])
+@pytest.mark.parametrize("features", ["colour", "colour_and_texture"])
 def test_matches_an_independent_numpy_implementation(seed, features):
     img = textured_scene(seed)
-    opts = dict(min_floor_share=0.01, intensity_reach=1 + seed % 2, min_run=2 + seed % 3)
+    opts = dict(min_floor_share=0.01, intensity_reach_bins=1 + seed % 2, min_run_px=2 + seed % 3)
     r = fs.AppearanceRanger(
         image_row_table(W, H),
         columns=W,
-        bottom_margin=0,
+        start={"bottom_margin": 0},
         max_range_m=None,
         features=features,
         reference_fraction=0.15,
-        patch_half_width=seed % 3,
+        patch_half_width_px=seed % 3,
         **opts,
     )
     scan = r.scan(img)
@@ -58,10 +58,10 @@ def test_matches_an_independent_numpy_implementation(seed, features):
         start_row=H - 1,
         reference_fraction=0.15,
         min_share=opts["min_floor_share"],
-        intensity_reach=opts["intensity_reach"],
+        intensity_reach=opts["intensity_reach_bins"],
         patch_half_width=seed % 3,
-        min_run=opts["min_run"],
-        texture=features == "colour_texture",
+        min_run=opts["min_run_px"],
+        texture=features == "colour_and_texture",
     )
     np.testing.assert_array_equal(scan.status_codes, status)
     np.testing.assert_array_equal(scan.rows, rows)
@@ -98,8 +98,9 @@ def test_bad_input_raises_floorscan_errors():
         dict(min_floor_share=0.0),
         dict(adaptation_rate=1.5),
         dict(reference_fraction=0.9),
-        dict(min_run=0),
-        dict(intensity_reach=0),
+        dict(min_run_px=0),
+        dict(intensity_reach_bins=0),
+        dict(min_run=3),  # the older spelling: unknown
         dict(features="hsv"),
         dict(columns=0),
     ):
@@ -115,7 +116,7 @@ def test_fused_takes_nearby_edges_and_ignores_grout_lines():
     img[60] = (90, 90, 90)
     img[:30] = (30, 60, 160)
     table = image_row_table(W, H)
-    edge = fs.VisualRanger(table, columns=8, max_range_m=None, threshold=5, half_width=2)
+    edge = fs.VisualRanger(table, columns=8, max_range_m=None, threshold=5, half_width_px=2)
     app = fs.AppearanceRanger(table, columns=8, max_range_m=None, reference_fraction=0.3)
     e, a = edge.scan(img), app.scan(img)
     assert np.all(e.rows > 55)  # the edge ranger stops at the grout line

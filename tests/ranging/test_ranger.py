@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 def reference_scan(image, table, columns, d, threshold, margin):
     """Column by column, direct sum of eq. (1): status and first-crossing row per column
-    (``refine="none"``), with the plan worked out independently from the table."""
+    (``refinement="first_crossing"``), with the plan worked out independently from the table."""
     h, _ = image.shape
     out = []
     for c in columns:
@@ -59,10 +59,10 @@ def test_scan_equals_numpy_brute_force(seed, d, threshold, n_columns, margin, ho
     ranger = VisualRanger(
         table,
         columns=n_columns,
-        half_width=d,
+        half_width_px=d,
         threshold=threshold,
-        refine="none",
-        bottom_margin=margin,
+        refinement="first_crossing",
+        start={"bottom_margin": margin},
     )
     scan = ranger.scan(image, timestamp=2.5)
     expected = reference_scan(image, table, ranger.columns, d, threshold, margin)
@@ -74,14 +74,14 @@ def test_scan_equals_numpy_brute_force(seed, d, threshold, n_columns, margin, ho
 
 
 @pytest.mark.parametrize("floor,obstacle", [(80, 170), (170, 80)])
-@pytest.mark.parametrize("refine", ["subpixel", "peak"])
+@pytest.mark.parametrize("refine", ["sub_pixel", "peak"])
 def test_step_edges_at_known_rows(floor, obstacle, refine):
     h, w = 48, 64
     edge_rows = 10 + (np.arange(w) % 25)  # first floor row per column
     v = np.arange(h)[:, None]
     image = np.where(v >= edge_rows[None, :], floor, obstacle).astype(np.uint8)
     table = affine_table(w, h)
-    scan = VisualRanger(table, columns=w, threshold=20, refine=refine).scan(image)
+    scan = VisualRanger(table, columns=w, threshold=20, refinement=refine).scan(image)
     assert set(scan.status) == {"boundary"}
     np.testing.assert_array_equal(scan.rows, edge_rows - 0.5)
     x, y = table.lookup(scan.columns.astype(float), edge_rows - 0.5)
@@ -123,26 +123,28 @@ def test_mask_starts_each_column_above_the_bumper():
     mask[40:] = False
     masked = VisualRanger(table, columns=4, threshold=20, mask=mask).scan(image)
     np.testing.assert_array_equal(masked.rows, 19.5)
-    margin = VisualRanger(table, columns=4, threshold=20, bottom_margin=8).scan(image)
+    margin = VisualRanger(table, columns=4, threshold=20, start={"bottom_margin": 8}).scan(image)
     np.testing.assert_array_equal(margin.rows, 19.5)
 
 
 @pytest.mark.parametrize(
     "kwargs,error",
     [
-        (dict(half_width=0), floorscan.OptionError),
-        (dict(half_width=2.5), floorscan.OptionError),
+        (dict(half_width_px=0), floorscan.OptionError),
+        (dict(half_width_px=2.5), floorscan.OptionError),
+        (dict(half_width=4), floorscan.OptionError),  # the older spelling: unknown
         (dict(threshold=float("nan")), floorscan.OptionError),
         (dict(threshold=float("inf")), floorscan.OptionError),
         (dict(threshold="high"), floorscan.OptionError),
         (dict(columns=[3, 64]), floorscan.OptionError),
         (dict(columns=0), floorscan.OptionError),
         (dict(columns=[]), floorscan.OptionError),
-        (dict(refine="sometimes"), floorscan.OptionError),
-        (dict(bottom_margin=48), floorscan.OptionError),
+        (dict(refinement="sometimes"), floorscan.OptionError),
+        (dict(start={"bottom_margin": 48}), floorscan.OptionError),
+        (dict(start={"sometimes": 2}), floorscan.OptionError),
         (dict(mask=np.ones((3, 3), bool)), floorscan.OptionError),
         (dict(max_range_m=-1.0), floorscan.OptionError),
-        (dict(half_width=40), floorscan.OptionError),
+        (dict(half_width_px=40), floorscan.OptionError),
     ],
 )
 def test_bad_options_raise_clear_errors(kwargs, error):

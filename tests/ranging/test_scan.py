@@ -92,3 +92,19 @@ def test_from_arrays_checks_lengths_and_points():
         Scan.from_arrays(
             timestamp=0, columns=[1], rows=[1.0], status=["boundary"], x=[np.nan], y=[0.0]
         )
+
+
+def test_column_status_enum_names_the_codes_of_scans():
+    """`ColumnStatus` (from the Rust enum) names exactly the codes a scan carries and the
+    documented CSV statuses (docs/formats.md), in code order."""
+    assert [s.name.lower() for s in floorscan.ColumnStatus] == [
+        "boundary",
+        "no_boundary",
+        "too_close",
+        "invalid",
+    ]
+    for scan in sample_scans():
+        names = [floorscan.ColumnStatus(int(c)).name.lower() for c in scan.status_codes]
+        assert names == list(scan.status)
+        boundary = scan.status_codes == floorscan.ColumnStatus.BOUNDARY
+        assert np.all(np.isfinite(scan.x[boundary]))

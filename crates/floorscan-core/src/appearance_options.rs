@@ -10,6 +10,7 @@ use crate::ranger_options::{ColumnSelection, ColumnStart, RangerOptions};
 /// Which appearance statistics a pixel must match to look like floor.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum AppearanceFeatures {
     /// Colour only (intensity and two chroma axes).
     Colour,
@@ -19,13 +20,17 @@ pub enum AppearanceFeatures {
 
 /// Options of [`crate::appearance::AppearanceRanger`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct AppearanceOptions {
     /// Sampled columns. Default: 64 evenly spaced (as the edge ranger).
     pub columns: ColumnSelection,
     /// Start of each column's scan. Default: 2 px bottom margin (as the edge ranger).
     pub start: ColumnStart,
-    /// Farthest ground range scanned [m]; `None`: as far as the table has ground. Default 3 m.
+    /// Farthest ground range scanned [m]; `None` (written `inf`): as far as the table has
+    /// ground. Default 3 m.
+    #[serde(with = "crate::ranger_options::range_limit")]
+    #[cfg_attr(feature = "schema", schemars(with = "f64"))]
     pub max_range_m: Option<f64>,
     /// Height of the reference band of floor, just above each column's start row, as a share
     /// of the image height, in (0, 0.5]. Default 0.1 (the floor nearest the robot).

@@ -26,6 +26,7 @@ use serde::{Deserialize, Serialize};
 /// How the boundary row is placed once the response first crosses the threshold.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum Refinement {
     /// The paper: the first row whose response exceeds the threshold. Its position depends on
     /// the edge's contrast (a strong edge crosses earlier on its ramp).

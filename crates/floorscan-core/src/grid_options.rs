@@ -8,6 +8,8 @@ use crate::pose::Point2;
 
 /// A world-aligned rectangle [m]: `min` is the lower-left corner, `max` the upper-right.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Bounds {
     pub min: Point2,
     pub max: Point2,
@@ -16,6 +18,7 @@ pub struct Bounds {
 /// What a cell's evidence says, by the grid's thresholds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum Occupancy {
     Free,
     Unknown,
@@ -23,6 +26,18 @@ pub enum Occupancy {
 }
 
 impl Occupancy {
+    /// Every class, in code order.
+    pub const ALL: [Occupancy; 3] = [Occupancy::Free, Occupancy::Unknown, Occupancy::Occupied];
+
+    /// The name used in Python (the serde name).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Occupancy::Free => "free",
+            Occupancy::Unknown => "unknown",
+            Occupancy::Occupied => "occupied",
+        }
+    }
+
     /// Small integer code used in numpy arrays: free 0, unknown 1, occupied 2.
     pub fn code(self) -> u8 {
         match self {
@@ -36,6 +51,7 @@ impl Occupancy {
 /// Options of [`crate::grid::Grid`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct GridOptions {
     /// Side of a square cell [m], in [0.001, 10]. Default 0.04 (the paper's 4 cm).
     pub cell_size_m: f64,

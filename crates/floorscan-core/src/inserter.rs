@@ -27,6 +27,7 @@ use crate::sonar::SonarReading;
 /// What a `too_close` column contributes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum TooClosePolicy {
     /// A hit at the near edge of the column's field of view (default).
     MarkNearEdge,
@@ -37,6 +38,7 @@ pub enum TooClosePolicy {
 /// Options of [`Inserter`]: the evidence of each sensor and the visual scan rules.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct InserterOptions {
     /// Visual scans. Default hit +0.85 / miss -0.4 nats (p = 0.7 / 0.4, OctoMap's sensor
     /// model): a few consistent frames decide a cell. Lower both for a noisy floor texture.

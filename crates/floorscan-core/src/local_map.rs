@@ -28,6 +28,7 @@ use crate::sonar::SonarReading;
 /// Options of [`LocalMap`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct LocalMapOptions {
     /// Side of the square window [m], at least 2 cells and at most 4096 cells. Default 3.84
     /// (the paper's 384 x 384 cm map at 4 cm: 96 x 96 cells). Rounded to whole cells.

@@ -85,6 +85,8 @@ pub fn log_odds_from_probability(p: f64) -> f64 {
 /// sensor that is rarely wrong gets large steps (few observations decide a cell, the robot may
 /// drive faster); a noisy one gets small steps (many observations needed).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Evidence {
     /// Added to a cell observed occupied [nats], in (0, 16].
     pub hit_nats: f64,

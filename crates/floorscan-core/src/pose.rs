@@ -8,6 +8,7 @@ use crate::error::{Error, Result};
 
 /// A 2-D point or vector [m].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Point2 {
     pub x: f64,
     pub y: f64,

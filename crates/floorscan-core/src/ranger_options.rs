@@ -8,7 +8,8 @@ use crate::error::{invalid_option, Result};
 
 /// Which image columns are sampled.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(untagged)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum ColumnSelection {
     /// `n` columns evenly spaced across the image: the centres of n equal strips.
     Count(usize),
@@ -19,6 +20,7 @@ pub enum ColumnSelection {
 /// Where each column's scan starts (the bottom of its region of interest).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum ColumnStart {
     /// Skip this many rows at the bottom of every column (a bumper, a dark border row).
     BottomMargin(usize),
@@ -29,6 +31,8 @@ pub enum ColumnStart {
 
 /// Options of [`crate::ranger::VisualRanger`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct RangerOptions {
     /// Half-width d of the box filter [px], >= 1. Default 4: wide enough to average carpet
     /// texture, narrow enough to resolve a boundary a few pixels from the bottom.
@@ -45,9 +49,11 @@ pub struct RangerOptions {
     pub columns: ColumnSelection,
     /// Start of each column's scan. Default: 2 px bottom margin (dead border rows are common).
     pub start: ColumnStart,
-    /// Farthest ground range scanned [m]; `None` scans up to the highest row with ground.
-    /// Default 3 m: beyond it a typical 320x240 wide-angle camera images more than 10 cm of
-    /// floor per pixel row (ROS costmaps default to 2.5-3 m for the same reason).
+    /// Farthest ground range scanned [m]; `None` (written `inf`) scans up to the highest row
+    /// with ground. Default 3 m: beyond it a typical 320x240 wide-angle camera images more
+    /// than 10 cm of floor per pixel row (ROS costmaps default to 2.5-3 m for the same reason).
+    #[serde(with = "range_limit")]
+    #[cfg_attr(feature = "schema", schemars(with = "f64"))]
     pub max_range_m: Option<f64>,
 }
 
@@ -64,6 +70,21 @@ impl Default for RangerOptions {
     }
 }
 
+/// A range limit in its serde form: a number [m], `inf` for none (TOML, JSON-free dicts and
+/// keyword arguments have no null).
+pub mod range_limit {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_f64(v.unwrap_or(f64::INFINITY))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+        let v = Option::<f64>::deserialize(d)?;
+        Ok(v.filter(|r| *r != f64::INFINITY))
+    }
+}
+
 /// Longest half-width accepted: keeps the raw sums of 16-bit pixels inside i32.
 pub const MAX_HALF_WIDTH_PX: usize = 4096;
 
@@ -72,7 +93,7 @@ impl RangerOptions {
     pub fn validate(&self) -> Result<()> {
         if self.half_width_px < 1 || self.half_width_px > MAX_HALF_WIDTH_PX {
             return Err(invalid_option(
-                "half_width",
+                "half_width_px",
                 format!(
                     "must be in 1..={MAX_HALF_WIDTH_PX}, got {}",
                     self.half_width_px

@@ -154,7 +154,7 @@ proptest! {
         count in hostile_number(), margin in hostile_number(),
     ) {
         let text = format!(
-            r#"{{"half_width_px":{half},"threshold":{thr},"refinement":"sub_pixel","columns":{{"count":{count}}},"start":{{"bottom_margin":{margin}}},"max_range_m":3.0}}"#
+            r#"{{"half_width_px":{half},"threshold":{thr},"refinement":"sub_pixel","columns":{count},"start":{{"bottom_margin":{margin}}},"max_range_m":3.0}}"#
         );
         let Ok(options) = serde_json::from_str::<RangerOptions>(&text) else { return Ok(()) };
         let table = GroundTable::from_fn(32, 24, 8, |_, v| Some(Point2::new(5.0 - 0.1 * v, 0.0))).unwrap();

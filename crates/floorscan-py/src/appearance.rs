@@ -1,5 +1,5 @@
-//! Bindings of `floorscan_core::appearance`. Options arrive as JSON (`AppearanceOptions` serde
-//! form), built and validated by the Python wrapper `floorscan.AppearanceRanger`.
+//! Bindings of `floorscan_core::appearance`. Options arrive as a dict of `AppearanceOptions`
+//! fields (its serde form; the others take their defaults), read and validated here.
 
 use floorscan_core::{fuse_scans, AppearanceOptions, AppearanceRanger, ColourView, Pixel, Scan};
 use numpy::{Element, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
@@ -8,9 +8,10 @@ use pyo3::prelude::*;
 use crate::errors::{error, IntoPyResult};
 use crate::ground_table::PyGroundTable;
 use crate::image::BorrowedImage;
+use crate::options::{from_py, to_py};
 use crate::scan::PyScan;
 
-#[pyclass(name = "AppearanceRanger", module = "floorscan._native")]
+#[pyclass(name = "AppearanceRanger", module = "floorscan._native.ranging")]
 pub struct PyAppearanceRanger {
     inner: AppearanceRanger,
 }
@@ -52,11 +53,12 @@ fn scan_grey<P: Pixel + Element>(
 #[pymethods]
 impl PyAppearanceRanger {
     #[new]
-    fn new(table: &PyGroundTable, options_json: &str) -> PyResult<Self> {
-        let options: AppearanceOptions = serde_json::from_str(options_json)
-            .map_err(|e| error("OptionError", format!("invalid appearance options: {e}")))?;
-        Ok(Self {
-            inner: AppearanceRanger::new(table.inner.clone(), options).py()?,
+    fn new(table: &PyGroundTable, options: &Bound<'_, PyAny>) -> PyResult<Self> {
+        crate::errors::guard(|| {
+            let options: AppearanceOptions = from_py(options)?;
+            Ok(Self {
+                inner: AppearanceRanger::new(table.inner.clone(), options).py()?,
+            })
         })
     }
 
@@ -103,9 +105,10 @@ impl PyAppearanceRanger {
         PyArray1::from_vec(py, self.inner.columns())
     }
 
+    /// The options (every field, serde form).
     #[getter]
-    fn options_json(&self) -> String {
-        serde_json::to_string(self.inner.options()).unwrap_or_default()
+    fn options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| to_py(py, self.inner.options()))
     }
 }
 

@@ -26,7 +26,7 @@ type Merged<'py> = ((f64, f64), Bound<'py, PyArray2<i32>>);
 /// cell [0, 0]) and `arrays[k]` ((H, W) int32, row 0 the lowest y). Returns the merged
 /// origin and array.
 #[pyfunction]
-fn merge_evidence<'py>(
+pub fn merge_evidence<'py>(
     py: Python<'py>,
     cell_sizes_m: Vec<f64>,
     origins_m: Vec<(f64, f64)>,
@@ -70,9 +70,4 @@ fn merge_evidence<'py>(
         origin,
         PyArray1::from_vec(py, merged.values).reshape([h, w])?,
     ))
-}
-
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(merge_evidence, m)?)?;
-    Ok(())
 }

@@ -1,199 +1,21 @@
 //! Bindings of the map builder's global grid (`floorscan_core::{grid, inserter, queries}`):
-//! a grid and the inserter that feeds it. Options arrive as JSON (the core's serde form),
-//! built and validated by the Python wrapper `floorscan.OccupancyGrid`. Batch inserts release
+//! a grid and the inserter that feeds it. Options arrive as dicts of `GridOptions` and
+//! `InserterOptions` fields (their serde form), read and validated here. Batch inserts release
 //! the GIL.
 
-use floorscan_core::{
-    BeamAngles, Evidence, Grid, GridOptions, Inserter, InserterOptions, LaserScan, Point2, Pose2,
-    Ray, SonarReading, UpdateStats,
-};
+use floorscan_core::{Evidence, Grid, GridOptions, Inserter, InserterOptions, Point2, Pose2, Ray};
 use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 
+use crate::arrays::{laser_layout, pose, rows, slice1, sonar_readings, stats, Stats};
 use crate::errors::{error, IntoPyResult};
+use crate::grid_views::{distances, extent, limits, occupancy_codes, values};
+use crate::options::{from_py, to_py};
 use crate::scan::PyScan;
 
-pub type Stats = (u64, u64, u64);
-
-pub fn stats(s: UpdateStats) -> Stats {
-    (s.rays, s.cells_traversed, s.cells_hit)
-}
-
-pub fn pose(p: [f64; 3]) -> Pose2 {
-    Pose2::new(p[0], p[1], p[2])
-}
-
-pub fn parse_json<T: serde::de::DeserializeOwned>(what: &str, text: &str) -> PyResult<T> {
-    serde_json::from_str(text).map_err(|e| error("OptionError", format!("invalid {what}: {e}")))
-}
-
-/// A contiguous 1-D view, or a clear error naming the argument.
-pub fn slice1<'a>(a: &'a PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<&'a [f64]> {
-    a.as_slice().map_err(|_| {
-        error(
-            "LengthMismatchError",
-            format!("`{name}` must be a contiguous 1-D float64 array"),
-        )
-    })
-}
-
-/// An (N, k) contiguous float64 array as a flat slice and N.
-pub fn rows<'a>(
-    a: &'a PyReadonlyArray2<'_, f64>,
-    k: usize,
-    name: &str,
-) -> PyResult<(&'a [f64], usize)> {
-    let shape = a.shape();
-    if shape[1] != k {
-        return Err(error(
-            "LengthMismatchError",
-            format!(
-                "`{name}` must have shape (N, {k}), got ({}, {})",
-                shape[0], shape[1]
-            ),
-        ));
-    }
-    let s = a.as_slice().map_err(|_| {
-        error(
-            "LengthMismatchError",
-            format!("`{name}` must be a contiguous float64 array"),
-        )
-    })?;
-    Ok((s, shape[0]))
-}
-
-/// The laser layout: explicit angles, or a uniform fan.
-pub fn laser_layout<'a>(
-    ranges: &'a [f64],
-    angles: Option<&'a [f64]>,
-    angle_min: f64,
-    angle_increment: f64,
-    range_min: f64,
-    range_max: f64,
-) -> LaserScan<'a> {
-    let angles = match angles {
-        Some(a) => BeamAngles::Explicit(a),
-        None => BeamAngles::Uniform {
-            min_rad: angle_min,
-            increment_rad: angle_increment,
-        },
-    };
-    LaserScan {
-        ranges_m: ranges,
-        angles,
-        range_min_m: range_min,
-        range_max_m: range_max,
-    }
-}
-
-/// Sonar readings and their mounts from arrays.
-pub fn sonar_readings(
-    ranges: &[f64],
-    mounts: &[f64],
-    beam_width: f64,
-    range_max: f64,
-) -> PyResult<(Vec<SonarReading>, Vec<Pose2>)> {
-    if mounts.len() != 3 * ranges.len() {
-        return Err(error(
-            "LengthMismatchError",
-            format!(
-                "{} sonar ranges but {} mounts",
-                ranges.len(),
-                mounts.len() / 3
-            ),
-        ));
-    }
-    let readings = ranges
-        .iter()
-        .map(|&r| SonarReading {
-            range_m: r,
-            beam_width_rad: beam_width,
-            range_max_m: range_max,
-        })
-        .collect();
-    let poses = mounts
-        .chunks(3)
-        .map(|m| Pose2::new(m[0], m[1], m[2]))
-        .collect();
-    Ok((readings, poses))
-}
-
-/// Read-only views shared by the global grid and the local map.
-pub fn values<'py>(
-    py: Python<'py>,
-    grid: &Grid,
-    min_x: i64,
-    min_y: i64,
-    width: u64,
-    height: u64,
-) -> PyResult<Bound<'py, PyArray2<i16>>> {
-    let rect = grid.checked_rect(min_x, min_y, width, height).py()?;
-    let mut out = Vec::new();
-    py.detach(|| grid.read_rect(rect, &mut out));
-    PyArray1::from_vec(py, out).reshape([rect.height(), rect.width()])
-}
-
-pub fn extent(grid: &Grid) -> (i32, i32, usize, usize) {
-    let r = grid.extent();
-    (r.min.x, r.min.y, r.width(), r.height())
-}
-
-pub fn occupancy_codes<'py>(
-    py: Python<'py>,
-    grid: &Grid,
-    xs: &[f64],
-    ys: &[f64],
-) -> PyResult<Bound<'py, PyArray1<u8>>> {
-    if xs.len() != ys.len() {
-        return Err(error(
-            "LengthMismatchError",
-            format!("{} x but {} y coordinates", xs.len(), ys.len()),
-        ));
-    }
-    let codes: Vec<u8> = xs
-        .iter()
-        .zip(ys)
-        .map(|(&x, &y)| grid.occupancy_at(Point2::new(x, y)).map(|o| o.code()))
-        .collect::<floorscan_core::Result<_>>()
-        .py()?;
-    Ok(PyArray1::from_vec(py, codes))
-}
-
-pub fn distances<'py>(
-    py: Python<'py>,
-    grid: &Grid,
-    xs: &[f64],
-    ys: &[f64],
-    max_m: f64,
-) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    if xs.len() != ys.len() {
-        return Err(error(
-            "LengthMismatchError",
-            format!("{} x but {} y coordinates", xs.len(), ys.len()),
-        ));
-    }
-    let d: Vec<f64> = py
-        .detach(|| {
-            xs.iter()
-                .zip(ys)
-                .map(|(&x, &y)| {
-                    grid.distance_to_occupied(Point2::new(x, y), max_m)
-                        .map(|d| d.unwrap_or(f64::INFINITY))
-                })
-                .collect::<floorscan_core::Result<_>>()
-        })
-        .py()?;
-    Ok(PyArray1::from_vec(py, d))
-}
-
-pub fn limits(grid: &Grid) -> (i16, i16, i16, i16) {
-    let l = grid.limits();
-    (l.clamp_min, l.clamp_max, l.occupied_at, l.free_at)
-}
-
-#[pyclass(name = "OccupancyGrid", module = "floorscan._native")]
+#[pyclass(name = "OccupancyGrid", module = "floorscan._native.mapping")]
 pub struct PyOccupancyGrid {
     grid: Grid,
     inserter: Inserter,
@@ -202,10 +24,10 @@ pub struct PyOccupancyGrid {
 #[pymethods]
 impl PyOccupancyGrid {
     #[new]
-    fn new(grid_options_json: &str, inserter_options_json: &str) -> PyResult<Self> {
+    fn new(grid_options: &Bound<'_, PyAny>, inserter_options: &Bound<'_, PyAny>) -> PyResult<Self> {
         crate::errors::guard(|| {
-            let go: GridOptions = parse_json("grid options", grid_options_json)?;
-            let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
+            let go: GridOptions = from_py(grid_options)?;
+            let io: InserterOptions = from_py(inserter_options)?;
             Ok(Self {
                 grid: Grid::new(go).py()?,
                 inserter: Inserter::new(io).py()?,
@@ -522,15 +344,15 @@ impl PyOccupancyGrid {
         crate::errors::guard(|| Ok(self.grid.allocated_tiles()))
     }
 
+    /// The grid options (every field, serde form).
     #[getter]
-    fn grid_options_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| Ok(serde_json::to_string(self.grid.options()).unwrap_or_default()))
+    fn grid_options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| to_py(py, self.grid.options()))
     }
 
+    /// The inserter options (every field, serde form).
     #[getter]
-    fn inserter_options_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| {
-            Ok(serde_json::to_string(self.inserter.options()).unwrap_or_default())
-        })
+    fn inserter_options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| to_py(py, self.inserter.options()))
     }
 }

@@ -6,11 +6,12 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
 use crate::errors::{error, IntoPyResult};
+use crate::options::{from_py, to_py};
 
 /// Two numpy arrays (x and y).
 type ArrayPair<'py, A> = (Bound<'py, A>, Bound<'py, A>);
 
-#[pyclass(name = "GroundTable", module = "floorscan._native", frozen)]
+#[pyclass(name = "GroundTable", module = "floorscan._native.ranging", frozen)]
 #[derive(Clone)]
 pub struct PyGroundTable {
     pub inner: GroundTable,
@@ -29,10 +30,6 @@ fn pixel_pairs(
         ));
     }
     Ok((u.to_vec(), v.to_vec()))
-}
-
-fn parse_json<T: serde::de::DeserializeOwned>(what: &str, text: &str) -> PyResult<T> {
-    serde_json::from_str(text).map_err(|e| error("OptionError", format!("invalid {what}: {e}")))
 }
 
 #[pymethods]
@@ -57,16 +54,16 @@ impl PyGroundTable {
     #[staticmethod]
     fn from_camera(
         py: Python<'_>,
-        lens_json: &str,
-        mount_json: &str,
+        lens: &Bound<'_, PyAny>,
+        mount: &Bound<'_, PyAny>,
         image_width: usize,
         image_height: usize,
         spacing_px: usize,
         max_range_m: f64,
     ) -> PyResult<Self> {
         crate::errors::guard(|| {
-            let lens: Lens = parse_json("lens", lens_json)?;
-            let mount: CameraMount = parse_json("mount", mount_json)?;
+            let lens: Lens = from_py(lens)?;
+            let mount: CameraMount = from_py(mount)?;
             let inner = py
                 .detach(|| {
                     ground_table_from_camera(
@@ -199,18 +196,16 @@ impl PyGroundTable {
         })
     }
 
-    /// The free-form metadata as a JSON object string.
-    fn metadata_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| {
-            Ok(serde_json::to_string(&self.inner.metadata).unwrap_or_else(|_| "{}".into()))
-        })
+    /// The free-form metadata (a dict).
+    fn metadata<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| to_py(py, &self.inner.metadata))
     }
 
-    /// A copy of the table with `metadata` (a JSON object string) replacing its metadata.
-    fn with_metadata_json(&self, metadata: &str) -> PyResult<Self> {
+    /// A copy of the table with `metadata` (a dict of JSON values) replacing its metadata.
+    fn with_metadata(&self, metadata: &Bound<'_, PyAny>) -> PyResult<Self> {
         crate::errors::guard(|| {
             let mut inner = self.inner.clone();
-            inner.metadata = parse_json("metadata", metadata)?;
+            inner.metadata = from_py(metadata)?;
             Ok(Self { inner })
         })
     }

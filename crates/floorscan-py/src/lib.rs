@@ -1,40 +1,160 @@
 //! floorscan's native Python module (`floorscan._native`). Thin: numpy in and out, the GIL
 //! released on heavy calls, every core error mapped to its Python class. The public, documented
 //! API is the Python package `floorscan`, which wraps these classes.
+//!
+//! One submodule per stage of the Python package (`floorscan._native.ranging`, `.mapping`,
+//! `.sim`), registered in `sys.modules` so that `from floorscan._native.sim import SimWorld`
+//! works; one binding file per core module with a Python face. The type stubs
+//! (`python/floorscan/_native/*.pyi`) are generated from these declarations
+//! (`make stubs`, crates/floorscan-stubgen) and checked for drift by `make test`.
 
 use pyo3::prelude::*;
 
 mod appearance;
+mod appearance_options;
+mod arrays;
 mod errors;
 mod evidence;
 mod grid;
+mod grid_options;
+mod grid_views;
 mod ground_table;
 mod image;
+mod inserter;
 mod local_map;
+mod log_odds;
+mod options;
 mod ranger;
+mod ranger_options;
 mod scan;
 mod sim;
 
 /// Panics inside [`errors::guard`], for the test that a panic reaches Python as
 /// `floorscan.errors.InternalError` (never `PanicException`).
 #[pyfunction]
-fn _panic_for_tests() -> PyResult<()> {
+pub fn _panic_for_tests() -> PyResult<()> {
     errors::guard(|| panic!("deliberate panic for the FFI guard test"))
 }
 
-#[pymodule]
-fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
-    m.add_class::<ground_table::PyGroundTable>()?;
-    m.add_class::<ranger::PyVisualRanger>()?;
-    m.add_class::<appearance::PyAppearanceRanger>()?;
-    m.add_function(wrap_pyfunction!(appearance::fuse, m)?)?;
-    m.add_function(wrap_pyfunction!(ranger::validate_ranger_options, m)?)?;
-    m.add_class::<scan::PyScan>()?;
-    m.add_class::<grid::PyOccupancyGrid>()?;
-    m.add_class::<local_map::PyLocalMap>()?;
-    sim::register(m)?;
-    evidence::register(m)?;
+/// Makes a submodule importable by its full name (`floorscan._native.NAME`).
+fn register_submodule(m: &Bound<'_, PyModule>, name: &str) -> PyResult<()> {
+    let full = format!("floorscan._native.{name}");
+    m.setattr("__name__", &full)?;
+    m.py()
+        .import("sys")?
+        .getattr("modules")?
+        .set_item(full, m)?;
     Ok(())
+}
+
+#[pymodule]
+mod _native {
+    use super::*;
+
+    #[pymodule_export]
+    use super::_panic_for_tests;
+
+    /// The package version (the crates').
+    #[pymodule_export]
+    #[allow(non_upper_case_globals)]
+    const __version__: &str = env!("CARGO_PKG_VERSION");
+
+    /// Ranging: ground tables, the edge and appearance rangers, scans.
+    #[pymodule]
+    mod ranging {
+        use super::*;
+
+        #[pymodule_export]
+        use crate::appearance::{fuse, PyAppearanceRanger};
+        #[pymodule_export]
+        use crate::appearance_options::{
+            appearance_options_schema, check_appearance_options, default_appearance_options,
+        };
+        #[pymodule_export]
+        use crate::ground_table::PyGroundTable;
+        #[pymodule_export]
+        use crate::ranger::PyVisualRanger;
+        #[pymodule_export]
+        use crate::ranger_options::{
+            check_ranger_options, default_ranger_options, ranger_options_schema,
+        };
+        #[pymodule_export]
+        use crate::scan::{column_statuses, PyScan};
+
+        /// The scans CSV header (`floorscan_core::scan::SCAN_CSV_HEADER`).
+        #[pymodule_export]
+        const SCAN_CSV_HEADER: &str = floorscan_core::scan::SCAN_CSV_HEADER;
+
+        #[pymodule_init]
+        fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+            register_submodule(m, "ranging")
+        }
+    }
+
+    /// Mapping: the global grid, the local map, evidence merges, log-odds.
+    #[pymodule]
+    mod mapping {
+        use super::*;
+
+        #[pymodule_export]
+        use crate::evidence::merge_evidence;
+        #[pymodule_export]
+        use crate::grid::PyOccupancyGrid;
+        #[pymodule_export]
+        use crate::grid_options::{check_grid_options, default_grid_options, grid_options_schema};
+        #[pymodule_export]
+        use crate::inserter::{
+            check_inserter_options, default_inserter_options, inserter_options_schema,
+        };
+        #[pymodule_export]
+        use crate::local_map::{
+            check_local_map_options, default_local_map_options, local_map_options_schema,
+            PyLocalMap,
+        };
+        #[pymodule_export]
+        use crate::log_odds::{
+            occupancy_classes, probabilities_from_units, units_from_probabilities,
+        };
+
+        /// Stored log-odds units per nat (`floorscan_core::log_odds::UNITS_PER_NAT`).
+        #[pymodule_export]
+        const UNITS_PER_NAT: f64 = floorscan_core::log_odds::UNITS_PER_NAT;
+
+        /// Largest stored log-odds magnitude (`floorscan_core::log_odds::MAX_ABS_UNITS`).
+        #[pymodule_export]
+        const MAX_ABS_UNITS: i16 = floorscan_core::log_odds::MAX_ABS_UNITS;
+
+        #[pymodule_init]
+        fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+            register_submodule(m, "mapping")
+        }
+    }
+
+    /// The simulator: worlds, cameras, rendering with truth, robot runs, calibration scenes.
+    #[pymodule]
+    mod sim {
+        use super::*;
+
+        #[pymodule_export]
+        use crate::sim::calibration::{
+            sim_default_pattern, sim_pattern_points, sim_render_calibration, validate_pattern,
+        };
+        #[pymodule_export]
+        use crate::sim::camera::{validate_camera, validate_imaging, PyCamera};
+        #[pymodule_export]
+        use crate::sim::render::sim_render;
+        #[pymodule_export]
+        use crate::sim::robot::{sim_drive, validate_odometry_noise, validate_robot_options};
+        #[pymodule_export]
+        use crate::sim::run::sim_render_run;
+        #[pymodule_export]
+        use crate::sim::truth::PyTruth;
+        #[pymodule_export]
+        use crate::sim::world::{validate_occupancy_options, PyWorld};
+
+        #[pymodule_init]
+        fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+            register_submodule(m, "sim")
+        }
+    }
 }

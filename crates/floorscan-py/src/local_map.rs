@@ -4,13 +4,13 @@ use floorscan_core::{InserterOptions, LocalMap, LocalMapOptions};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
+use crate::arrays::{laser_layout, pose, rows, slice1, sonar_readings, stats, Stats};
 use crate::errors::IntoPyResult;
-use crate::grid::{
-    self, laser_layout, parse_json, pose, rows, slice1, sonar_readings, stats, Stats,
-};
+use crate::grid_views;
+use crate::options::{from_py, options_functions, to_py};
 use crate::scan::PyScan;
 
-#[pyclass(name = "LocalMap", module = "floorscan._native")]
+#[pyclass(name = "LocalMap", module = "floorscan._native.mapping")]
 pub struct PyLocalMap {
     inner: LocalMap,
 }
@@ -19,13 +19,13 @@ pub struct PyLocalMap {
 impl PyLocalMap {
     #[new]
     fn new(
-        options_json: &str,
-        inserter_options_json: &str,
+        options: &Bound<'_, PyAny>,
+        inserter_options: &Bound<'_, PyAny>,
         local_from_robot: [f64; 3],
     ) -> PyResult<Self> {
         crate::errors::guard(|| {
-            let o: LocalMapOptions = parse_json("local map options", options_json)?;
-            let io: InserterOptions = parse_json("inserter options", inserter_options_json)?;
+            let o: LocalMapOptions = from_py(options)?;
+            let io: InserterOptions = from_py(inserter_options)?;
             Ok(Self {
                 inner: LocalMap::new(o, io, pose(local_from_robot)).py()?,
             })
@@ -118,7 +118,9 @@ impl PyLocalMap {
         width: u64,
         height: u64,
     ) -> PyResult<Bound<'py, PyArray2<i16>>> {
-        crate::errors::guard(|| grid::values(py, self.inner.grid(), min_x, min_y, width, height))
+        crate::errors::guard(|| {
+            grid_views::values(py, self.inner.grid(), min_x, min_y, width, height)
+        })
     }
 
     /// The window resampled in the robot frame: (height, width) int16, row 0 at the robot's
@@ -149,7 +151,7 @@ impl PyLocalMap {
         ys: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<Bound<'py, PyArray1<u8>>> {
         crate::errors::guard(|| {
-            grid::occupancy_codes(py, self.inner.grid(), slice1(&xs, "x")?, slice1(&ys, "y")?)
+            grid_views::occupancy_codes(py, self.inner.grid(), slice1(&xs, "x")?, slice1(&ys, "y")?)
         })
     }
 
@@ -161,7 +163,7 @@ impl PyLocalMap {
         max_m: f64,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         crate::errors::guard(|| {
-            grid::distances(
+            grid_views::distances(
                 py,
                 self.inner.grid(),
                 slice1(&xs, "x")?,
@@ -172,7 +174,7 @@ impl PyLocalMap {
     }
 
     fn limits(&self) -> PyResult<(i16, i16, i16, i16)> {
-        crate::errors::guard(|| Ok(grid::limits(self.inner.grid())))
+        crate::errors::guard(|| Ok(grid_views::limits(self.inner.grid())))
     }
 
     #[getter]
@@ -190,8 +192,16 @@ impl PyLocalMap {
         })
     }
 
+    /// The options (every field, serde form).
     #[getter]
-    fn options_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| Ok(serde_json::to_string(self.inner.options()).unwrap_or_default()))
+    fn options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| to_py(py, self.inner.options()))
     }
 }
+
+options_functions!(
+    LocalMapOptions,
+    default_local_map_options,
+    check_local_map_options,
+    local_map_options_schema
+);

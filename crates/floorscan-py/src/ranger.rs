@@ -1,5 +1,5 @@
-//! Bindings of `floorscan_core::ranger`. Options arrive as JSON (`RangerOptions` serde form),
-//! built and validated by the Python wrapper `floorscan.VisualRanger`.
+//! Bindings of `floorscan_core::ranger`. Options arrive as a dict of `RangerOptions` fields
+//! (its serde form; the others take their defaults), read and validated here.
 
 use floorscan_core::{RangerOptions, Scan, VisualRanger};
 use numpy::{PyArray1, PyArray2};
@@ -8,9 +8,10 @@ use pyo3::prelude::*;
 use crate::errors::{error, IntoPyResult};
 use crate::ground_table::PyGroundTable;
 use crate::image::BorrowedImage;
+use crate::options::{from_py, to_py};
 use crate::scan::PyScan;
 
-#[pyclass(name = "VisualRanger", module = "floorscan._native")]
+#[pyclass(name = "VisualRanger", module = "floorscan._native.ranging")]
 pub struct PyVisualRanger {
     inner: VisualRanger,
 }
@@ -18,10 +19,9 @@ pub struct PyVisualRanger {
 #[pymethods]
 impl PyVisualRanger {
     #[new]
-    fn new(table: &PyGroundTable, options_json: &str) -> PyResult<Self> {
+    fn new(table: &PyGroundTable, options: &Bound<'_, PyAny>) -> PyResult<Self> {
         crate::errors::guard(|| {
-            let options: RangerOptions = serde_json::from_str(options_json)
-                .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
+            let options: RangerOptions = from_py(options)?;
             Ok(Self {
                 inner: VisualRanger::new(table.inner.clone(), options).py()?,
             })
@@ -65,9 +65,10 @@ impl PyVisualRanger {
         crate::errors::guard(|| Ok(PyArray1::from_vec(py, self.inner.columns())))
     }
 
+    /// The options (every field, serde form).
     #[getter]
-    fn options_json(&self) -> PyResult<String> {
-        crate::errors::guard(|| Ok(serde_json::to_string(self.inner.options()).unwrap_or_default()))
+    fn options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| to_py(py, self.inner.options()))
     }
 
     #[getter]
@@ -78,15 +79,4 @@ impl PyVisualRanger {
             })
         })
     }
-}
-
-/// Validates ranger options (their serde form) without a table: every check that does not
-/// depend on the image size (`floorscan config --check` runs it, as `floorscan run` does).
-#[pyfunction]
-pub fn validate_ranger_options(options_json: &str) -> PyResult<()> {
-    crate::errors::guard(|| {
-        let options: RangerOptions = serde_json::from_str(options_json)
-            .map_err(|e| error("OptionError", format!("invalid ranger options: {e}")))?;
-        options.validate().py()
-    })
 }

@@ -8,7 +8,7 @@ use pyo3::types::PyDict;
 
 use crate::errors::{error, IntoPyResult};
 
-#[pyclass(name = "Scan", module = "floorscan._native", frozen)]
+#[pyclass(name = "Scan", module = "floorscan._native.ranging", frozen)]
 #[derive(Clone)]
 pub struct PyScan {
     pub inner: Scan,
@@ -213,4 +213,14 @@ impl PyScan {
             Ok(d)
         })
     }
+}
+
+/// Every column status as (name, code), in code order (`floorscan.ColumnStatus` is built
+/// from it).
+#[pyfunction]
+pub fn column_statuses() -> Vec<(&'static str, u8)> {
+    ColumnStatus::ALL
+        .iter()
+        .map(|s| (s.as_str(), s.code()))
+        .collect()
 }

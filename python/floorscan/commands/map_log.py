@@ -12,6 +12,8 @@ import numpy as np
 from ..errors import DatasetError
 from ..formats.carmen import LaserReading, read_carmen
 from ..mapping.grid import OccupancyGrid
+from ..pipeline.config import Config, default_value
+from ..pipeline.mapper import grid_kwargs
 
 
 def register(sub) -> None:
@@ -30,7 +32,11 @@ def register(sub) -> None:
     p.add_argument(
         "--png-scale", type=int, default=1, help="pixels per cell in the PNG (default 1)"
     )
-    p.add_argument("--cell-size", type=float, default=0.04, help="cell size [m] (default 0.04)")
+    p.add_argument(
+        "--cell-size",
+        type=float,
+        help=f"cell size [m] (default grid.cell_size_m of --config, {default_value('grid.cell_size_m')})",
+    )
     p.add_argument(
         "--max-range",
         type=float,
@@ -55,14 +61,14 @@ def register(sub) -> None:
     p.add_argument(
         "--hit",
         type=float,
-        default=0.85,
-        help="log-odds added to a cell seen occupied [nats] (default 0.85)",
+        help="log-odds added to a cell seen occupied [nats] (default sensors.laser.hit_nats, "
+        f"{default_value('sensors.laser.hit_nats')})",
     )
     p.add_argument(
         "--miss",
         type=float,
-        default=-0.4,
-        help="log-odds added to a cell seen free [nats] (default -0.4)",
+        help="log-odds added to a cell seen free [nats] (default sensors.laser.miss_nats, "
+        f"{default_value('sensors.laser.miss_nats')})",
     )
     p.add_argument(
         "--mode",
@@ -73,14 +79,15 @@ def register(sub) -> None:
     p.add_argument(
         "--max-cells",
         type=int,
-        default=1 << 25,
-        help="most cells the map may span (default 2^25; a pose farther out is an error)",
+        help="most cells the map may span (default grid.max_cells, "
+        f"{default_value('grid.max_cells')}; a pose farther out is an error)",
     )
     p.add_argument(
         "--lenient",
         action="store_true",
         help="skip malformed lines (reported with their line numbers) instead of failing",
     )
+    p.add_argument("--config", help="configuration TOML (its [grid] and [sensors.laser] tables)")
     p.set_defaults(run=run)
 
 
@@ -148,9 +155,16 @@ def run(args: argparse.Namespace) -> int:
         print(f"floorscan map-log: skipped bad line {lineno}: {message}", file=sys.stderr)
     if not log.lasers:
         raise DatasetError(f"{args.log}: no FLASER or ROBOTLASER1 lines")
-    grid = OccupancyGrid(
-        cell_size_m=args.cell_size, laser=(args.hit, args.miss), max_cells=args.max_cells
+    cfg = Config.load(args.config) if args.config else Config()
+    cfg = cfg.with_overrides(
+        {
+            "grid.cell_size_m": args.cell_size,
+            "sensors.laser.hit_nats": args.hit,
+            "sensors.laser.miss_nats": args.miss,
+            "grid.max_cells": args.max_cells,
+        }
     )
+    grid = OccupancyGrid(**grid_kwargs(cfg))
     rays, cells, seconds = map_lasers(
         grid,
         log.lasers,

@@ -59,7 +59,13 @@ def register(sub) -> None:
         "--rerun", action="store_true", help="also log to a Rerun recording (needs rerun-sdk)"
     )
     p.add_argument("--threshold", type=float, help="override ranger.threshold")
-    p.add_argument("--half-width", type=int, help="override ranger.half_width")
+    p.add_argument(
+        "--half-width-px",
+        "--half-width",
+        dest="half_width_px",
+        type=int,
+        help="override ranger.half_width_px",
+    )
     p.add_argument("--columns", type=int, help="override ranger.columns")
     p.add_argument("--ranger", choices=["edge", "appearance", "fused"], help="override ranger.kind")
     p.set_defaults(run=main)
@@ -121,7 +127,7 @@ def main(args: argparse.Namespace) -> int:
     cfg = cfg.with_overrides(
         {
             "ranger.threshold": args.threshold,
-            "ranger.half_width": args.half_width,
+            "ranger.half_width_px": args.half_width_px,
             "ranger.columns": args.columns,
             "ranger.kind": args.ranger,
         }

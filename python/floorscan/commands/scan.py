@@ -7,54 +7,79 @@ import sys
 
 from ..formats.dataset import image_inputs
 from ..formats.image_io import read_grey, read_rgb
-from ..pipeline.config import Config
-from ..pipeline.mapper import ranger_from_config
+from ..pipeline.config import Config, default_value
+from ..pipeline.mapper import RANGER_KINDS, ranger_from_config
 from ..ranging.ground_table import GroundTable
+from ..ranging.ranger import VisualRanger
 from ..ranging.scan import write_scans_csv
 
 
 def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
+    """Flags of the ``[ranger]`` options; unset flags leave the config file's (or the Rust
+    default) value. ``--half-width`` and ``--refine`` are the older spellings."""
+
+    def default(key: str) -> str:
+        return f"(default {default_value('ranger.' + key)})"
+
     p.add_argument("--table", required=True, help="ground table JSON (from `floorscan calibrate`)")
     p.add_argument(
-        "--columns", type=int, default=64, help="number of evenly spaced columns (default 64)"
+        "--columns", type=int, help=f"number of evenly spaced columns {default('columns')}"
     )
     p.add_argument(
-        "--half-width", type=int, default=4, help="box filter half-width d [px] (default 4)"
+        "--half-width-px",
+        "--half-width",
+        dest="half_width_px",
+        type=int,
+        help=f"box filter half-width d [px] {default('half_width_px')}",
     )
     p.add_argument(
-        "--threshold", type=float, default=10.0, help="edge threshold, intensity units (default 10)"
-    )
-    p.add_argument("--refine", choices=["subpixel", "peak", "none"], default="subpixel")
-    p.add_argument(
-        "--bottom-margin", type=int, default=2, help="rows skipped at the bottom [px] (default 2)"
+        "--threshold", type=float, help=f"edge threshold, intensity units {default('threshold')}"
     )
     p.add_argument(
-        "--max-range", type=float, default=3.0, help="farthest range scanned [m] (default 3)"
+        "--refinement",
+        "--refine",
+        dest="refinement",
+        help="boundary placement: sub_pixel | peak | first_crossing (the paper's) "
+        f"{default('refinement')}",
+    )
+    p.add_argument(
+        "--bottom-margin",
+        type=int,
+        help=f"rows skipped at the bottom [px] {default('start')}",
+    )
+    p.add_argument(
+        "--max-range",
+        type=float,
+        help=f"farthest range scanned [m], inf: no limit {default('max_range_m')}",
     )
     p.add_argument(
         "--ranger",
-        choices=["edge", "appearance", "fused"],
-        default="edge",
-        help="range sensor (default edge); appearance and fused read colour and use the "
-        "[appearance] table of --config",
+        choices=RANGER_KINDS,
+        help="range sensor (default: the config's ranger.kind, edge); appearance and fused "
+        "read colour and use the [appearance] table of --config",
     )
-    p.add_argument("--config", help="configuration TOML (its [appearance] table)")
+    p.add_argument("--config", help="configuration TOML (its [ranger] and [appearance] tables)")
 
 
-def ranger_from_args(args: argparse.Namespace):
+def config_from_args(args: argparse.Namespace) -> Config:
+    """The configuration of ``--config`` (or the defaults) with the ranger flags applied."""
     cfg = Config.load(args.config) if getattr(args, "config", None) else Config()
-    cfg = cfg.with_overrides(
+    refine = args.refinement
+    return cfg.with_overrides(
         {
-            "ranger.kind": getattr(args, "ranger", "edge"),
+            "ranger.kind": getattr(args, "ranger", None),
             "ranger.columns": args.columns,
-            "ranger.half_width": args.half_width,
+            "ranger.half_width_px": args.half_width_px,
             "ranger.threshold": args.threshold,
-            "ranger.refine": args.refine,
+            "ranger.refine": refine,  # either spelling (LEGACY_KEYS translates the old one)
             "ranger.bottom_margin": args.bottom_margin,
             "ranger.max_range_m": args.max_range,
         }
     )
-    return ranger_from_config(GroundTable.load(args.table), cfg)
+
+
+def ranger_from_args(args: argparse.Namespace):
+    return ranger_from_config(GroundTable.load(args.table), config_from_args(args))
 
 
 def register(sub) -> None:
@@ -69,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
     ranger = ranger_from_args(args)
     scans = []
     for t, path in image_inputs(args.inputs):
-        image = read_grey(path) if args.ranger == "edge" else read_rgb(path)
+        image = read_grey(path) if isinstance(ranger, VisualRanger) else read_rgb(path)
         scans.append(ranger.scan(image, timestamp=t))
     write_scans_csv(args.output, scans)
     n = sum(s.count()["boundary"] for s in scans)

@@ -14,10 +14,22 @@ from ..errors import OptionError
 from ..evaluation.calibration_error import table_for_dataset
 from ..evaluation.case import read_truth_columns
 from ..evaluation.plot import plot_curves
-from ..evaluation.tune import AUTO_K, TuneSet, auto_threshold, error_rate, read_labels_csv, tune
+from ..evaluation.tune import (
+    AUTO_K,
+    REFINEMENTS,
+    TuneSet,
+    auto_threshold,
+    error_rate,
+    read_labels_csv,
+    tune,
+)
 from ..formats.dataset import read_images_txt
 from ..formats.image_io import read_grey
-from ..pipeline.config import Config
+from ..pipeline.config import LEGACY_KEYS, Config
+
+REFINE_SPELLING = LEGACY_KEYS["ranger.refine"][1]
+"""Reads ``--refine`` in either spelling (``subpixel`` or ``sub_pixel``, ``none`` or
+``first_crossing``)."""
 
 MAX_VALUES = 1000
 """Most values one option of the grid search may list (the search is their product)."""
@@ -75,7 +87,9 @@ def register(sub) -> None:
         "--half-widths", default="1,2,3,4,6,8", help="half-widths [px] (default 1,2,3,4,6,8)"
     )
     p.add_argument("--thresholds", default="2:40:1", help="thresholds, list or start:stop:step")
-    p.add_argument("--refine", default="subpixel,peak,none", help="refinements to try")
+    p.add_argument(
+        "--refine", default=",".join(REFINEMENTS), help="refinements to try (ranger.refinement)"
+    )
     p.add_argument(
         "--auto-k", type=float, default=None, help="multiple of the texture noise (default 5)"
     )
@@ -118,13 +132,13 @@ def run(args: argparse.Namespace) -> int:
     images = [read_grey(entries[k].path) for k in frames]
     tset = TuneSet(images, status[frames], points[frames], labelled[frames], table)
     half_widths = [int(v) for v in _numbers(args.half_widths, "half-widths")]
+    base = {"start": cfg.ranger.start, "max_range_m": cfg.ranger.max_range_m}
     result = tune(
         tset,
         half_widths=half_widths,
         thresholds=_numbers(args.thresholds, "thresholds"),
-        refinements=[r.strip() for r in args.refine.split(",")],
-        bottom_margin=cfg.ranger.bottom_margin,
-        max_range_m=cfg.ranger.max_range_m,
+        refinements=[REFINE_SPELLING(r.strip()) for r in args.refine.split(",")],
+        base=base,
     )
     k = AUTO_K if args.auto_k is None else args.auto_k
     auto_t, noise = auto_threshold(
@@ -132,23 +146,22 @@ def run(args: argparse.Namespace) -> int:
         half_width=result.half_width,
         columns=tset.columns,
         k=k,
-        bottom_margin=cfg.ranger.bottom_margin,
+        bottom_margin=cfg.ranger.start.get("bottom_margin", 0),
     )
     auto_err = error_rate(
         tset,
-        half_width=result.half_width,
+        **base,
+        half_width_px=result.half_width,
         threshold=auto_t,
-        refine=result.refine,
-        bottom_margin=cfg.ranger.bottom_margin,
-        max_range_m=cfg.ranger.max_range_m,
+        refinement=result.refine,
     )
     result.auto = {"k": k, "texture_noise": noise, "threshold": auto_t, "error_rate": auto_err}
     out = Path(args.output)
     tuned = cfg.with_overrides(
         {
-            "ranger.half_width": result.half_width,
+            "ranger.half_width_px": result.half_width,
             "ranger.threshold": result.threshold,
-            "ranger.refine": result.refine,
+            "ranger.refinement": result.refine,
         }
     )
     tuned.save(out)

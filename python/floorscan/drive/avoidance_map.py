@@ -11,13 +11,15 @@ whole view (a scan of single rays leaves most far cells untouched and needs many
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional, Tuple
 
 import numpy as np
 
 from ..errors import OptionError
 from ..mapping.grid_views import GridExtent
+from ..options import defaults
+from ..ranging.scan import ColumnStatus
 from .sensor_model import VisualSensorModel
 
 _SHIFT = 4  # sub-cell precision of rasterised polygons: 1 / 16 cell
@@ -39,7 +41,7 @@ class AvoidanceMapOptions:
       that left the camera's view while the robot turns past it, short enough that a moved
       obstacle the camera no longer sees fades within a corridor's length.
     - ``occupied_threshold``, ``free_threshold``: class thresholds on the probability.
-      Defaults 0.65 / 0.196 (map_server's).
+      Defaults: the occupancy grid's (``GridOptions``, map_server's thresholds).
     - ``probability_scale``, ``probability_offset``: the map's probability of a cell is
       logistic(scale * log_odds + offset), a Platt calibration of the fused evidence
       (successive frames are correlated, so summed evidence overstates certainty). Defaults
@@ -51,8 +53,10 @@ class AvoidanceMapOptions:
     cell_size_m: float = 0.05
     clamp_nats: Tuple[float, float] = (-2.0, 3.5)
     half_life_s: Optional[float] = 3.0
-    occupied_threshold: float = 0.65
-    free_threshold: float = 0.196
+    occupied_threshold: float = field(
+        default_factory=lambda: defaults("grid")["occupied_threshold"]
+    )
+    free_threshold: float = field(default_factory=lambda: defaults("grid")["free_threshold"])
     probability_scale: float = 0.612
     probability_offset: float = -1.581
 
@@ -238,7 +242,8 @@ class AvoidanceMap:
         with np.errstate(invalid="ignore", divide="ignore"):
             scale = np.where(rng > 0, end_r / rng, 0.0)
         ex, ey = px * scale, py * scale
-        valid = ((status == 0) | (status == 1)) & np.isfinite(ex + ey + nx + ny)
+        seen = (status == ColumnStatus.BOUNDARY) | (status == ColumnStatus.NO_BOUNDARY)
+        valid = seen & np.isfinite(ex + ey + nx + ny)
 
         def world(gx, gy):
             return cam[0] + c * gx - s * gy, cam[1] + s * gx + c * gy

@@ -18,7 +18,7 @@ from ..formats.rig import read_rig
 from ..formats.trajectory import read_tum
 from ..mapping.grid import OccupancyGrid
 from ..ranging.ground_table import GroundTable
-from ..ranging.scan import STATUS_NAMES
+from ..ranging.scan import ColumnStatus
 
 PoseTuple = Tuple[float, float, float]
 
@@ -89,10 +89,10 @@ def read_truth_columns(path: PathLike, timestamps: Sequence[float], width: int):
     with the dataset's frames (matched by the ``frame`` index)."""
     path = Path(path)
     n = len(timestamps)
-    status = np.full((n, width), STATUS_NAMES.index("invalid"), np.int64)
+    status = np.full((n, width), ColumnStatus.INVALID, np.int64)
     points = np.full((n, width, 2), np.nan)
     rows = np.full((n, width), np.nan)
-    codes = {name: i for i, name in enumerate(STATUS_NAMES)}
+    codes = {s.name.lower(): int(s) for s in ColumnStatus}
     try:
         with path.open(newline="", encoding="utf-8") as f:
             reader = csv.DictReader(f)

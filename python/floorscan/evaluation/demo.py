@@ -127,7 +127,7 @@ def run_demo(
     boundary = summarise_columns(column_scores)
 
     # 3. Maps against the true occupancy.
-    raster = world.occupancy(resolution_m=cfg.map.cell_size_m)
+    raster = world.occupancy(resolution_m=cfg.grid.cell_size_m)
     scores = {}
     for name, grid in (("odometry", mapper.global_map), ("true_poses", truth_mapper.global_map)):
         ext = grid.extent
@@ -141,7 +141,7 @@ def run_demo(
         ).as_dict()
     truth_mapper.global_map.save(out / "map_true_poses.yaml")
     raster.write_map_server(out / "map_truth.yaml")
-    ext = common_extent(raster, cfg.map.cell_size_m)
+    ext = common_extent(raster, cfg.grid.cell_size_m)
     panels = [
         mapper.global_map.to_image(extent=ext),
         truth_mapper.global_map.to_image(extent=ext),
@@ -169,8 +169,8 @@ def run_demo(
         "input_fps": 1e3 / (ranging_ms + mapping_ms),
         "output_points_per_s": points / max(mapper.times.ranging_s + mapper.times.mapping_s, 1e-12),
         "ms_per_frame": ranging_ms,
-        "map_size": f"{cfg.map.local_size_m * 100:.0f} x {cfg.map.local_size_m * 100:.0f} cm local; global grows",
-        "resolution_cm": cfg.map.cell_size_m * 100,
+        "map_size": f"{cfg.local_map.size_m * 100:.0f} x {cfg.local_map.size_m * 100:.0f} cm local; global grows",
+        "resolution_cm": cfg.grid.cell_size_m * 100,
         "ms_per_point": 1e3 * mapper.times.mapping_s / max(points, 1),
         "points_per_frame": points / n,
     }

@@ -21,11 +21,11 @@ from .floor_masks import (
 
 # Cross-validation grids: the options each ranger is tuned over (values any user might try).
 CV_GRIDS: Dict[str, Dict[str, Sequence[object]]] = {
-    "edge": {"ranger.threshold": [5.0, 10.0, 15.0, 20.0, 30.0], "ranger.half_width": [2, 4, 8]},
+    "edge": {"ranger.threshold": [5.0, 10.0, 15.0, 20.0, 30.0], "ranger.half_width_px": [2, 4, 8]},
     "appearance": {
         "appearance.min_floor_share": [0.003, 0.01, 0.03],
-        "appearance.intensity_reach": [1, 2],
-        "appearance.min_run": [3, 8],
+        "appearance.intensity_reach_bins": [1, 2],
+        "appearance.min_run_px": [3, 8],
         "appearance.reference_fraction": [0.1, 0.2],
     },
 }
@@ -39,7 +39,7 @@ def floor_ranger_factory(cfg: Config, kind: str):
 
     def make(width: int, height: int):
         return ranger_from_config(
-            image_row_table(width, height), kcfg, bottom_margin=0, max_range_m=None
+            image_row_table(width, height), kcfg, start={"bottom_margin": 0}, max_range_m=None
         )
 
     return make

@@ -8,6 +8,8 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..mapping.local_map import LocalMap
+from ..mapping.log_odds import Occupancy
+from ..ranging.scan import ColumnStatus
 from .case import TruthRaster
 from .scoring import sample_truth
 
@@ -31,7 +33,7 @@ def agreement_at(grid, x: np.ndarray, y: np.ndarray, truth: np.ndarray) -> float
     """Share of points (truth known) where the grid's class is the truth's; unknown cells of
     the grid count as disagreeing."""
     c = classes_at(grid, x, y)
-    ok = ((c == 2) & (truth == 100)) | ((c == 0) & (truth == 0))
+    ok = ((c == Occupancy.OCCUPIED) & (truth == 100)) | ((c == Occupancy.FREE) & (truth == 0))
     return float(ok.mean()) if ok.size else float("nan")
 
 
@@ -56,7 +58,7 @@ def free_known_share(
     jj, ii = np.nonzero(sel)
     cx = raster.origin[0] + (ii + 0.5) * res
     cy = raster.origin[1] + (jj + 0.5) * res
-    return float((classes_at(grid, cx, cy) == 0).mean())
+    return float((classes_at(grid, cx, cy) == Occupancy.FREE).mean())
 
 
 def compose(a: Sequence[float], b: Sequence[float]) -> Tuple[float, float, float]:
@@ -80,7 +82,7 @@ def view_cells(
     limit), and the boundary's own cell when within range. ``window`` ((x0, y0), (x1, y1))
     keeps only cells inside it."""
     h = table.image_height
-    boundary = np.nonzero(true_status == 0)[0]
+    boundary = np.nonzero(true_status == ColumnStatus.BOUNDARY)[0]
     if boundary.size == 0:
         return np.zeros(0), np.zeros(0)
     near_x, near_y = table.lookup(boundary.astype(np.float64), np.full(boundary.size, h - 3.0))

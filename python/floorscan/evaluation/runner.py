@@ -3,6 +3,7 @@ runs a suite of simulated scenarios."""
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, List, Optional, Sequence
@@ -111,8 +112,8 @@ def evaluate_case(
                     scans,
                     case,
                     kw,
-                    local_size_m=cfg.map.local_size_m,
-                    max_range_m=cfg.ranger.max_range_m or 3.0,
+                    local_size_m=cfg.local_map.size_m,
+                    max_range_m=ranged_m(cfg),
                     starts=sorted(set(starts)),
                     max_frames=reliable_max_frames,
                 )
@@ -143,7 +144,7 @@ def simulate_scenario(scenario: Scenario, cfg: Config, *, threads: int = 2):
     except FloorscanError as e:
         table = camera.ground_table(spacing_px=cfg.calibration.spacing_px)
         cal = {"status": f"failed ({e}); ranged with the exact table"}
-    case = case_from_run(scenario.name, run, table, cell_size_m=cfg.map.cell_size_m)
+    case = case_from_run(scenario.name, run, table, cell_size_m=cfg.grid.cell_size_m)
     case.calibration = cal
     case.info = scenario.as_dict()
     return run, case
@@ -178,3 +179,10 @@ def run_suite(
         if on_result is not None:
             on_result(i, result)
     return records
+
+
+def ranged_m(cfg) -> float:
+    """The farthest range the ranger scans [m]: ``ranger.max_range_m``, or without a limit
+    (``inf``) the calibration's ground limit."""
+    r = cfg.ranger.max_range_m
+    return r if math.isfinite(r) else cfg.calibration.max_range_m

@@ -9,9 +9,14 @@ from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..ranging.scan import STATUS_NAMES, Scan
+from ..ranging.scan import STATUS_NAMES, ColumnStatus, Scan
 
-BOUNDARY, NO_BOUNDARY, TOO_CLOSE, INVALID = range(4)
+BOUNDARY, NO_BOUNDARY, TOO_CLOSE, INVALID = (
+    ColumnStatus.BOUNDARY,
+    ColumnStatus.NO_BOUNDARY,
+    ColumnStatus.TOO_CLOSE,
+    ColumnStatus.INVALID,
+)
 RANGE_BANDS_M = ((0.0, 1.0), (1.0, 2.0), (2.0, 3.0), (3.0, float("inf")))
 
 

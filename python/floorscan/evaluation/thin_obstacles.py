@@ -22,7 +22,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ..ranging.scan import STATUS_NAMES, Scan
+from ..ranging.scan import ColumnStatus, Scan
 
 LEG_MAX_SIDE_M = 0.08
 """Widest footprint [m] counted as a leg (chair legs are 2.5 cm, table legs 5 cm)."""
@@ -31,7 +31,7 @@ FOUND_TOLERANCE_M = 0.05
 ranger's own error at 1 m is a few cm)."""
 ON_LEG_M = 0.005
 """Slack [m] for a true boundary point to count as lying on a leg's footprint."""
-BOUNDARY = STATUS_NAMES.index("boundary")
+BOUNDARY = ColumnStatus.BOUNDARY
 
 
 @dataclass(frozen=True)

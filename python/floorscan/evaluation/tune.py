@@ -20,12 +20,13 @@ from .._atomic import PathLike
 from ..errors import FileFormatError, OptionError
 from ..ranging.auto_threshold import AUTO_K, auto_threshold, texture_noise  # noqa: F401 (re-exported)
 from ..ranging.ground_table import GroundTable
-from ..ranging.ranger import VisualRanger
+from ..ranging.ranger import Refinement, VisualRanger
 from .scoring import BOUNDARY, INVALID, NO_BOUNDARY, score_columns
 
 DEFAULT_HALF_WIDTHS = (1, 2, 3, 4, 6, 8)
 DEFAULT_THRESHOLDS = tuple(float(t) for t in range(2, 41))
-REFINEMENTS = ("subpixel", "peak", "none")
+REFINEMENTS = tuple(r.value for r in Refinement)
+"""Every ``refinement`` of the core's ``RangerOptions`` (serde names)."""
 
 
 @dataclass
@@ -113,9 +114,9 @@ class TuneResult:
     def as_dict(self) -> Dict[str, Any]:
         return {
             "chosen": {
-                "half_width": self.half_width,
+                "half_width_px": self.half_width,
                 "threshold": self.threshold,
-                "refine": self.refine,
+                "refinement": self.refine,
                 "error_rate": self.error_rate,
             },
             "half_widths": self.half_widths,
@@ -125,25 +126,10 @@ class TuneResult:
         }
 
 
-def error_rate(
-    tune_set: TuneSet,
-    *,
-    half_width: int,
-    threshold: float,
-    refine: str,
-    bottom_margin: int = 2,
-    max_range_m: Optional[float] = 3.0,
-) -> float:
-    """Share of labelled columns wrong (status or > 10 cm) with these ranger settings."""
-    ranger = VisualRanger(
-        tune_set.table,
-        columns=tune_set.columns,
-        half_width=half_width,
-        threshold=threshold,
-        refine=refine,
-        bottom_margin=bottom_margin,
-        max_range_m=max_range_m,
-    )
+def error_rate(tune_set: TuneSet, **options: Any) -> float:
+    """Share of labelled columns wrong (status or > 10 cm) with these ranger options (fields of
+    ``RangerOptions``; ``columns`` are the labelled ones)."""
+    ranger = VisualRanger(tune_set.table, **{**options, "columns": tune_set.columns})
     wrong = total = 0
     for k, image in enumerate(tune_set.images):
         scan = ranger.scan(image)
@@ -174,11 +160,12 @@ def tune(
     half_widths: Sequence[int] = DEFAULT_HALF_WIDTHS,
     thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
     refinements: Sequence[str] = REFINEMENTS,
-    bottom_margin: int = 2,
-    max_range_m: Optional[float] = 3.0,
+    base: Optional[Dict[str, Any]] = None,
     tie_tolerance: float = 0.0,
 ) -> TuneResult:
-    """Grid search; see the module docstring for the choice rule."""
+    """Grid search; see the module docstring for the choice rule. ``base``: the other ranger
+    options (``start``, ``max_range_m``; unset: the Rust defaults)."""
+    base = dict(base or {})
     if not half_widths or not thresholds or not refinements:
         raise OptionError("tune needs at least one half-width, threshold and refinement")
     thresholds = sorted(float(t) for t in thresholds)
@@ -189,11 +176,7 @@ def tune(
             errors[refine][int(d)] = [
                 error_rate(
                     tune_set,
-                    half_width=int(d),
-                    threshold=t,
-                    refine=refine,
-                    bottom_margin=bottom_margin,
-                    max_range_m=max_range_m,
+                    **{**base, "half_width_px": int(d), "threshold": t, "refinement": refine},
                 )
                 for t in thresholds
             ]

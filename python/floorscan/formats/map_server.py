@@ -25,6 +25,7 @@ from PIL import Image, UnidentifiedImageError
 
 from .._atomic import PathLike, write_atomic, write_atomic_with
 from ..errors import FileFormatError, ImageError, OptionError
+from ..mapping.log_odds import units_from_probabilities
 from .image_io import _decoded, open_image
 
 MODES = ("trinary", "scale", "raw")
@@ -192,8 +193,7 @@ def pixels_to_units(
     out = np.zeros(grey.shape, np.int16)
     if mode == "raw":
         known = (grey >= 0) & (grey <= 100)
-        p = np.clip(grey / 100.0, 1e-9, 1 - 1e-9)
-        out[known] = np.clip(np.rint(1000.0 * np.log(p / (1 - p))), lo, hi)[known]
+        out[known] = units_from_probabilities(grey / 100.0, lo, hi)[known]
         return out
     p = grey / 255.0 if meta["negate"] else (255.0 - grey) / 255.0
     occupied = p > meta["occupied_thresh"]
@@ -202,8 +202,7 @@ def pixels_to_units(
         out[occupied] = hi
         out[free] = lo
     else:  # scale: keep the probability
-        pc = np.clip(p, 1e-9, 1 - 1e-9)
-        out[:] = np.clip(np.rint(1000.0 * np.log(pc / (1 - pc))), lo, hi)
+        out[:] = units_from_probabilities(p, lo, hi)
     if alpha is not None:
         out[alpha == 0] = 0
     return out

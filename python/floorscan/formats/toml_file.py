@@ -4,6 +4,7 @@ kept beside their values)."""
 from __future__ import annotations
 
 import sys
+import textwrap
 from pathlib import Path
 from typing import Any, Dict
 
@@ -34,10 +35,18 @@ def loads_toml(text: str, *, source: str = "<toml>") -> Dict[str, Any]:
         raise ConfigError(f"{source}: invalid TOML: {e}") from None
 
 
+COMMENT_AFTER_MAX = 60
+"""Longest comment written after its value; longer ones go above the key, wrapped."""
+
+COMMENT_WIDTH = 94
+"""Width of wrapped comment lines."""
+
+
 def dumps_toml(doc: Dict[str, Any], comments: Dict[str, str] | None = None) -> str:
     """Writes ``doc`` with tomlkit: scalars and lists, one ``[table]`` per dict (nested tables
-    as ``[a.b]``), None values left out. ``comments`` maps ``table.key`` to a comment written
-    after the value."""
+    as ``[a.b]``), None values left out. ``comments`` maps ``table.key`` to a comment: written
+    after the value when short, as comment lines above the key when longer than
+    ``COMMENT_AFTER_MAX`` characters."""
     comments = comments or {}
 
     def fill(container, prefix: str, table: Dict[str, Any]) -> None:
@@ -46,9 +55,12 @@ def dumps_toml(doc: Dict[str, Any], comments: Dict[str, str] | None = None) -> s
                 continue
             item = tomlkit.item(list(v) if isinstance(v, tuple) else v)
             c = comments.get(f"{prefix}{k}")
-            if c:
+            if c and len(c) <= COMMENT_AFTER_MAX:
                 item.comment(c)
                 item.trivia.comment_ws = "  "
+            elif c:
+                for line in textwrap.wrap(c, COMMENT_WIDTH):
+                    container.add(tomlkit.comment(line))
             container.add(k, item)
         for k, v in table.items():
             if isinstance(v, dict):

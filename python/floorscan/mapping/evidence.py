@@ -19,9 +19,11 @@ from typing import Dict, Sequence, Tuple
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike, write_atomic_with
+from .._native import mapping as _native
 from ..errors import FileFormatError, OptionError, UnsupportedVersionError
+from ..options import defaults
+from .log_odds import UNITS_PER_NAT
 
 FORMAT = "floorscan-evidence"
 VERSION = 1
@@ -38,6 +40,11 @@ def evidence_path(map_yaml: PathLike) -> Path:
     return p.with_name(p.stem + EVIDENCE_SUFFIX)
 
 
+def _grid_default(key: str) -> float:
+    """A default of the core's ``GridOptions`` (the grid options have one home: Rust)."""
+    return defaults("grid")[key]
+
+
 @dataclass(frozen=True)
 class EvidenceMap:
     """Summed log-odds increments on a world-placed rectangle of cells.
@@ -50,10 +57,10 @@ class EvidenceMap:
     values: np.ndarray
     cell_size_m: float
     origin_m: Tuple[float, float]
-    clamp_min_nats: float = -2.0
-    clamp_max_nats: float = 3.5
-    occupied_threshold: float = 0.65
-    free_threshold: float = 0.196
+    clamp_min_nats: float = field(default_factory=lambda: _grid_default("clamp_min_nats"))
+    clamp_max_nats: float = field(default_factory=lambda: _grid_default("clamp_max_nats"))
+    occupied_threshold: float = field(default_factory=lambda: _grid_default("occupied_threshold"))
+    free_threshold: float = field(default_factory=lambda: _grid_default("free_threshold"))
     recordings: Tuple[str, ...] = field(default=())
 
     @classmethod
@@ -87,7 +94,8 @@ class EvidenceMap:
     def clamped(self) -> np.ndarray:
         """The occupancy log-odds of the map this evidence makes: each sum clamped once to the
         options' bounds, int16 [1/1000 nat]."""
-        lo, hi = round(self.clamp_min_nats * 1000), round(self.clamp_max_nats * 1000)
+        lo = round(self.clamp_min_nats * UNITS_PER_NAT)
+        hi = round(self.clamp_max_nats * UNITS_PER_NAT)
         return np.clip(self.values, lo, hi).astype(np.int16)
 
     # --- files ------------------------------------------------------------------------

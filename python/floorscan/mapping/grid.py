@@ -8,26 +8,17 @@ Frames: poses are ``world_from_robot`` ``(x [m], y [m], yaw [rad])``; mounts are
 
 from __future__ import annotations
 
-import json
-from typing import Any, Dict, NamedTuple, Optional, Sequence
+from typing import Any, Dict, NamedTuple, Optional
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike
+from .._native import mapping as _native
 from ..errors import ArgumentTypeError, LengthMismatchError, OptionError
 from ..formats.map_server import pixels_to_units, read_map_image, read_map_yaml, save_map
 from ..ranging.scan import Scan
 from .evidence import EvidenceMap
-from .grid_options import (
-    DEFAULT_MAX_CELLS,
-    EvidenceLike,
-    as_evidence,
-    as_pose,
-    as_poses,
-    grid_options,
-    inserter_options,
-)
+from .grid_options import EvidenceLike, as_evidence, as_pose, as_poses, split_options
 from .grid_views import GridViews, cell_index
 
 
@@ -79,28 +70,18 @@ class OccupancyGrid(GridViews):
     128 x 128 cells allocated on demand, 2 bytes per cell), or with fixed bounds.
 
     Parameters (all keyword-only):
-        cell_size_m: side of a cell [m], in [0.001, 10]. Default 0.04 (the paper's 4 cm).
-        bounds_m: ``((x_min, y_min), (x_max, y_max))`` [m] for a fixed-size map (rays are
-            clipped to it; a pose outside it raises OutOfBoundsError); default None (grows).
-        origin_m: world position [m] of the corner of cell (0, 0): where the lattice sits.
-        clamp_min_nats, clamp_max_nats: bounds of a cell's log-odds [nats], default -2.0 and
-            3.5 (p 0.12 and 0.97, as OctoMap): the map can follow a changing world.
-        occupied_threshold, free_threshold: probabilities above / below which a cell is
-            occupied / free; default 0.65 and 0.196 (ROS map_server's).
-        visual, laser, sonar: :class:`~floorscan.Evidence` or ``(hit_nats, miss_nats)`` of
-            each sensor. Defaults (0.85, -0.4) for visual scans and lasers (OctoMap's 0.7 /
-            0.4), (0.4, -0.2) for sonar arcs.
-        boundary_margin_rows: floor left unobserved just before a visual boundary, in pixel
-            rows of the boundary's footprint (>= 0, default 0.5; 0 is the paper's rule): the
-            boundary row is uncertain by about half a row, several cells far away.
-        too_close: ``"mark"`` (default: a ``too_close`` column marks the near edge of its
-            field of view) or ``"ignore"``.
         keep_evidence: also keep, per cell, the unclamped sum of every increment (int32, 4
             more bytes per cell), for exact merges of maps (:meth:`evidence`,
-            :mod:`floorscan.mapping.evidence`). Default False.
-        max_cells: most cells the map may span (its tiles' bounding box, fixed bounds, or one
-            export), default 2^25 (231 m square at 4 cm): a pose far outside raises
-            OutOfBoundsError instead of allocating (docs/limits.md).
+            :mod:`floorscan.mapping.evidence`). Off unless given.
+        **options: any field of the core's ``GridOptions`` (``cell_size_m``, ``origin_m``,
+            ``bounds_m`` for a fixed-size map (rays clipped to it, a pose outside it raises
+            OutOfBoundsError; unset: the map grows), ``clamp_min_nats``, ``clamp_max_nats``,
+            ``occupied_threshold``, ``free_threshold``, ``max_cells`` (a pose far outside
+            raises OutOfBoundsError instead of allocating, docs/limits.md)) or
+            ``InserterOptions`` (``visual``, ``laser``, ``sonar``: :class:`~floorscan.Evidence`
+            or ``(hit_nats, miss_nats)``; ``too_close``: ``"mark_near_edge"`` or ``"ignore"``;
+            ``boundary_margin_rows``). The others take the Rust defaults, printed with their
+            docs by ``floorscan config --default`` (tables ``[grid]`` and ``[sensors]``).
 
     >>> import floorscan, numpy as np
     >>> grid = floorscan.OccupancyGrid(cell_size_m=0.1)
@@ -110,42 +91,9 @@ class OccupancyGrid(GridViews):
     (True, False)
     """
 
-    def __init__(
-        self,
-        *,
-        cell_size_m: float = 0.04,
-        bounds_m: Optional[Sequence[Sequence[float]]] = None,
-        origin_m: Sequence[float] = (0.0, 0.0),
-        clamp_min_nats: float = -2.0,
-        clamp_max_nats: float = 3.5,
-        occupied_threshold: float = 0.65,
-        free_threshold: float = 0.196,
-        visual: EvidenceLike = (0.85, -0.4),
-        laser: EvidenceLike = (0.85, -0.4),
-        sonar: EvidenceLike = (0.4, -0.2),
-        too_close: str = "mark",
-        boundary_margin_rows: float = 0.5,
-        keep_evidence: bool = False,
-        max_cells: int = DEFAULT_MAX_CELLS,
-    ) -> None:
-        go = grid_options(
-            cell_size_m=cell_size_m,
-            origin_m=origin_m,
-            bounds_m=bounds_m,
-            clamp_min_nats=clamp_min_nats,
-            clamp_max_nats=clamp_max_nats,
-            occupied_threshold=occupied_threshold,
-            free_threshold=free_threshold,
-            max_cells=max_cells,
-        )
-        io = inserter_options(
-            visual=visual,
-            laser=laser,
-            sonar=sonar,
-            too_close=too_close,
-            boundary_margin_rows=boundary_margin_rows,
-        )
-        self._native = _native.OccupancyGrid(json.dumps(go), json.dumps(io))
+    def __init__(self, *, keep_evidence: bool = False, **options: Any) -> None:
+        go, io = split_options(options)
+        self._native = _native.OccupancyGrid(go, io)
         if keep_evidence:
             self._native.keep_evidence()
 
@@ -163,8 +111,8 @@ class OccupancyGrid(GridViews):
     def options(self) -> Dict[str, Any]:
         """The validated grid and inserter options (the core's serde form)."""
         return {
-            "grid": json.loads(self._native.grid_options_json),
-            "inserter": json.loads(self._native.inserter_options_json),
+            "grid": self._native.grid_options,
+            "inserter": self._native.inserter_options,
         }
 
     @property
@@ -259,14 +207,17 @@ class OccupancyGrid(GridViews):
         )
 
     def insert_rays(
-        self, starts, ends, *, hits=True, evidence: EvidenceLike = (0.85, -0.4)
+        self, starts, ends, *, hits=True, evidence: Optional[EvidenceLike] = None
     ) -> InsertStats:
         """Any other range sensor: one batch of world rays, ``starts`` and ``ends`` (N, 2) [m];
         ``hits`` (bool or (N,)) says whether each end is an obstacle. Free space runs from
-        start to end. GIL released."""
+        start to end, with ``evidence`` (default: the grid's ``visual`` evidence). GIL
+        released."""
         s = np.ascontiguousarray(starts, dtype=np.float64).reshape(-1, 2)
         e = np.ascontiguousarray(ends, dtype=np.float64).reshape(-1, 2)
         h = np.ascontiguousarray(np.broadcast_to(np.asarray(hits, dtype=bool), (s.shape[0],)))
+        if evidence is None:
+            evidence = tuple(self._native.inserter_options["visual"].values())
         ev = as_evidence(evidence, "evidence")
         return InsertStats(
             *self._native.insert_rays(s, e, h, float(ev.hit_nats), float(ev.miss_nats))

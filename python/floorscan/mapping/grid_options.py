@@ -5,22 +5,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Sequence, Tuple, Union
 
 import numpy as np
 
 from ..errors import ArgumentTypeError, LengthMismatchError, OptionError
+from ..options import defaults, plain
 
-DEFAULT_MAX_CELLS = 1 << 25
-"""Default ``max_cells`` of a map (33.5 M cells: 231 m square at 4 cm); see docs/limits.md."""
+GRID_KEYS = frozenset(defaults("grid"))
+"""Fields of the core's ``GridOptions`` (crates/floorscan-core/src/grid_options.rs)."""
 
-TOO_CLOSE_POLICIES = {
-    "mark": "mark_near_edge",
-    "mark_near_edge": "mark_near_edge",
-    "ignore": "ignore",
-}
-"""Accepted ``too_close`` values: ``"mark"`` (or ``"mark_near_edge"``, the config file's name: a
-hit at the near edge of view) or ``"ignore"``."""
+INSERTER_KEYS = frozenset(defaults("inserter"))
+"""Fields of the core's ``InserterOptions`` (crates/floorscan-core/src/inserter.rs)."""
 
 
 @dataclass(frozen=True)
@@ -52,12 +48,9 @@ class Evidence:
                 raise OptionError(f"invalid option `{name}`: must be in (0, 0.5), got {v}")
         return cls(math.log((1 - miss_rate) / false_alarm), math.log(miss_rate / (1 - false_alarm)))
 
-    def to_native(self, name: str) -> Dict[str, float]:
-        hit, miss = (
-            _number(f"{name}.hit_nats", self.hit_nats),
-            _number(f"{name}.miss_nats", self.miss_nats),
-        )
-        return {"hit_nats": hit, "miss_nats": miss}
+    def to_native(self) -> Dict[str, float]:
+        """The core's serde form (the ``[sensors.*]`` tables of the config file)."""
+        return {"hit_nats": self.hit_nats, "miss_nats": self.miss_nats}
 
 
 EvidenceLike = Union[Evidence, Tuple[float, float], Sequence[float]]
@@ -84,92 +77,61 @@ def _number(name: str, value: Any) -> float:
         raise OptionError(f"invalid option `{name}`: must be a number, got {value!r}") from None
 
 
-def _count(name: str, value: Any, lo: int, hi: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
-        raise OptionError(
-            f"invalid option `{name}`: must be an integer in [{lo}, {hi}], got {value!r}"
-        )
-    return int(value)
-
-
-def _pair(name: str, value: Any) -> Tuple[float, float]:
+def _pair(name: str, value: Any) -> Any:
+    """A point: ``(x, y)`` [m] as the core's ``{"x": .., "y": ..}``; a dict passes as it is."""
+    if isinstance(value, dict):
+        return value
     a = np.asarray(value, dtype=object).ravel()
     if a.size != 2:
         raise OptionError(f"invalid option `{name}`: must be a pair (x, y) [m], got {value!r}")
-    return _number(name, a[0]), _number(name, a[1])
+    return {"x": a[0], "y": a[1]}
 
 
-def grid_options(
-    *,
-    cell_size_m: float,
-    origin_m: Sequence[float],
-    bounds_m: Optional[Sequence[Sequence[float]]],
-    clamp_min_nats: float,
-    clamp_max_nats: float,
-    occupied_threshold: float,
-    free_threshold: float,
-    max_cells: int = DEFAULT_MAX_CELLS,
-) -> Dict[str, Any]:
-    """The core's ``GridOptions`` (see crates/floorscan-core/src/grid_options.rs)."""
-    ox, oy = _pair("origin_m", origin_m)
-    bounds = None
-    if bounds_m is not None:
-        try:
-            lo, hi = bounds_m
-        except (TypeError, ValueError):
-            raise OptionError(
-                "invalid option `bounds_m`: give ((x_min, y_min), (x_max, y_max)) [m], "
-                f"got {bounds_m!r}"
-            ) from None
-        (x0, y0), (x1, y1) = _pair("bounds_m", lo), _pair("bounds_m", hi)
-        bounds = {"min": {"x": x0, "y": y0}, "max": {"x": x1, "y": y1}}
-    return {
-        "cell_size_m": _number("cell_size_m", cell_size_m),
-        "origin_m": {"x": ox, "y": oy},
-        "bounds_m": bounds,
-        "clamp_min_nats": _number("clamp_min_nats", clamp_min_nats),
-        "clamp_max_nats": _number("clamp_max_nats", clamp_max_nats),
-        "occupied_threshold": _number("occupied_threshold", occupied_threshold),
-        "free_threshold": _number("free_threshold", free_threshold),
-        "max_cells": _count("max_cells", max_cells, 1, 2**32),
-    }
-
-
-def inserter_options(
-    *,
-    visual: EvidenceLike,
-    laser: EvidenceLike,
-    sonar: EvidenceLike,
-    too_close: str,
-    boundary_margin_rows: float = 0.5,
-) -> Dict[str, Any]:
-    """The core's ``InserterOptions`` (see crates/floorscan-core/src/inserter.rs)."""
-    if too_close not in TOO_CLOSE_POLICIES:
-        raise OptionError(
-            f"invalid option `too_close`: expected one of {sorted(TOO_CLOSE_POLICIES)}, "
-            f"got {too_close!r}"
-        )
-    return {
-        "visual": as_evidence(visual, "visual").to_native("visual"),
-        "laser": as_evidence(laser, "laser").to_native("laser"),
-        "sonar": as_evidence(sonar, "sonar").to_native("sonar"),
-        "too_close": TOO_CLOSE_POLICIES[too_close],
-        "boundary_margin_rows": _margin(boundary_margin_rows),
-    }
-
-
-def _margin(value: Any) -> float:
+def _bounds(value: Any) -> Any:
+    if value is None or isinstance(value, dict):
+        return value
     try:
-        v = float(value)
+        lo, hi = value
     except (TypeError, ValueError):
         raise OptionError(
-            f"invalid option `boundary_margin_rows`: must be a number, got {value!r}"
+            f"invalid option `bounds_m`: give ((x_min, y_min), (x_max, y_max)) [m], got {value!r}"
         ) from None
-    if not (np.isfinite(v) and v >= 0):
+    return {"min": _pair("bounds_m", lo), "max": _pair("bounds_m", hi)}
+
+
+def _evidence(name: str, value: Any) -> Any:
+    if isinstance(value, Evidence):
+        return value.to_native()
+    if isinstance(value, dict):
+        return value
+    try:
+        hit, miss = value
+    except (TypeError, ValueError):
         raise OptionError(
-            f"invalid option `boundary_margin_rows`: must be finite and >= 0, got {v}"
-        )
-    return v
+            f"invalid option `{name}`: give an Evidence or (hit_nats, miss_nats), got {value!r}"
+        ) from None
+    return {"hit_nats": hit, "miss_nats": miss}
+
+
+def split_options(options: Dict[str, Any]) -> Tuple[Dict[str, Any], Dict[str, Any]]:
+    """Keyword options of a map as the core's ``GridOptions`` and ``InserterOptions`` dicts
+    (serde form; omitted fields take the Rust defaults, unknown ones are reported by the core).
+    Pairs are accepted for points (``origin_m=(x, y)``), bounds (``((x0, y0), (x1, y1))``) and
+    evidence (``visual=(hit_nats, miss_nats)`` or an :class:`Evidence`)."""
+    grid: Dict[str, Any] = {}
+    inserter: Dict[str, Any] = {}
+    for key, value in options.items():
+        if key in INSERTER_KEYS:
+            if key in ("visual", "laser", "sonar"):
+                value = _evidence(key, value)
+            inserter[key] = value
+        else:
+            if key == "origin_m":
+                value = _pair(key, value)
+            elif key == "bounds_m":
+                value = _bounds(value)
+            grid[key] = value
+    return plain(grid), plain(inserter)
 
 
 Pose = Tuple[float, float, float]

@@ -15,12 +15,12 @@ import numpy as np
 
 from .._atomic import PathLike, deferred_signals, temp_path_for
 from ..errors import LengthMismatchError, OptionError, OutOfBoundsError
-
-UNITS_PER_NAT = 1000.0
-"""Stored log-odds units per nat (cells hold int16 thousandths of a nat)."""
-
-OCCUPANCY_CLASSES = ("free", "unknown", "occupied")
-"""Names of the codes returned by :meth:`occupancy_classes` (0, 1, 2)."""
+from .log_odds import (  # noqa: F401 (OCCUPANCY_CLASSES, UNITS_PER_NAT re-exported)
+    OCCUPANCY_CLASSES,
+    UNITS_PER_NAT,
+    Occupancy,
+    probabilities_from_units,
+)
 
 IMAGE_STYLES = ("probability", "trinary")
 
@@ -122,15 +122,15 @@ class GridViews:
 
     def probabilities(self, extent: Optional[GridExtent] = None) -> np.ndarray:
         """(H, W) float64 probability of occupancy, 0.5 where nothing is known."""
-        return 1.0 / (1.0 + np.exp(-self.raw(extent).astype(np.float64) / UNITS_PER_NAT))
+        return probabilities_from_units(self.raw(extent))
 
     def occupancy_classes(self, extent: Optional[GridExtent] = None) -> np.ndarray:
         """(H, W) uint8: 0 free, 1 unknown, 2 occupied (by the map's thresholds)."""
         raw = self.raw(extent)
         _, _, occupied_at, free_at = self._native.limits()
-        out = np.ones(raw.shape, np.uint8)
-        out[raw <= free_at] = 0
-        out[raw >= occupied_at] = 2
+        out = np.full(raw.shape, Occupancy.UNKNOWN, np.uint8)
+        out[raw <= free_at] = Occupancy.FREE
+        out[raw >= occupied_at] = Occupancy.OCCUPIED
         return out
 
     def to_occupancy_msg(self, extent: Optional[GridExtent] = None) -> np.ndarray:
@@ -138,7 +138,7 @@ class GridViews:
         evidence at all), else the probability of occupancy in percent, 0..100. Flatten it
         row-major for the message's ``data``; the extent's ``origin_m`` is its origin."""
         raw = self.raw(extent)
-        p = 1.0 / (1.0 + np.exp(-raw.astype(np.float64) / UNITS_PER_NAT))
+        p = probabilities_from_units(raw)
         out = np.clip(np.rint(p * 100.0), 0, 100).astype(np.int8)
         out[raw == 0] = -1
         return out
@@ -167,11 +167,9 @@ class GridViews:
         return np.ascontiguousarray(self._lut(style)[raw.astype(np.int32) + 32768])
 
     def _lut(self, style: str) -> np.ndarray:
-        units = np.arange(-32768, 32768, dtype=np.float64)
+        units = np.arange(-32768, 32768, dtype=np.int32)
         if style == "probability":
-            return np.rint(255.0 * (1.0 - 1.0 / (1.0 + np.exp(-units / UNITS_PER_NAT)))).astype(
-                np.uint8
-            )
+            return np.rint(255.0 * (1.0 - probabilities_from_units(units))).astype(np.uint8)
         _, _, occupied_at, free_at = self._native.limits()
         lut = np.full(units.shape, 205, np.uint8)
         lut[units <= free_at] = 254

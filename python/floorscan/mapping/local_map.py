@@ -8,29 +8,30 @@ own frame.
 
 from __future__ import annotations
 
-import json
-from typing import Any, Dict, Optional, Sequence
+from typing import Any, Dict, Optional
 
 import numpy as np
 
-from .. import _native
+from .._native import mapping as _native
 from ..errors import ArgumentTypeError, OptionError
+from ..options import plain
 from ..ranging.scan import Scan
 from .grid import InsertStats, laser_args, sonar_args
-from .grid_options import DEFAULT_MAX_CELLS, EvidenceLike, as_pose, grid_options, inserter_options
-from .grid_views import UNITS_PER_NAT, GridViews
+from .grid_options import as_pose, split_options
+from .grid_views import GridViews
+from .log_odds import UNITS_PER_NAT, probabilities_from_units
 
 
 class LocalMap(GridViews):
     """A robot-centred occupancy window.
 
     Parameters (all keyword-only):
-        size_m: side of the square window [m]. Default 3.84 (the paper's 384 x 384 cm).
+        size_m: side of the square window [m] (the core's ``LocalMapOptions``; unset: its
+            default, the paper's 384 x 384 cm).
         pose: the robot's starting pose in the local frame ``(x, y, yaw)``; default the
             origin (a fresh odometry frame).
-        cell_size_m, origin_m, clamp_min_nats, clamp_max_nats, occupied_threshold,
-        free_threshold, visual, laser, sonar, too_close, max_cells: as
-            :class:`~floorscan.OccupancyGrid`.
+        **options: the grid and inserter options, as :class:`~floorscan.OccupancyGrid`'s
+            (``bounds_m`` excepted: the window is the bound).
 
     Arrays, images and queries (:meth:`raw`, :meth:`probabilities`, :meth:`is_free`,
     :meth:`distance_to_nearest_occupied`, ...) are in the local frame over the window.
@@ -45,52 +46,18 @@ class LocalMap(GridViews):
     """
 
     def __init__(
-        self,
-        *,
-        size_m: float = 3.84,
-        pose=(0.0, 0.0, 0.0),
-        cell_size_m: float = 0.04,
-        origin_m: Sequence[float] = (0.0, 0.0),
-        clamp_min_nats: float = -2.0,
-        clamp_max_nats: float = 3.5,
-        occupied_threshold: float = 0.65,
-        free_threshold: float = 0.196,
-        visual: EvidenceLike = (0.85, -0.4),
-        laser: EvidenceLike = (0.85, -0.4),
-        sonar: EvidenceLike = (0.4, -0.2),
-        too_close: str = "mark",
-        boundary_margin_rows: float = 0.5,
-        max_cells: int = DEFAULT_MAX_CELLS,
+        self, *, size_m: Optional[float] = None, pose=(0.0, 0.0, 0.0), **options: Any
     ) -> None:
-        go = grid_options(
-            cell_size_m=cell_size_m,
-            origin_m=origin_m,
-            bounds_m=None,
-            clamp_min_nats=clamp_min_nats,
-            clamp_max_nats=clamp_max_nats,
-            occupied_threshold=occupied_threshold,
-            free_threshold=free_threshold,
-            max_cells=max_cells,
-        )
-        try:
-            size = float(size_m)
-        except (TypeError, ValueError):
-            raise OptionError(
-                f"invalid option `size_m`: must be a number, got {size_m!r}"
-            ) from None
-        options = {"size_m": size, "grid": go}
-        io = inserter_options(
-            visual=visual,
-            laser=laser,
-            sonar=sonar,
-            too_close=too_close,
-            boundary_margin_rows=boundary_margin_rows,
-        )
-        self._native = _native.LocalMap(json.dumps(options), json.dumps(io), as_pose(pose, "pose"))
+        go, io = split_options(options)
+        local: Dict[str, Any] = {"grid": go}
+        if size_m is not None:
+            local["size_m"] = plain(size_m)
+        self._native = _native.LocalMap(local, io, as_pose(pose, "pose"))
 
     @property
     def options(self) -> Dict[str, Any]:
-        return json.loads(self._native.options_json)
+        """The validated options, every field (the core's ``LocalMapOptions`` serde form)."""
+        return self._native.options
 
     @property
     def pose(self):
@@ -184,7 +151,7 @@ class LocalMap(GridViews):
         if kind == "log_odds":
             return (raw.astype(np.float32) / np.float32(UNITS_PER_NAT)).astype(np.float32)
         if kind == "probability":
-            return 1.0 / (1.0 + np.exp(-raw.astype(np.float64) / UNITS_PER_NAT))
+            return probabilities_from_units(raw)
         raise OptionError(
             f"invalid option `kind`: expected probability, log_odds or raw, got {kind!r}"
         )

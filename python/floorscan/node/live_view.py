@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from ..errors import OptionError
+from ..ranging.scan import ColumnStatus
 
 
 def _import_foxglove():
@@ -97,7 +98,7 @@ class FoxgloveView:
                 data=grey.tobytes(),
             )
         )
-        ok = scan.status_codes == 0
+        ok = scan.status_codes == ColumnStatus.BOUNDARY
         points = [
             fm.Point2(x=float(c) + 0.5, y=float(r) + 0.5)
             for c, r in zip(scan.columns[ok], scan.rows[ok])

@@ -1,23 +1,35 @@
 """The one configuration file: every parameter of ranger, calibration, rig, map, sensors and
 outputs, with documented defaults. ``floorscan config --default`` prints it; command-line flags
-override it; unknown or ill-typed keys are errors that name the key.
+override it; unknown, ill-typed or out-of-range keys are errors that name the key.
 
-Each table is the options of one component (field names and meanings as in the Python API and
-the Rust options structs); values are checked again, for range, when the component is built.
+The tables ``[ranger]``, ``[appearance]``, ``[grid]``, ``[local_map]`` and ``[sensors]`` are
+exactly the serde form of the Rust options types (``RangerOptions``, ``AppearanceOptions``,
+``GridOptions``, ``LocalMapOptions``, ``InserterOptions``): their defaults, docs and checks are
+the Rust ones, read through :mod:`floorscan.options`. ``[ranger]`` also holds the pipeline's
+own keys (``kind``, ``auto_threshold``...) and ``[appearance]`` takes ``columns``, ``start`` and
+``max_range_m`` from ``[ranger]``; ``[local_map]`` takes its grid from ``[grid]``. The other
+tables are the Python components' options (dataclasses below, defaults beside their fields).
+
+Older spellings of existing config files are still read (:data:`LEGACY_KEYS`): ``[map]``
+(now ``[grid]`` and ``[local_map]``), ``ranger.half_width``, ``ranger.refine``,
+``ranger.bottom_margin`` and the appearance keys without their units.
 """
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
+import re
 from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Any, Dict, Optional, Union, get_args, get_origin, get_type_hints
+from typing import Any, Callable, Dict, Optional, Tuple, Union, get_args, get_origin, get_type_hints
 
 from .._atomic import PathLike, write_atomic
 from ..calibration.options import CalibrationOptions
-from ..errors import ConfigError
+from ..errors import ConfigError, OptionError
 from ..formats.toml_file import dumps_toml, load_toml, loads_toml
+from ..options import check, field_docs
 
 _CAL = CalibrationOptions()
 
@@ -27,25 +39,12 @@ def doc(text: str, default: Any = dataclasses.MISSING, **kw):
 
 
 @dataclass
-class RangerConfig:
+class RangerExtras:
+    """The pipeline's own keys of ``[ranger]`` (beside the Rust ``RangerOptions``)."""
+
     kind: str = doc(
         "range sensor: edge (the paper's box filter) | appearance (floor colour and texture model) | fused (appearance boundaries placed by nearby edges)",
         "edge",
-    )
-    columns: int = doc("number of evenly spaced image columns sampled per frame", 64)
-    half_width: int = doc("box filter half-width d [px], >= 1", 4)
-    threshold: float = doc(
-        "edge threshold on |R| of eq. (1)-(2) (half the difference of the window means), intensity units",
-        10.0,
-    )
-    refine: str = doc(
-        "boundary placement: subpixel | peak | none (the paper's first crossing)", "subpixel"
-    )
-    bottom_margin: int = doc(
-        "rows skipped at the bottom of each column (bumper, dead rows) [px]", 2
-    )
-    max_range_m: Optional[float] = doc(
-        "farthest range scanned [m]; inf: as far as the table has ground", 3.0
     )
     auto_threshold: bool = doc(
         "set the threshold from the first frame: auto_threshold_k x the carpet's texture noise near the robot (false: use `threshold`)",
@@ -55,27 +54,73 @@ class RangerConfig:
 
 
 @dataclass
-class AppearanceConfig:
-    reference_fraction: float = doc(
-        "height of the reference band of floor above each column's start, share of the image height, (0, 0.5]",
-        0.1,
-    )
-    features: str = doc("statistics compared: colour_texture | colour", "colour_texture")
-    min_floor_share: float = doc(
-        "a pixel is floor when this share of the reference lies within one histogram bin of it, (0, 1)",
-        0.003,
-    )
-    intensity_reach: int = doc(
-        "intensity bins (16 grey levels each) a pixel may lie from the reference and match, 1..15",
-        1,
-    )
-    patch_half_width: int = doc("half-width of the patch classified around each column [px]", 2)
-    min_run: int = doc("rows of not-floor in a run that make a boundary, >= 1", 3)
-    adaptation_rate: float = doc("weight of the newest frame in the floor model, (0, 1]", 0.5)
+class AppearanceExtras:
+    """The pipeline's own keys of ``[appearance]`` (beside the Rust ``AppearanceOptions``)."""
+
     snap_rows: float = doc(
         "fused ranger: largest distance [rows] at which an edge replaces the appearance boundary",
         3.0,
     )
+
+
+SHARED_WITH_RANGER = ("columns", "start", "max_range_m")
+"""Fields of ``AppearanceOptions`` that ``[appearance]`` takes from ``[ranger]``."""
+
+
+class OptionsView(dict):
+    """A dict of options with attribute access (``cfg.sensors.visual.hit_nats``)."""
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            value = self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+        return OptionsView(value) if isinstance(value, dict) else value
+
+
+class OptionsTable:
+    """One table of the config file that is a Rust options type: its serde form, completed
+    with the Rust defaults and validated by the Rust type; plus the pipeline's own keys
+    (``extras``, a dataclass) where the table has some. Read-only; attribute access."""
+
+    def __init__(self, kind: str, values: Dict[str, Any], extras: Any = None) -> None:
+        self.__dict__.update(_kind=kind, _values=dict(values), _extras=extras)
+
+    @property
+    def options_kind(self) -> str:
+        """The Rust options type (a key of :data:`floorscan.options.KINDS`)."""
+        return self.__dict__["_kind"]
+
+    @property
+    def extras(self) -> Any:
+        """The pipeline's own keys of the table (a dataclass), or None."""
+        return self.__dict__["_extras"]
+
+    def __getattr__(self, name: str) -> Any:
+        values, extras = self.__dict__["_values"], self.__dict__["_extras"]
+        if name in values:
+            v = values[name]
+            return OptionsView(v) if isinstance(v, dict) else v
+        if extras is not None and name in {f.name for f in fields(extras)}:
+            return getattr(extras, name)
+        raise AttributeError(name)
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError("config tables are read-only: use Config.with_overrides")
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, OptionsTable) and self.__dict__ == other.__dict__
+
+    def __repr__(self) -> str:
+        return f"OptionsTable({self.options_kind!r}, {self.to_dict()!r})"
+
+    def options(self) -> Dict[str, Any]:
+        """The Rust options of the table (serde form, every field)."""
+        return dict(self.__dict__["_values"])
+
+    def to_dict(self) -> Dict[str, Any]:
+        extras = self.__dict__["_extras"]
+        return {**self.options(), **(dataclasses.asdict(extras) if extras is not None else {})}
 
 
 @dataclass
@@ -124,41 +169,6 @@ class RigConfig:
         "camera ground frame y on the robot [m]; unset: rig.toml, else 0", None
     )
     yaw: Optional[float] = doc("camera heading on the robot [rad]; unset: rig.toml, else 0", None)
-
-
-@dataclass
-class MapConfig:
-    cell_size_m: float = doc("cell side [m] (the paper: 4 cm)", 0.04)
-    clamp_min_nats: float = doc("lowest log-odds a cell holds [nats] (OctoMap-style clamp)", -2.0)
-    clamp_max_nats: float = doc("highest log-odds a cell holds [nats]", 3.5)
-    occupied_threshold: float = doc("probability at or above which a cell is occupied", 0.65)
-    free_threshold: float = doc("probability at or below which a cell is free", 0.196)
-    local_size_m: float = doc("side of the robot-centred local map [m] (the paper: 3.84 m)", 3.84)
-    max_cells: int = doc(
-        "most cells the global map may span (default 2^25: 231 m square at 4 cm); a pose farther out is skipped and counted (docs/limits.md)",
-        1 << 25,
-    )
-
-
-@dataclass
-class EvidenceConfig:
-    hit_nats: float = doc("log-odds added to a cell seen occupied [nats], > 0", 0.85)
-    miss_nats: float = doc("log-odds added to a cell seen free [nats], < 0", -0.4)
-
-
-@dataclass
-class SensorsConfig:
-    visual: EvidenceConfig = field(default_factory=EvidenceConfig, metadata={"doc": "camera scans"})
-    laser: EvidenceConfig = field(default_factory=EvidenceConfig, metadata={"doc": "laser scans"})
-    sonar: EvidenceConfig = field(
-        default_factory=lambda: EvidenceConfig(hit_nats=0.4, miss_nats=-0.2),
-        metadata={"doc": "sonar readings"},
-    )
-    too_close: str = doc("too_close columns: mark_near_edge | ignore", "mark_near_edge")
-    boundary_margin_rows: float = doc(
-        "floor left unobserved before a visual boundary, in pixel rows of its footprint (0: the paper's rule)",
-        0.5,
-    )
 
 
 @dataclass
@@ -233,14 +243,115 @@ class NodeConfig:
     )
 
 
+def _ranger_table(values: Dict[str, Any], extras: Optional[RangerExtras] = None) -> OptionsTable:
+    return OptionsTable("ranger", check("ranger", values), extras or RangerExtras())
+
+
+def _appearance_table(
+    values: Dict[str, Any], ranger: OptionsTable, extras: Optional[AppearanceExtras] = None
+) -> OptionsTable:
+    shared = {k: ranger.options()[k] for k in SHARED_WITH_RANGER}
+    full = check("appearance", {**values, **shared})
+    own = {k: v for k, v in full.items() if k not in SHARED_WITH_RANGER}
+    return OptionsTable("appearance", own, extras or AppearanceExtras())
+
+
+def _local_map_table(values: Dict[str, Any], grid: OptionsTable) -> OptionsTable:
+    full = check("local_map", {**values, "grid": grid.options()})
+    return OptionsTable("local_map", {k: v for k, v in full.items() if k != "grid"})
+
+
+def _default_tables() -> Dict[str, OptionsTable]:
+    ranger = _ranger_table({})
+    grid = OptionsTable("grid", check("grid", {}))
+    return {
+        "ranger": ranger,
+        "appearance": _appearance_table({}, ranger),
+        "grid": grid,
+        "local_map": _local_map_table({}, grid),
+        "sensors": OptionsTable("inserter", check("inserter", {})),
+    }
+
+
+RUST_TABLES = {
+    "ranger": ("ranger", RangerExtras),
+    "appearance": ("appearance", AppearanceExtras),
+    "grid": ("grid", None),
+    "local_map": ("local_map", None),
+    "sensors": ("inserter", None),
+}
+"""Config table -> (its Rust options type in :mod:`floorscan.options`, its pipeline keys)."""
+
+
+def _renamed(new: str, convert: Callable[[Any], Any] = lambda v: v) -> Tuple[str, Callable]:
+    return new, convert
+
+
+LEGACY_KEYS: Dict[str, Tuple[str, Callable[[Any], Any]]] = {
+    "ranger.half_width": _renamed("ranger.half_width_px"),
+    "ranger.refine": _renamed(
+        "ranger.refinement",
+        lambda v: {"subpixel": "sub_pixel", "none": "first_crossing"}.get(v, v),
+    ),
+    "ranger.bottom_margin": _renamed("ranger.start", lambda v: {"bottom_margin": v}),
+    "appearance.intensity_reach": _renamed("appearance.intensity_reach_bins"),
+    "appearance.patch_half_width": _renamed("appearance.patch_half_width_px"),
+    "appearance.min_run": _renamed("appearance.min_run_px"),
+    "appearance.features": _renamed(
+        "appearance.features", lambda v: {"colour_texture": "colour_and_texture"}.get(v, v)
+    ),
+    "map.local_size_m": _renamed("local_map.size_m"),
+    **{
+        f"map.{k}": _renamed(f"grid.{k}")
+        for k in (
+            "cell_size_m",
+            "origin_m",
+            "bounds_m",
+            "clamp_min_nats",
+            "clamp_max_nats",
+            "occupied_threshold",
+            "free_threshold",
+            "max_cells",
+        )
+    },
+}
+"""Spellings of config files written before the tables became the Rust serde form, read
+into today's keys (old key -> (new key, value conversion)). Kept so that existing files keep
+working; ``floorscan config --check`` prints the file in today's spelling."""
+
+
+def _modernise(d: Dict[str, Any], source: str) -> Dict[str, Any]:
+    out = {k: (dict(v) if isinstance(v, dict) else v) for k, v in d.items()}
+    for table in ("ranger", "appearance", "map"):
+        old = out.get(table)
+        if not isinstance(old, dict):
+            continue
+        for key in list(old):
+            rule = LEGACY_KEYS.get(f"{table}.{key}")
+            if rule is None:
+                continue
+            new, convert = rule
+            new_table, new_key = new.split(".")
+            value = convert(old.pop(key))
+            out.setdefault(new_table, {})
+            if isinstance(out[new_table], dict):
+                out[new_table][new_key] = value
+        if table == "map":
+            for key in old:
+                raise ConfigError(f"{source}: unknown key `map.{key}` ([map] is now [grid])")
+            del out["map"]
+    return out
+
+
 @dataclass
 class Config:
-    ranger: RangerConfig = field(default_factory=RangerConfig)
-    appearance: AppearanceConfig = field(default_factory=AppearanceConfig)
+    ranger: OptionsTable = field(default_factory=lambda: _default_tables()["ranger"])
+    appearance: OptionsTable = field(default_factory=lambda: _default_tables()["appearance"])
     calibration: CalibrationConfig = field(default_factory=CalibrationConfig)
     rig: RigConfig = field(default_factory=RigConfig)
-    map: MapConfig = field(default_factory=MapConfig)
-    sensors: SensorsConfig = field(default_factory=SensorsConfig)
+    grid: OptionsTable = field(default_factory=lambda: _default_tables()["grid"])
+    local_map: OptionsTable = field(default_factory=lambda: _default_tables()["local_map"])
+    sensors: OptionsTable = field(default_factory=lambda: _default_tables()["sensors"])
     outputs: OutputsConfig = field(default_factory=OutputsConfig)
     limits: LimitsConfig = field(default_factory=LimitsConfig)
     node: NodeConfig = field(default_factory=NodeConfig)
@@ -248,7 +359,51 @@ class Config:
     # --- reading ------------------------------------------------------------------------
     @classmethod
     def from_dict(cls, d: Dict[str, Any], *, source: str = "config") -> Config:
-        return _build(cls, d, source, "")
+        if not isinstance(d, dict):
+            raise ConfigError(f"{source}: `config` must be a table")
+        d = _modernise(d, source)
+        names = {f.name for f in fields(cls)}
+        for k in d:
+            if k not in names:
+                raise ConfigError(
+                    f"{source}: unknown key `{k}` (known: {', '.join(sorted(names))})"
+                )
+        for k in RUST_TABLES:
+            if k in d and not isinstance(d[k], dict):
+                raise ConfigError(f"{source}: `{k}` must be a table")
+        tables: Dict[str, Any] = {}
+
+        def split(name: str) -> Tuple[Dict[str, Any], Any]:
+            _, extras_cls = RUST_TABLES[name]
+            raw = dict(d.get(name, {}))
+            if extras_cls is None:
+                return raw, None
+            own = {f.name for f in fields(extras_cls)}
+            extras = {k: raw.pop(k) for k in list(raw) if k in own}
+            return raw, _build(extras_cls, extras, source, f"{name}.")
+
+        with _named(source, "ranger"):
+            values, extras = split("ranger")
+            tables["ranger"] = _ranger_table(values, extras)
+        with _named(source, "appearance"):
+            values, extras = split("appearance")
+            for k in SHARED_WITH_RANGER:
+                if k in values:
+                    raise ConfigError(
+                        f"{source}: `appearance.{k}` is set in [ranger] (`ranger.{k}`)"
+                    )
+            tables["appearance"] = _appearance_table(values, tables["ranger"], extras)
+        with _named(source, "grid"):
+            tables["grid"] = OptionsTable("grid", check("grid", split("grid")[0]))
+        with _named(source, "local_map"):
+            values = split("local_map")[0]
+            if "grid" in values:
+                raise ConfigError(f"{source}: `local_map.grid` is the [grid] table")
+            tables["local_map"] = _local_map_table(values, tables["grid"])
+        with _named(source, "sensors"):
+            tables["sensors"] = OptionsTable("inserter", check("inserter", split("sensors")[0]))
+        rest = {k: v for k, v in d.items() if k not in RUST_TABLES}
+        return _build(cls, rest, source, "", **tables)
 
     @classmethod
     def load(cls, path: PathLike) -> Config:
@@ -260,10 +415,14 @@ class Config:
 
     # --- writing ------------------------------------------------------------------------
     def to_dict(self) -> Dict[str, Any]:
-        return _drop_none(dataclasses.asdict(self))
+        out = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            out[f.name] = v.to_dict() if isinstance(v, OptionsTable) else dataclasses.asdict(v)
+        return _drop_none(out)
 
     def to_toml(self, *, with_docs: bool = True) -> str:
-        comments = _docs(type(self), "") if with_docs else {}
+        comments = _docs(self) if with_docs else {}
         text = dumps_toml(self.to_dict(), comments)
         if with_docs:
             # Unset optional keys appear commented out, so users see they exist.
@@ -272,7 +431,7 @@ class Config:
                 lines.append(line)
                 if line.startswith("["):
                     section = line.strip("[]")
-                    for key, note in _unset_keys(self, section):
+                    for key, note in _unset_keys(self, section, comments):
                         lines.append(f"# {key} = (unset)  # {note}")
             text = "\n".join(lines) + "\n"
         return "# floorscan configuration (floorscan config --default)\n" + text
@@ -281,21 +440,54 @@ class Config:
         return write_atomic(path, self.to_toml())
 
     def with_overrides(self, overrides: Dict[str, Any]) -> Config:
-        """A copy with dotted keys replaced (``{"ranger.threshold": 9.0}``), type-checked."""
-        d = dataclasses.asdict(self)
+        """A copy with dotted keys replaced (``{"ranger.threshold": 9.0}``), checked."""
+        d = self.to_dict()
         for key, value in overrides.items():
             if value is None:
                 continue
+            rule = LEGACY_KEYS.get(key)
+            if rule is not None:
+                key, value = rule[0], rule[1](value)
             node = d
             parts = key.split(".")
             for p in parts[:-1]:
                 if p not in node or not isinstance(node[p], dict):
                     raise ConfigError(f"unknown key `{key}`")
                 node = node[p]
-            if parts[-1] not in node:
+            if parts[-1] not in node and not _optional_key(self, parts):
                 raise ConfigError(f"unknown key `{key}`")
             node[parts[-1]] = value
-        return Config.from_dict(_drop_none(d), source="command line")
+        return Config.from_dict(d, source="command line")
+
+
+def default_value(key: str) -> Any:
+    """The default of a dotted config key (``"grid.cell_size_m"``), for command-line help."""
+    node: Any = Config().to_dict()
+    for p in key.split("."):
+        node = node[p]
+    return node
+
+
+@contextlib.contextmanager
+def _named(source: str, table: str):
+    """Re-raises a Rust options error as a ConfigError naming the file and the dotted key."""
+    try:
+        yield
+    except ConfigError:
+        raise
+    except OptionError as e:
+        msg = re.sub(r"^invalid option `", f"invalid option `{table}.", str(e))
+        raise ConfigError(f"{source}: {msg}") from None
+
+
+def _optional_key(cfg: Config, parts) -> bool:
+    """True for an unset optional key (a None field, left out of ``to_dict``)."""
+    node: Any = cfg
+    for p in parts[:-1]:
+        node = getattr(node, p, None)
+    if isinstance(node, OptionsTable):
+        return parts[-1] in node.options()
+    return dataclasses.is_dataclass(node) and parts[-1] in {f.name for f in fields(node)}
 
 
 def _drop_none(d):
@@ -304,34 +496,46 @@ def _drop_none(d):
     return d
 
 
-def _docs(cls, prefix: str) -> Dict[str, str]:
-    out = {}
-    for f in fields(cls):
-        if dataclasses.is_dataclass(f.type) or (
-            isinstance(f.type, str) and f.type.endswith("Config")
-        ):
-            continue
-        if "doc" in f.metadata:
-            out[f"{prefix}{f.name}"] = f.metadata["doc"]
-    hints = get_type_hints(cls)
-    for f in fields(cls):
-        t = hints[f.name]
-        if dataclasses.is_dataclass(t):
-            out.update(_docs(t, f"{prefix}{f.name}."))
+def _docs(cfg: Config) -> Dict[str, str]:
+    """Dotted key -> comment: the Rust field docs of the options tables, the ``doc`` metadata
+    of the dataclass tables."""
+    out: Dict[str, str] = {}
+    for f in fields(cfg):
+        table = getattr(cfg, f.name)
+        if isinstance(table, OptionsTable):
+            for key, text in field_docs(table.options_kind).items():
+                if text:
+                    out[f"{f.name}.{key}"] = text
+            if table.extras is not None:
+                out.update(_dataclass_docs(table.extras, f"{f.name}."))
+        else:
+            out.update(_dataclass_docs(table, f"{f.name}."))
     return out
 
 
-def _unset_keys(cfg: Config, section: str):
+def _dataclass_docs(obj, prefix: str) -> Dict[str, str]:
+    out = {}
+    for f in fields(obj):
+        if "doc" in f.metadata:
+            out[f"{prefix}{f.name}"] = f.metadata["doc"]
+        if dataclasses.is_dataclass(getattr(obj, f.name)):
+            out.update(_dataclass_docs(getattr(obj, f.name), f"{prefix}{f.name}."))
+    return out
+
+
+def _unset_keys(cfg: Config, section: str, docs: Dict[str, str]):
     node: Any = cfg
     for p in section.split("."):
         node = getattr(node, p, None)
         if node is None:
             return []
-    if not dataclasses.is_dataclass(node):
+    if isinstance(node, OptionsTable):
+        names = [k for k, v in node.options().items() if v is None]
+    elif dataclasses.is_dataclass(node):
+        names = [f.name for f in fields(node) if getattr(node, f.name) is None]
+    else:
         return []
-    return [
-        (f.name, f.metadata.get("doc", "")) for f in fields(node) if getattr(node, f.name) is None
-    ]
+    return [(k, docs.get(f"{section}.{k}", "")) for k in names]
 
 
 def _check_value(value: Any, typ: Any, key: str, source: str) -> Any:
@@ -359,7 +563,7 @@ def _check_value(value: Any, typ: Any, key: str, source: str) -> Any:
     raise ConfigError(f"{source}: `{key}` has an unsupported type")  # pragma: no cover
 
 
-def _build(cls, d: Any, source: str, prefix: str):
+def _build(cls, d: Any, source: str, prefix: str, **given):
     if not isinstance(d, dict):
         raise ConfigError(f"{source}: `{prefix.rstrip('.') or 'config'}` must be a table")
     hints = get_type_hints(cls)
@@ -369,7 +573,7 @@ def _build(cls, d: Any, source: str, prefix: str):
             raise ConfigError(
                 f"{source}: unknown key `{prefix}{k}` (known: {', '.join(sorted(names))})"
             )
-    kwargs = {}
+    kwargs = dict(given)
     for f in fields(cls):
         if f.name not in d:
             continue

@@ -24,8 +24,8 @@ from ..ranging.auto_threshold import MIN_AUTO_THRESHOLD, auto_threshold
 from ..ranging.fused import FusedRanger
 from ..ranging.ground_table import GroundTable
 from ..ranging.ranger import VisualRanger
-from ..ranging.scan import Scan
-from .config import Config
+from ..ranging.scan import ColumnStatus, Scan
+from .config import SHARED_WITH_RANGER, Config
 from .sources import FrameSource
 
 PoseTuple = Tuple[float, float, float]
@@ -36,33 +36,21 @@ RANGER_KINDS = ("edge", "appearance", "fused")
 
 def ranger_from_config(table: GroundTable, cfg: Config, **overrides):
     """The range sensor of ``cfg.ranger.kind`` (edge, appearance or fused) for ``table``;
-    ``overrides`` replace shared ranger options (``columns``, ``bottom_margin``,
-    ``max_range_m``)."""
+    ``overrides`` replace options shared by the rangers (``columns``, ``start``,
+    ``max_range_m``) or the edge ranger's (``threshold``...)."""
     r, a = cfg.ranger, cfg.appearance
-    shared = dict(columns=r.columns, bottom_margin=r.bottom_margin, max_range_m=r.max_range_m)
-    shared.update(overrides)
     if r.kind not in RANGER_KINDS:
         raise ConfigError(
             f"invalid ranger.kind {r.kind!r}: expected one of {', '.join(RANGER_KINDS)}"
         )
+    edge_options = {**r.options(), **overrides}
+    shared = {k: edge_options[k] for k in SHARED_WITH_RANGER}
 
     def edge() -> VisualRanger:
-        return VisualRanger(
-            table, half_width=r.half_width, threshold=r.threshold, refine=r.refine, **shared
-        )
+        return VisualRanger(table, **edge_options)
 
     def appearance() -> AppearanceRanger:
-        return AppearanceRanger(
-            table,
-            reference_fraction=a.reference_fraction,
-            features=a.features,
-            min_floor_share=a.min_floor_share,
-            intensity_reach=a.intensity_reach,
-            patch_half_width=a.patch_half_width,
-            min_run=a.min_run,
-            adaptation_rate=a.adaptation_rate,
-            **shared,
-        )
+        return AppearanceRanger(table, **a.options(), **shared)
 
     if r.kind == "edge":
         return edge()
@@ -72,20 +60,9 @@ def ranger_from_config(table: GroundTable, cfg: Config, **overrides):
 
 
 def grid_kwargs(cfg: Config) -> Dict[str, object]:
-    m, s = cfg.map, cfg.sensors
-    return dict(
-        cell_size_m=m.cell_size_m,
-        clamp_min_nats=m.clamp_min_nats,
-        clamp_max_nats=m.clamp_max_nats,
-        occupied_threshold=m.occupied_threshold,
-        free_threshold=m.free_threshold,
-        max_cells=m.max_cells,
-        visual=(s.visual.hit_nats, s.visual.miss_nats),
-        laser=(s.laser.hit_nats, s.laser.miss_nats),
-        sonar=(s.sonar.hit_nats, s.sonar.miss_nats),
-        too_close=s.too_close,
-        boundary_margin_rows=s.boundary_margin_rows,
-    )
+    """The keyword options of :class:`OccupancyGrid` and :class:`LocalMap` from ``[grid]`` and
+    ``[sensors]``."""
+    return {**cfg.grid.options(), **cfg.sensors.options()}
 
 
 @dataclass
@@ -121,7 +98,7 @@ class Mapper:
         kw = grid_kwargs(cfg)
         # The global map keeps its unclamped evidence too, so runs merge exactly (evidence.py).
         self.global_map = OccupancyGrid(keep_evidence=True, **kw)
-        self.local_map = LocalMap(size_m=cfg.map.local_size_m, **kw)
+        self.local_map = LocalMap(**cfg.local_map.options(), **kw)
         self.times = StageTimes()
         self.frames = 0
         self.points = 0
@@ -141,7 +118,7 @@ class Mapper:
         self.times.ranging_s += t1 - t0
         self.times.mapping_s += t2 - t1
         self.frames += 1
-        self.points += int(np.count_nonzero(scan.status_codes == 0))
+        self.points += int(np.count_nonzero(scan.status_codes == ColumnStatus.BOUNDARY))
         return scan
 
     def _set_auto_threshold(self, image: np.ndarray) -> None:
@@ -149,10 +126,10 @@ class Mapper:
         r = self.cfg.ranger
         t, self.texture_noise = auto_threshold(
             [as_grey(image)],
-            half_width=r.half_width,
+            half_width=r.half_width_px,
             columns=self.ranger.columns,
             k=r.auto_threshold_k,
-            bottom_margin=r.bottom_margin,
+            bottom_margin=r.start.get("bottom_margin", 0),
         )
         self.threshold = max(t, MIN_AUTO_THRESHOLD)
         cfg = self.cfg.with_overrides(

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import OptionError
+from ..ranging.scan import ColumnStatus
 
 
 class RerunOutputs:
@@ -32,7 +33,7 @@ class RerunOutputs:
             rr, "set_time"
         ) else rr.set_time_seconds("time", scan.timestamp)
         rr.log("camera/image", rr.Image(frame.image))
-        ok = scan.status_codes == 0
+        ok = scan.status_codes == ColumnStatus.BOUNDARY
         rr.log(
             "camera/boundary",
             rr.Points2D(

@@ -10,20 +10,17 @@ are first-class; greyscale works too (every channel the same).
 
 from __future__ import annotations
 
-import json
 import math
-from typing import Any, Dict, Optional, Sequence, Union
+from typing import Any, Dict, Optional
 
 import numpy as np
 
-from .. import _native
+from .._native import ranging as _native
 from ..errors import ImageError, ImageTypeError, OptionError
+from ..options import plain
 from .ground_table import GroundTable
-from .ranger import build_ranger_options
+from .ranger import start_rows_from_mask
 from .scan import Scan
-
-FEATURES = {"colour": "colour", "colour_texture": "colour_and_texture"}
-"""Accepted ``features`` values: ``"colour_texture"`` (default) or ``"colour"``."""
 
 
 class AppearanceRanger:
@@ -31,21 +28,14 @@ class AppearanceRanger:
 
     Parameters (keyword-only after ``table``):
         table: the :class:`GroundTable` of the camera (fixes the image size).
-        columns: number of evenly spaced columns, or explicit image columns [px]. Default 64.
-        bottom_margin: rows skipped at the bottom of every column [px]. Default 2.
-        mask: optional (H, W) boolean floor-visibility mask (overrides ``bottom_margin``).
-        max_range_m: farthest ground range scanned [m], default 3; ``None``: no limit.
-        reference_fraction: height of the reference band of floor above each column's start,
-            as a share of the image height, in (0, 0.5]. Default 0.1.
-        features: ``"colour_texture"`` (default) or ``"colour"``.
-        min_floor_share: a pixel looks like floor when at least this share of the reference
-            lies within one histogram bin of it, in (0, 1). Default 0.003.
-        intensity_reach: how far in intensity (bins of 16 grey levels) a pixel may lie from the
-            reference and still match it, 1..15. Default 1.
-        patch_half_width: half-width of the patch classified around each column [px]. Default 2.
-        min_run: rows of not-floor in a run that make a boundary, >= 1. Default 3.
-        adaptation_rate: weight of the newest frame's reference in the model, in (0, 1].
-            Default 0.5.
+        mask: optional (H, W) boolean floor-visibility mask (sets ``start``).
+        **options: any field of the core's ``AppearanceOptions`` (its serde form; the others
+            take their defaults, ``floorscan.options.defaults("appearance")``): ``columns``,
+            ``start``, ``max_range_m`` (as the edge ranger's), ``reference_fraction``,
+            ``features`` (``"colour_and_texture"`` or ``"colour"``), ``min_floor_share``,
+            ``intensity_reach_bins``, ``patch_half_width_px``, ``min_run_px``,
+            ``adaptation_rate``. ``floorscan config --default`` prints each with its doc and
+            default; a bad one raises OptionError naming it.
 
     >>> from floorscan import GroundTable, Lens, CameraMount, AppearanceRanger
     >>> table = GroundTable.from_camera(Lens.equidistant(f=140, cx=159.5, cy=119.5),
@@ -61,40 +51,17 @@ class AppearanceRanger:
     """
 
     def __init__(
-        self,
-        table: GroundTable,
-        *,
-        columns: Union[int, Sequence[int]] = 64,
-        bottom_margin: int = 2,
-        mask: Optional[np.ndarray] = None,
-        max_range_m: Optional[float] = 3.0,
-        reference_fraction: float = 0.1,
-        features: str = "colour_texture",
-        min_floor_share: float = 0.003,
-        intensity_reach: int = 1,
-        patch_half_width: int = 2,
-        min_run: int = 3,
-        adaptation_rate: float = 0.5,
+        self, table: GroundTable, *, mask: Optional[np.ndarray] = None, **options: Any
     ) -> None:
         if not isinstance(table, GroundTable):
             raise TypeError(f"table must be a floorscan.GroundTable, got {type(table).__name__}")
         self._table = table
-        options = build_appearance_options(
-            image_width=table.image_width,
-            image_height=table.image_height,
-            columns=columns,
-            bottom_margin=bottom_margin,
-            mask=mask,
-            max_range_m=max_range_m,
-            reference_fraction=reference_fraction,
-            features=features,
-            min_floor_share=min_floor_share,
-            intensity_reach=intensity_reach,
-            patch_half_width=patch_half_width,
-            min_run=min_run,
-            adaptation_rate=adaptation_rate,
-        )
-        self._native = _native.AppearanceRanger(table._native, json.dumps(options))
+        options = plain(options)
+        if mask is not None:
+            options["start"] = {
+                "per_column": start_rows_from_mask(mask, table.image_width, table.image_height)
+            }
+        self._native = _native.AppearanceRanger(table._native, options)
 
     @property
     def table(self) -> GroundTable:
@@ -107,8 +74,8 @@ class AppearanceRanger:
 
     @property
     def options(self) -> Dict[str, Any]:
-        """The validated options (the core's serde form)."""
-        return json.loads(self._native.options_json)
+        """The validated options, every field (the core's serde form)."""
+        return self._native.options
 
     @property
     def frames_learned(self) -> int:
@@ -151,73 +118,3 @@ def as_rgb_or_grey(image) -> np.ndarray:
     if image.shape[0] == 0 or image.shape[1] == 0:
         raise ImageError(f"image is empty: shape {image.shape} (H, W)")
     return image
-
-
-def _number(name: str, value, lo: float, hi: float, *, lo_open: bool, hi_open: bool) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise OptionError(f"invalid option `{name}`: must be a number, got {value!r}") from None
-    ok = math.isfinite(v) and (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi)
-    if not ok:
-        rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
-        raise OptionError(f"invalid option `{name}`: must be in {rng}, got {value}")
-    return v
-
-
-def _count(name: str, value, lo: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo:
-        raise OptionError(f"invalid option `{name}`: must be an integer >= {lo}, got {value!r}")
-    return int(value)
-
-
-def build_appearance_options(
-    *,
-    image_width: int,
-    image_height: int,
-    columns: Union[int, Sequence[int]] = 64,
-    bottom_margin: int = 2,
-    mask: Optional[np.ndarray] = None,
-    max_range_m: Optional[float] = 3.0,
-    reference_fraction: float = 0.1,
-    features: str = "colour_texture",
-    min_floor_share: float = 0.003,
-    intensity_reach: int = 1,
-    patch_half_width: int = 2,
-    min_run: int = 3,
-    adaptation_rate: float = 0.5,
-) -> Dict[str, Any]:
-    """Checks the appearance ranger's options and returns the core's serde form."""
-    shared = build_ranger_options(
-        image_width=image_width,
-        image_height=image_height,
-        columns=columns,
-        half_width=1,
-        threshold=0.0,
-        refine="none",
-        bottom_margin=bottom_margin,
-        mask=mask,
-        max_range_m=max_range_m,
-    )
-    if features not in FEATURES:
-        raise OptionError(
-            f"invalid option `features`: expected one of {sorted(FEATURES)}, got {features!r}"
-        )
-    return {
-        "columns": shared["columns"],
-        "start": shared["start"],
-        "max_range_m": shared["max_range_m"],
-        "reference_fraction": _number(
-            "reference_fraction", reference_fraction, 0, 0.5, lo_open=True, hi_open=False
-        ),
-        "features": FEATURES[features],
-        "min_floor_share": _number(
-            "min_floor_share", min_floor_share, 0, 1, lo_open=True, hi_open=True
-        ),
-        "intensity_reach_bins": _count("intensity_reach", intensity_reach, 1),
-        "patch_half_width_px": _count("patch_half_width", patch_half_width, 0),
-        "min_run_px": _count("min_run", min_run, 1),
-        "adaptation_rate": _number(
-            "adaptation_rate", adaptation_rate, 0, 1, lo_open=True, hi_open=False
-        ),
-    }

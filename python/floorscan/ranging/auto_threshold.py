@@ -26,7 +26,7 @@ def texture_noise(
     *,
     half_width: int,
     columns: Sequence[int],
-    bottom_margin: int = 2,
+    bottom_margin: int,
     rows_fraction: float = 0.12,
 ) -> float:
     """Robust standard deviation (1.4826 MAD) of the box filter response R (half the
@@ -60,7 +60,7 @@ def auto_threshold(
     half_width: int,
     columns: Sequence[int],
     k: float = AUTO_K,
-    bottom_margin: int = 2,
+    bottom_margin: int,
 ) -> Tuple[float, float]:
     """(threshold, noise): ``k`` times :func:`texture_noise`."""
     noise = texture_noise(

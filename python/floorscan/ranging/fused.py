@@ -12,7 +12,7 @@ from typing import Any, Dict
 
 import numpy as np
 
-from .. import _native
+from .._native import ranging as _native
 from ..errors import OptionError
 from .appearance import AppearanceRanger
 from .ranger import VisualRanger

@@ -7,14 +7,14 @@ File format: JSON, documented in ``docs/formats.md`` (``format = "floorscan.grou
 
 from __future__ import annotations
 
-import json
+import dataclasses
 from pathlib import Path
 from typing import Any, Callable, Dict, Optional, Tuple
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike, write_atomic
+from .._native import ranging as _native
 from ..errors import FileFormatError, TableError
 from .lens import CameraMount, Lens
 
@@ -113,8 +113,8 @@ class GroundTable:
         the horizon and beyond ``max_range_m`` [m]."""
         return cls(
             _native.GroundTable.from_camera(
-                lens.to_json(),
-                mount.to_json(),
+                lens.to_dict(),
+                dataclasses.asdict(mount),
                 int(image_width),
                 int(image_height),
                 int(spacing_px),
@@ -150,11 +150,11 @@ class GroundTable:
     @property
     def metadata(self) -> Dict[str, Any]:
         """Free-form provenance saved with the table (source, calibration report summary)."""
-        return json.loads(self._native.metadata_json())
+        return self._native.metadata()
 
     def with_metadata(self, metadata: Dict[str, Any]) -> GroundTable:
         """A copy with ``metadata`` replacing the table's metadata."""
-        return GroundTable(self._native.with_metadata_json(json.dumps(metadata)))
+        return GroundTable(self._native.with_metadata(metadata))
 
     def lookup(self, u, v):
         """Ground point(s) [m] seen at pixel(s) (u, v). Scalars give a tuple ``(x, y)`` or

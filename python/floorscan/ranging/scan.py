@@ -9,6 +9,7 @@ close, nan invalid); ``bearing`` [rad] is ``atan2(y, x)``. See docs/formats.md.
 from __future__ import annotations
 
 import csv
+import enum
 import io
 import math
 from pathlib import Path
@@ -16,12 +17,24 @@ from typing import Dict, Iterable, Iterator, List
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike, write_atomic
+from .._native import ranging as _native
 from ..errors import FileFormatError
 
-SCAN_CSV_HEADER = "timestamp,column,row,status,x,y,range,bearing"
-STATUS_NAMES = ("boundary", "no_boundary", "too_close", "invalid")
+SCAN_CSV_HEADER: str = _native.SCAN_CSV_HEADER
+"""The scans CSV header (floorscan-core's ``scan::SCAN_CSV_HEADER``)."""
+
+ColumnStatus = enum.IntEnum(
+    "ColumnStatus", {name.upper(): code for name, code in _native.column_statuses()}
+)
+ColumnStatus.__doc__ = """What a column saw (floorscan-core's ``ColumnStatus``, built from it): the
+values are the codes of :attr:`Scan.status_codes`, the lower-case names the CSV's ``status``.
+
+>>> ColumnStatus.BOUNDARY == 0, ColumnStatus(3).name.lower()
+(True, 'invalid')
+"""
+
+STATUS_NAMES = tuple(s.name.lower() for s in ColumnStatus)
 """Status names, indexed by the integer codes of :attr:`Scan.status_codes`."""
 
 

@@ -5,14 +5,12 @@ from __future__ import annotations
 
 import dataclasses
 import json
-from typing import Any, Dict
-
-from .. import _native
+from typing import Any, Callable, Dict
 
 
-def init_options(obj: Any, kind: str, given: Dict[str, Any]) -> None:
+def init_options(obj: Any, validate: Callable[[str], None], given: Dict[str, Any]) -> None:
     """Sets the dataclass fields of ``obj`` from ``given`` (defaults for the rest), then asks
-    the core to validate them as component ``kind``."""
+    the core to validate them (``validate``: the component's typed binding, JSON in)."""
     for f in dataclasses.fields(obj):
         value = given.get(f.name, f.default)
         if (
@@ -22,7 +20,7 @@ def init_options(obj: Any, kind: str, given: Dict[str, Any]) -> None:
         ):
             value = float(value)
         object.__setattr__(obj, f.name, value)
-    _native.sim_validate(kind, json.dumps(as_dict(obj)))
+    validate(json.dumps(as_dict(obj)))
 
 
 def as_dict(obj: Any) -> Dict[str, Any]:

@@ -12,8 +12,8 @@ from typing import Tuple
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike, write_atomic
+from .._native import sim as _native
 from ..errors import OptionError
 from .camera import Camera
 
@@ -45,7 +45,7 @@ class CalibrationPattern:
             raise OptionError(
                 f"invalid option `kind`: expected one of {PATTERN_KINDS}, got {self.kind!r}"
             )
-        _native.sim_validate("pattern", self._json())
+        _native.validate_pattern(self._json())
 
     @classmethod
     def default_for(cls, camera: Camera, *, kind: str = "checkerboard") -> CalibrationPattern:

@@ -17,8 +17,8 @@ from typing import Any, Dict, Optional, Union
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike, write_atomic
+from .._native import sim as _native
 from ..errors import ArgumentTypeError, FileFormatError, OptionError
 from ..ranging.ground_table import GroundTable
 from ..ranging.lens import CameraMount, Lens
@@ -43,7 +43,7 @@ class Imaging:
     antialias: bool = True
 
     def __init__(self, **options: Any) -> None:
-        init_options(self, "imaging", _known(self, options))
+        init_options(self, _native.validate_imaging, _known(self, options))
 
     @classmethod
     def ideal(cls) -> Imaging:

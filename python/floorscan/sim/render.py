@@ -7,7 +7,7 @@ from typing import Dict, Sequence, Tuple
 
 import numpy as np
 
-from .. import _native
+from .._native import sim as _native
 from ..errors import ArgumentTypeError
 from ..ranging.scan import STATUS_NAMES
 from .camera import Camera

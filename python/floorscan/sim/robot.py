@@ -10,7 +10,7 @@ from typing import Any, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .. import _native
+from .._native import sim as _native
 from ..errors import ArgumentTypeError, OptionError
 from ._options import as_dict, init_options
 
@@ -37,7 +37,7 @@ class OdometryNoise:
 
     def __init__(self, **options: Any) -> None:
         _check_names(self, options)
-        init_options(self, "odometry", options)
+        init_options(self, _native.validate_odometry_noise, options)
 
     @classmethod
     def none(cls) -> OdometryNoise:
@@ -108,7 +108,7 @@ class Robot:
                 value = options.get(f.name, f.default)
                 object.__setattr__(self, f.name, float(value))
         object.__setattr__(self, "odometry", odometry)
-        _native.sim_validate("robot", json.dumps(self._options()))
+        _native.validate_robot_options(json.dumps(self._options()))
 
     def _options(self) -> dict:
         d = as_dict(self)

@@ -8,8 +8,8 @@ from typing import Any, Dict, Optional, Sequence
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike
+from .._native import sim as _native
 from ..errors import OptionError
 from ..ranging.scan import STATUS_NAMES
 from .camera import Camera

@@ -9,8 +9,8 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
-from .. import _native
 from .._atomic import PathLike
+from .._native import sim as _native
 from ..errors import WorldError
 from .occupancy import OccupancyRaster
 
@@ -22,7 +22,7 @@ class World:
     >>> w.name, w.start
     ('room', (0.65, 0.5, 0.0))
     >>> sorted(World.builtin_names())
-    ['corridor', 'lab', 'room', 'tiles']
+    ['corridor', 'lab', 'parquet', 'patterned', 'room', 'tiles']
     """
 
     __slots__ = ("_native",)

@@ -1,0 +1,196 @@
+"""
+Ranging: ground tables, the edge and appearance rangers, scans.
+"""
+
+from _typeshed import Incomplete
+from typing import Any, Final, SupportsFloat, SupportsIndex, final
+
+SCAN_CSV_HEADER: Final[str]
+"""
+The scans CSV header (`floorscan_core::scan::SCAN_CSV_HEADER`).
+"""
+
+@final
+class AppearanceRanger:
+    def __new__(cls, /, table: GroundTable, options: Any) -> AppearanceRanger: ...
+    @property
+    def columns(self, /) -> Incomplete: ...
+    @property
+    def frames_learned(self, /) -> int:
+        """
+        Frames learned since the last reset.
+        """
+    @property
+    def options(self, /) -> Any:
+        """
+        The options (every field, serde form).
+        """
+    def reset_model(self, /) -> None:
+        """
+        Forgets the learned floor.
+        """
+    def scan(self, /, image: Any, timestamp: SupportsFloat | SupportsIndex) -> Scan:
+        """
+        Learns from the frame's reference band and scans it: a (H, W) grey or C-contiguous
+        (H, W, 3) RGB array of uint8 or uint16; the GIL is released while scanning.
+        """
+
+@final
+class GroundTable:
+    def __eq__(self, other: object, /) -> bool: ...
+    @staticmethod
+    def from_arrays(image_width: SupportsIndex, image_height: SupportsIndex, spacing_px: SupportsIndex, x_m: Incomplete, y_m: Incomplete) -> GroundTable: ...
+    @staticmethod
+    def from_camera(lens: Any, mount: Any, image_width: SupportsIndex, image_height: SupportsIndex, spacing_px: SupportsIndex, max_range_m: SupportsFloat | SupportsIndex) -> GroundTable: ...
+    @staticmethod
+    def from_json(text: str) -> GroundTable: ...
+    @property
+    def image_height(self, /) -> int: ...
+    @property
+    def image_width(self, /) -> int: ...
+    def lookup(self, /, u: Incomplete, v: Incomplete) -> tuple[Incomplete, Incomplete]:
+        """
+        Ground points at pixels (u, v): two float64 arrays, NaN where there is no ground.
+        """
+    def lookup_error(self, /, u: Incomplete, v: Incomplete) -> Incomplete:
+        """
+        Predicted errors [m] at pixels (u, v), NaN where unknown or no ground.
+        """
+    def metadata(self, /) -> Any:
+        """
+        The free-form metadata (a dict).
+        """
+    def node_arrays(self, /) -> tuple[Incomplete, Incomplete]:
+        """
+        Node values as two (nodes_v, nodes_u) float64 arrays, NaN for no ground.
+        """
+    def node_errors(self, /) -> Incomplete | None:
+        """
+        Node errors as a (nodes_v, nodes_u) float64 array [m], NaN unknown; None if the table
+        carries none.
+        """
+    @property
+    def spacing_px(self, /) -> int: ...
+    def to_json(self, /) -> str: ...
+    def with_errors(self, /, errors_m: Incomplete) -> GroundTable:
+        """
+        A copy carrying a predicted floor-position error [m] per node (row-major; NaN unknown).
+        """
+    def with_metadata(self, /, metadata: Any) -> GroundTable:
+        """
+        A copy of the table with `metadata` (a dict of JSON values) replacing its metadata.
+        """
+
+@final
+class Scan:
+    def __len__(self, /) -> int: ...
+    @property
+    def bearings(self, /) -> Incomplete: ...
+    @property
+    def columns(self, /) -> Incomplete: ...
+    @property
+    def confidence(self, /) -> Incomplete:
+        """
+        Each reading's confidence in [0, 1].
+        """
+    def csv_lines(self, /) -> str:
+        """
+        The scan's CSV lines (no header), see `floorscan_core::scan::SCAN_CSV_HEADER`.
+        """
+    @property
+    def footprints(self, /) -> Incomplete:
+        """
+        Floor length one pixel row covers at each boundary [m] (0 where not a boundary).
+        """
+    @staticmethod
+    def from_arrays(timestamp_s: SupportsFloat | SupportsIndex, columns: Incomplete, rows: Incomplete, status: Incomplete, x_m: Incomplete, y_m: Incomplete, near_x_m: Incomplete, near_y_m: Incomplete) -> Scan:
+        """
+        Rebuilds a scan from its CSV columns (status codes as in `ColumnStatus.code`). The near
+        edge of the field of view is not part of the CSV; pass it if known (NaN otherwise).
+        """
+    @property
+    def near_x(self, /) -> Incomplete: ...
+    @property
+    def near_y(self, /) -> Incomplete: ...
+    @property
+    def ranges(self, /) -> Incomplete: ...
+    @property
+    def rows(self, /) -> Incomplete: ...
+    @property
+    def start_rows(self, /) -> Incomplete: ...
+    @property
+    def status_codes(self, /) -> Incomplete: ...
+    @property
+    def timestamp(self, /) -> float: ...
+    def to_laser_bins(self, /, angle_min: SupportsFloat | SupportsIndex, angle_max: SupportsFloat | SupportsIndex, angle_increment: SupportsFloat | SupportsIndex) -> dict:
+        """
+        Fixed angular binning (sensor_msgs/LaserScan fields) as a dict.
+        """
+    @property
+    def x(self, /) -> Incomplete: ...
+    @property
+    def y(self, /) -> Incomplete: ...
+
+@final
+class VisualRanger:
+    def __new__(cls, /, table: GroundTable, options: Any) -> VisualRanger: ...
+    @property
+    def columns(self, /) -> Incomplete:
+        """
+        The sampled image columns, in output order.
+        """
+    @property
+    def options(self, /) -> Any:
+        """
+        The options (every field, serde form).
+        """
+    def scan(self, /, image: Any, timestamp: SupportsFloat | SupportsIndex) -> Scan:
+        """
+        Scans a (H, W) uint8 or uint16 image; the GIL is released while scanning.
+        """
+    @property
+    def table(self, /) -> GroundTable: ...
+
+def appearance_options_schema() -> Any:
+    """
+    The JSON schema of `AppearanceOptions`: field docs, types, defaults.
+    """
+
+def check_appearance_options(options: Any) -> Any:
+    """
+    Reads `AppearanceOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
+def check_ranger_options(options: Any) -> Any:
+    """
+    Reads `RangerOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
+def column_statuses() -> list[tuple[str, int]]:
+    """
+    Every column status as (name, code), in code order (`floorscan.ColumnStatus` is built
+    from it).
+    """
+
+def default_appearance_options() -> Any:
+    """
+    The default `AppearanceOptions` (its serde form, a dict).
+    """
+
+def default_ranger_options() -> Any:
+    """
+    The default `RangerOptions` (its serde form, a dict).
+    """
+
+def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex) -> Scan:
+    """
+    Fuses an edge scan and an appearance scan of the same frame and columns
+    (`floorscan_core::fusion`).
+    """
+
+def ranger_options_schema() -> Any:
+    """
+    The JSON schema of `RangerOptions`: field docs, types, defaults.
+    """
+
+def __getattr__(name: str) -> Incomplete: ...

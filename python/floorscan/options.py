@@ -1,0 +1,109 @@
+"""Options of the Rust components as Python sees them: dicts of the core's serde form.
+
+The defaults, the field docs and every check live in the Rust options types
+(``crates/floorscan-core/src/*_options.rs``, ``inserter.rs``, ``local_map.rs``); this module
+only reads them through the binding, and turns numpy values into plain ones on the way in.
+
+>>> defaults("ranger")["refinement"]
+'sub_pixel'
+>>> sorted(field_docs("inserter"))[:2]
+['boundary_margin_rows', 'laser']
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Dict
+
+import numpy as np
+
+from ._native import mapping, ranging
+
+KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
+    "ranger": ranging.default_ranger_options,
+    "appearance": ranging.default_appearance_options,
+    "grid": mapping.default_grid_options,
+    "inserter": mapping.default_inserter_options,
+    "local_map": mapping.default_local_map_options,
+}
+"""Each options type by its name, with its defaults function."""
+
+CHECKS: Dict[str, Callable[[Dict[str, Any]], Dict[str, Any]]] = {
+    "ranger": ranging.check_ranger_options,
+    "appearance": ranging.check_appearance_options,
+    "grid": mapping.check_grid_options,
+    "inserter": mapping.check_inserter_options,
+    "local_map": mapping.check_local_map_options,
+}
+"""Each options type's check: a dict of any of its fields in, every field out (validated)."""
+
+SCHEMAS: Dict[str, Callable[[], Dict[str, Any]]] = {
+    "ranger": ranging.ranger_options_schema,
+    "appearance": ranging.appearance_options_schema,
+    "grid": mapping.grid_options_schema,
+    "inserter": mapping.inserter_options_schema,
+    "local_map": mapping.local_map_options_schema,
+}
+
+
+def defaults(kind: str) -> Dict[str, Any]:
+    """The default options of ``kind`` (a key of :data:`KINDS`), from Rust ``impl Default``."""
+    return KINDS[kind]()
+
+
+def check(kind: str, options: Dict[str, Any]) -> Dict[str, Any]:
+    """``options`` completed with the defaults and validated by the Rust type (OptionError).
+    A nested table given in part (``[sensors.visual]`` with ``hit_nats`` only) keeps the
+    default of its other fields."""
+    return CHECKS[kind](merged(defaults(kind), plain(options)))
+
+
+def merged(base: Any, given: Any) -> Any:
+    """``given`` over ``base``, recursively where ``given`` is a dict whose keys are all keys of
+    the dict ``base`` (a struct given in part); anything else replaces (an enum's other variant,
+    a list, a number)."""
+    if isinstance(base, dict) and isinstance(given, dict) and set(given) <= set(base):
+        return {**base, **{k: merged(base[k], v) for k, v in given.items()}}
+    return given
+
+
+def field_docs(kind: str) -> Dict[str, str]:
+    """Dotted field name -> its Rust doc comment (first paragraph), nested structs included."""
+    schema = SCHEMAS[kind]()
+    defs = schema.get("$defs", {})
+    out: Dict[str, str] = {}
+
+    def resolve(node: Dict[str, Any]) -> Dict[str, Any]:
+        ref = node.get("$ref")
+        if ref is None:
+            for alt in node.get("anyOf", []) + node.get("oneOf", []):
+                if "$ref" in alt:
+                    return resolve(alt)
+            return node
+        return resolve(defs[ref.rsplit("/", 1)[-1]])
+
+    def walk(node: Dict[str, Any], prefix: str) -> None:
+        for name, prop in resolve(node).get("properties", {}).items():
+            target = resolve(prop)
+            doc = " ".join((prop.get("description") or target.get("description", "")).split())
+            values = [v["const"] for v in target.get("oneOf", []) if "const" in v]
+            if values:
+                doc += f" One of: {' | '.join(values)}."
+            out[prefix + name] = doc
+            if "properties" in target:
+                walk(prop, prefix + name + ".")
+
+    walk(schema, "")
+    return out
+
+
+def plain(value: Any) -> Any:
+    """numpy arrays and scalars as lists and Python numbers, recursively (serde reads those)."""
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return plain(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
