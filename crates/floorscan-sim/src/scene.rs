@@ -59,6 +59,24 @@ pub struct Hit {
     pub point: [f64; 3],
 }
 
+impl Hit {
+    /// The hit at ray parameter `t` of `o + t d` on `surface`; nothing when `t` is infinite.
+    fn at(o: [f64; 3], d: [f64; 3], t: f64, surface: Surface) -> Hit {
+        if !t.is_finite() {
+            return Hit {
+                t: f64::INFINITY,
+                surface: Surface::Nothing,
+                point: [f64::NAN; 3],
+            };
+        }
+        Hit {
+            t,
+            surface,
+            point: [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]],
+        }
+    }
+}
+
 /// Grid items: side faces are stored as their index, caps with this bit set.
 const CAP_BIT: u32 = 1 << 31;
 
@@ -343,22 +361,7 @@ impl Scene {
                 break;
             }
         }
-        if !best_t.is_finite() {
-            return Hit {
-                t: f64::INFINITY,
-                surface: Surface::Nothing,
-                point: [f64::NAN; 3],
-            };
-        }
-        Hit {
-            t: best_t,
-            surface: best,
-            point: [
-                o[0] + best_t * d[0],
-                o[1] + best_t * d[1],
-                o[2] + best_t * d[2],
-            ],
-        }
+        Hit::at(o, d, best_t, best)
     }
 
     /// The same as [`Self::trace`] without the grid: every face tested (reference for tests).
@@ -406,22 +409,7 @@ impl Scene {
                 }
             }
         }
-        if !best_t.is_finite() {
-            return Hit {
-                t: f64::INFINITY,
-                surface: Surface::Nothing,
-                point: [f64::NAN; 3],
-            };
-        }
-        Hit {
-            t: best_t,
-            surface: best,
-            point: [
-                o[0] + best_t * d[0],
-                o[1] + best_t * d[1],
-                o[2] + best_t * d[2],
-            ],
-        }
+        Hit::at(o, d, best_t, best)
     }
 }
 

@@ -186,6 +186,34 @@ pub struct PreparedCovering {
 }
 
 impl PreparedCovering {
+    /// A carpet's relative texture at `p` (1 on average): fibres of size `grain_m` with
+    /// amplitude `contrast` and mottling (scale 1 / inv_b) of amplitude `mottle`. Fibres are
+    /// smooth noise where a pixel resolves them; where it spans several, one hashed value per
+    /// fibre cell (same spread, a quarter of the work); none where averaging has smoothed
+    /// them away.
+    #[inline]
+    fn carpet_texture(
+        &self,
+        p: Point2,
+        fp: Footprint,
+        contrast: f64,
+        grain_m: f64,
+        mottle: f64,
+    ) -> f32 {
+        let seed = self.covering.seed;
+        let k = detail(grain_m, fp);
+        let (gx, gy) = (p.x * self.inv_a, p.y * self.inv_a);
+        let fine = if k >= 0.5 {
+            value_noise(gx, gy, seed)
+        } else if k > 0.02 {
+            VALUE_NOISE_STD / HASH_STD * hash2(fast_floor(gx), fast_floor(gy), seed)
+        } else {
+            0.0
+        };
+        let coarse = value_noise(p.x * self.inv_b, p.y * self.inv_b, seed ^ 0xAA);
+        1.0 + contrast as f32 * 2.4 * k * fine + mottle as f32 * 2.4 * coarse
+    }
+
     /// Albedo at world point `p` for a pixel footprint `fp`.
     pub fn albedo_at(&self, p: Point2, fp: Footprint) -> f32 {
         let c = &self.covering;
@@ -197,22 +225,7 @@ impl PreparedCovering {
                 grain_m,
                 mottle,
                 ..
-            } => {
-                let k = detail(*grain_m, fp);
-                // Fibres: smooth noise where a pixel resolves them; where it spans several,
-                // one hashed value per fibre cell (same spread, a quarter of the work); none
-                // where averaging has smoothed them away.
-                let (gx, gy) = (p.x * self.inv_a, p.y * self.inv_a);
-                let fine = if k >= 0.5 {
-                    value_noise(gx, gy, seed)
-                } else if k > 0.02 {
-                    VALUE_NOISE_STD / HASH_STD * hash2(fast_floor(gx), fast_floor(gy), seed)
-                } else {
-                    0.0
-                };
-                let coarse = value_noise(p.x * self.inv_b, p.y * self.inv_b, seed ^ 0xAA);
-                a * (1.0 + *contrast as f32 * 2.4 * k * fine + *mottle as f32 * 2.4 * coarse)
-            }
+            } => a * self.carpet_texture(p, fp, *contrast, *grain_m, *mottle),
             FloorPattern::Linoleum {
                 mottle, speckle, ..
             } => {
@@ -286,16 +299,6 @@ impl PreparedCovering {
                 pattern_contrast,
                 ..
             } => {
-                let k = detail(*grain_m, fp);
-                let (gx, gy) = (p.x * self.inv_a, p.y * self.inv_a);
-                let fine = if k >= 0.5 {
-                    value_noise(gx, gy, seed)
-                } else if k > 0.02 {
-                    VALUE_NOISE_STD / HASH_STD * hash2(fast_floor(gx), fast_floor(gy), seed)
-                } else {
-                    0.0
-                };
-                let coarse = value_noise(p.x * self.inv_b, p.y * self.inv_b, seed ^ 0xAA);
                 // Diamonds: squares turned 45 degrees, blended across their edges over the
                 // pixel's footprint (anti-aliased like the checkerboard).
                 let u = (p.x + p.y) / pattern_m;
@@ -311,7 +314,7 @@ impl PreparedCovering {
                     (1.0 - pc, 1.0 + pc)
                 };
                 let tone = own * w + other * (1.0 - w);
-                a * tone * (1.0 + *contrast as f32 * 2.4 * k * fine + *mottle as f32 * 2.4 * coarse)
+                a * tone * self.carpet_texture(p, fp, *contrast, *grain_m, *mottle)
             }
             FloorPattern::Paper => {
                 a * (1.0 + 0.02 * detail(0.002, fp) * value_noise(p.x * 500.0, p.y * 500.0, seed))
