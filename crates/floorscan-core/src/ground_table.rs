@@ -223,8 +223,9 @@ impl GroundTable {
         let s = self.spacing_px as f64;
         let gu = (u.max(0.0) / s).min((self.nodes_u - 1) as f64);
         let gv = (v.max(0.0) / s).min((self.nodes_v - 1) as f64);
-        let i = (gu.floor() as usize).min(self.nodes_u - 2);
-        let j = (gv.floor() as usize).min(self.nodes_v - 2);
+        // gu, gv >= 0 and finite here, where truncation is floor (and needs no libm call).
+        let i = (gu as usize).min(self.nodes_u - 2);
+        let j = (gv as usize).min(self.nodes_v - 2);
         Some((i, j, gu - i as f64, gv - j as f64))
     }
 
