@@ -60,6 +60,11 @@ pub struct VisualRanger {
     active_threshold16: Vec<i16>,
     masks: Vec<u32>,
     ring8: Vec<u8>,
+    /// The prefilter's byte threshold (None: not used) and per-column thresholds (255: column
+    /// not tested) and flags; see [`lanes::prefilter_threshold`].
+    prefilter: Option<u8>,
+    thresholds8: Vec<u8>,
+    flags: Vec<u8>,
     outcomes: Vec<Option<ColumnOutcome>>,
     /// Per column: the confidence of its outcome (see [`edge_confidence`]).
     confidence: Vec<f32>,
@@ -145,7 +150,10 @@ impl VisualRanger {
             sums16: vec![0; if small_d { n } else { 0 }],
             active_threshold16: vec![i16::MAX; n],
             masks: vec![0; n.div_ceil(LANES)],
-            ring8: vec![0; if small_d { (2 * d + 2) * n } else { 0 }],
+            ring8: vec![0; if small_d { ring8_rows(d) * n } else { 0 }],
+            prefilter: lanes::prefilter_threshold(d, threshold_sum),
+            thresholds8: vec![u8::MAX; n],
+            flags: vec![0; n],
             sums: vec![0; n],
             active_threshold: vec![i32::MAX; n],
             outcomes: vec![None; n],
@@ -295,6 +303,10 @@ impl VisualRanger {
         let contiguous =
             image.col_stride() == 1 && self.offsets.windows(2).all(|w| w[1] == w[0] + 1);
         if let Some(bytes) = image.as_u8() {
+            if self.prefilter.is_some() {
+                self.run_columns_prefiltered(&bytes, contiguous);
+                return;
+            }
             if d <= MAX_HALF_WIDTH_I16 {
                 self.run_columns_u8(&bytes, contiguous);
                 return;
@@ -371,7 +383,7 @@ impl VisualRanger {
         let d = self.options.half_width_px;
         let n = self.plans.len();
         let row_of = |k: usize| height - 1 - k;
-        let ring_rows = 2 * d + 2;
+        let ring_rows = ring8_rows(d);
         self.active_threshold.fill(i32::MAX);
         self.active_threshold16.fill(i16::MAX);
         let k_first = self.plans[self.by_lo[0]].window.unwrap().0;
@@ -381,13 +393,17 @@ impl VisualRanger {
             let o = self.offsets[0];
             for i in 1..=d {
                 lanes::accumulate_row(&mut self.sums16, &image.row(row_of(k_first + i))[o..], true);
-                lanes::accumulate_row(&mut self.sums16, &image.row(row_of(k_first - i))[o..], false);
+                lanes::accumulate_row(
+                    &mut self.sums16,
+                    &image.row(row_of(k_first - i))[o..],
+                    false,
+                );
             }
         } else {
             for k in k_first - d..=k_first + d {
                 self.gather_row8(image, k, ring_rows);
             }
-            let slot = |k: usize| (k % ring_rows) * n;
+            let slot = |k: usize| (k & (ring_rows - 1)) * n;
             for i in 1..=d {
                 let (up, down) = (slot(k_first + i), slot(k_first - i));
                 lanes::accumulate_row(&mut self.sums16, &self.ring8[up..up + n], true);
@@ -438,7 +454,9 @@ impl VisualRanger {
                 )
             } else {
                 self.gather_row8(image, k + d, ring_rows);
-                let slot = |k: usize| &self.ring8[(k % ring_rows) * n..(k % ring_rows + 1) * n];
+                let slot = |k: usize| {
+                    &self.ring8[(k & (ring_rows - 1)) * n..((k & (ring_rows - 1)) + 1) * n]
+                };
                 lanes::advance_u8(
                     self.kernel,
                     &mut self.sums16,
@@ -450,10 +468,90 @@ impl VisualRanger {
         }
     }
 
+    /// `run_columns` for 8-bit images where the prefilter applies (d a power of two): each row
+    /// step flags, from byte averages, the columns that may cross; only those get the exact
+    /// sum of eq. (1), from the 2d rows around the pixel.
+    fn run_columns_prefiltered(&mut self, image: &ImageView<u8>, contiguous: bool) {
+        let height = image.height();
+        let d = self.options.half_width_px;
+        let n = self.plans.len();
+        let ring_rows = ring8_rows(d);
+        self.active_threshold.fill(i32::MAX);
+        self.active_threshold16.fill(i16::MAX);
+        self.thresholds8.fill(u8::MAX);
+        let k_first = self.plans[self.by_lo[0]].window.unwrap().0;
+        if !contiguous {
+            for k in k_first - d..=k_first + d {
+                self.gather_row8(image, k, ring_rows);
+            }
+        }
+        let o = self.offsets[0];
+        let mut unresolved = self.by_lo.len();
+        let mut events = EventCursor::default();
+        let mut k = k_first;
+        self.apply_window_events(&mut events, k, height, &mut unresolved);
+        loop {
+            let mut rows: [&[u8]; 2 * lanes::MAX_PREFILTER_HALF_WIDTH + 1] =
+                [&[]; 2 * lanes::MAX_PREFILTER_HALF_WIDTH + 1];
+            // Rows k - d ..= k + d (from the image, or from the ring of gathered columns).
+            for (i, r) in rows[..2 * d + 1].iter_mut().enumerate() {
+                let kk = k + i - d;
+                *r = if contiguous {
+                    &image.row(height - 1 - kk)[o..o + n]
+                } else {
+                    let slot = kk & (ring_rows - 1);
+                    &self.ring8[slot * n..(slot + 1) * n]
+                };
+            }
+            let rows = &rows[..2 * d + 1];
+            if lanes::prefilter_u8(self.kernel, rows, &self.thresholds8, &mut self.flags) {
+                let words = n / 8;
+                for w in 0..=words {
+                    let word = if w < words {
+                        u64::from_le_bytes(self.flags[8 * w..8 * w + 8].try_into().unwrap())
+                    } else {
+                        self.flags[8 * w..]
+                            .iter()
+                            .rev()
+                            .fold(0u64, |acc, &f| (acc << 8) | f as u64)
+                    };
+                    let mut word = word;
+                    while word != 0 {
+                        let j = 8 * w + word.trailing_zeros() as usize / 8;
+                        word &= !(0xFFu64 << (8 * (j - 8 * w)));
+                        let s: i32 = (1..=d)
+                            .map(|t| rows[d + t][j] as i32 - rows[d - t][j] as i32)
+                            .sum();
+                        if s.abs() > self.threshold_sum {
+                            self.confidence[j] = edge_confidence(s, self.threshold_sum);
+                            self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
+                            self.active_threshold[j] = i32::MAX;
+                            self.active_threshold16[j] = i16::MAX;
+                            self.thresholds8[j] = u8::MAX;
+                            unresolved -= 1;
+                        }
+                    }
+                }
+            }
+            if unresolved == 0 {
+                break;
+            }
+            let can_advance = k + d + 1 < height;
+            k += 1;
+            self.apply_window_events(&mut events, k, height, &mut unresolved);
+            if unresolved == 0 || !can_advance {
+                break;
+            }
+            if !contiguous {
+                self.gather_row8(image, k + d, ring_rows);
+            }
+        }
+    }
+
     /// Copies the sampled pixels of 8-bit row k (from the bottom) into its byte-ring slot.
     fn gather_row8(&mut self, image: &ImageView<u8>, k: usize, ring_rows: usize) {
         let n = self.plans.len();
-        let start = (k % ring_rows) * n;
+        let start = (k & (ring_rows - 1)) * n;
         let row = image.row(image.height() - 1 - k);
         // As in `gather_row`: one check of the largest offset covers every pixel.
         assert!(self.max_offset < row.len(), "column offset outside the row");
@@ -494,6 +592,7 @@ impl VisualRanger {
             if self.outcomes[j].is_none() {
                 self.active_threshold[j] = self.threshold_sum;
                 self.active_threshold16[j] = self.threshold_sum16;
+                self.thresholds8[j] = self.prefilter.unwrap_or(u8::MAX);
             }
             cursor.lo += 1;
         }
@@ -506,6 +605,7 @@ impl VisualRanger {
                 self.outcomes[j] = Some(self.no_boundary(j, height));
                 self.active_threshold[j] = i32::MAX;
                 self.active_threshold16[j] = i16::MAX;
+                self.thresholds8[j] = u8::MAX;
                 *unresolved -= 1;
             }
         }
@@ -544,9 +644,7 @@ impl VisualRanger {
         let top = (k_cross + d + 1).min(k_max) + d;
         const SEGMENT: usize = 64;
         if top - base + 2 > SEGMENT {
-            return self.resolve_with(j, k_cross, height, |k| {
-                direct_response_at(image, c, k, d)
-            });
+            return self.resolve_with(j, k_cross, height, |k| direct_response_at(image, c, k, d));
         }
         let mut prefix = [0i32; SEGMENT];
         let mut total = 0;
@@ -595,6 +693,11 @@ impl VisualRanger {
             None => ColumnOutcome::Invalid { row: Some(row) },
         }
     }
+}
+
+/// Rows of the byte ring: at least the 2d + 2 a row step reads, a power of two (slot = k & mask).
+fn ring8_rows(d: usize) -> usize {
+    (2 * d + 2).next_power_of_two()
 }
 
 /// Confidence of an edge whose raw response `s` crossed `threshold_sum`: 1 - t / |S|, 0 at the

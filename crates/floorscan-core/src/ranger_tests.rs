@@ -505,7 +505,11 @@ fn blocky_image(width: usize, height: usize, seed: u64, noise: u64) -> Vec<u8> {
             let run = 1 + (next() % 40) as usize;
             let val = (next() % 256) as u8;
             for vv in v.saturating_sub(run)..v {
-                let n = if noise > 0 { (next() % (2 * noise + 1)) as i32 - noise as i32 } else { 0 };
+                let n = if noise > 0 {
+                    (next() % (2 * noise + 1)) as i32 - noise as i32
+                } else {
+                    0
+                };
                 img[vv * width + u] = (val as i32 + n).clamp(0, 255) as u8;
             }
             v = v.saturating_sub(run);
@@ -538,7 +542,11 @@ fn check_every_kernel(
     for (r, (c, status, row)) in direct.readings.iter().zip(&reference) {
         assert_eq!((r.column, r.status()), (*c, *status));
         if *status != ColumnStatus::Invalid || row.is_finite() {
-            assert!((r.row() - row).abs() < 1e-9, "column {c}: {} vs {row}", r.row());
+            assert!(
+                (r.row() - row).abs() < 1e-9,
+                "column {c}: {} vs {row}",
+                r.row()
+            );
         }
     }
     for kernel in all_kernels() {
@@ -590,7 +598,8 @@ fn every_column_of_a_640x480_frame_every_status_every_kernel() {
     }
     // Ground below a horizon that climbs across the image; none at all right of u = 600.
     let t = GroundTable::from_fn(w, h, 8, |u, v| {
-        (u < 600.0 && v >= 100.0 + u * 0.3).then(|| Point2::new(0.2 + (h as f64 - v) * 0.01, (320.0 - u) * 0.004))
+        (u < 600.0 && v >= 100.0 + u * 0.3)
+            .then(|| Point2::new(0.2 + (h as f64 - v) * 0.01, (320.0 - u) * 0.004))
     })
     .unwrap();
     for (d, refinement) in [
@@ -618,7 +627,10 @@ fn half_widths_past_the_16_bit_sums_scan_like_the_direct_filter() {
     // d = 127 > MAX_HALF_WIDTH_I16: 8-bit images take the 32-bit path.
     let (w, h) = (48, 300);
     let img = blocky_image(w, h, 5, 0);
-    for d in [crate::lanes::MAX_HALF_WIDTH_I16, crate::lanes::MAX_HALF_WIDTH_I16 + 1] {
+    for d in [
+        crate::lanes::MAX_HALF_WIDTH_I16,
+        crate::lanes::MAX_HALF_WIDTH_I16 + 1,
+    ] {
         let o = options(d, 2.0, Refinement::SubPixel, ColumnSelection::Count(w));
         check_every_kernel(&table(w, h, 0.0), &o, &img, w, h);
     }
