@@ -2,7 +2,7 @@
 //! incremental (row-major, all columns together; the 8-bit lane kernel this CPU runs, and at
 //! 640 columns each kernel) vs the direct sum of eq. (1), for 32, 64 and 640 columns, and the
 //! time to read every pixel once (the floor for the all-columns case), by a plain loop and by
-//! the same loop compiled for AVX2.
+//! the same loop compiled for AVX2, and by `vpsadbw` (one vector read at memory speed).
 //!
 //! Run: `cargo bench -p floorscan-core --bench ranging`
 
@@ -84,6 +84,10 @@ fn ranging(c: &mut Criterion) {
             // SAFETY: AVX2 checked above.
             b.iter(|| unsafe { sum_avx2(black_box(&img)) })
         });
+        group.bench_function("read_image_psadbw_avx2", |b| {
+            // SAFETY: AVX2 checked above.
+            b.iter(|| unsafe { read_sad_avx2(black_box(&img)) })
+        });
     }
     group.finish();
 }
@@ -93,6 +97,22 @@ fn ranging(c: &mut Criterion) {
 #[target_feature(enable = "avx2")]
 unsafe fn sum_avx2(img: &[u8]) -> u32 {
     img.iter().map(|&p| p as u32).sum::<u32>()
+}
+
+/// One vector read of the image at memory speed: 32 bytes per `vpsadbw`, the fastest way to
+/// touch every pixel (the yardstick for "near memory speed").
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn read_sad_avx2(img: &[u8]) -> u64 {
+    use std::arch::x86_64::*;
+    let mut acc = _mm256_setzero_si256();
+    for c in img.chunks_exact(32) {
+        let x = _mm256_loadu_si256(c.as_ptr() as *const __m256i);
+        acc = _mm256_add_epi64(acc, _mm256_sad_epu8(x, _mm256_setzero_si256()));
+    }
+    let mut out = [0u64; 4];
+    _mm256_storeu_si256(out.as_mut_ptr() as *mut __m256i, acc);
+    out.iter().sum()
 }
 
 criterion_group!(benches, ranging);
