@@ -16,9 +16,8 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from PIL import Image
-
 from floorscan.sim import Camera, World, simulate_run
+from PIL import Image
 
 
 def per_frame_ms(fn, repeat: int = 50) -> float:

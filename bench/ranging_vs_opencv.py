@@ -135,7 +135,9 @@ def main() -> None:
             f"| {names[times.index(best)]} | {best / ours:.1f}x |"
         )
     print(f"\nnumpy sum over all pixels (one read of the image): {total:.0f} us")
-    print(f"numpy's first-crossing rows equal floorscan's on {100 * agree:.1f} % of the 640 columns")
+    print(
+        f"numpy's first-crossing rows equal floorscan's on {100 * agree:.1f} % of the 640 columns"
+    )
 
 
 if __name__ == "__main__":

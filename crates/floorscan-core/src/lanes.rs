@@ -522,8 +522,8 @@ mod tests {
                     // differences are common.
                     let amp = 1 + next() % 64;
                     let rows: Vec<Vec<u8>> = (0..2 * d + 1)
-                        .map(|r| {
-                            let level = if r > d { next() % 256 } else { next() % 256 };
+                        .map(|_| {
+                            let level = next() % 256;
                             (0..n)
                                 .map(|_| (level + next() % amp).min(255) as u8)
                                 .collect()
