@@ -92,7 +92,9 @@ def check_numpy_matches(img: np.ndarray, tab: floorscan.GroundTable) -> float:
     """Fraction of the 640 columns where numpy's first crossing agrees with floorscan's
     (first-crossing refinement): the same row where floorscan finds a boundary, and no crossing
     below floorscan's top row (its 3 m limit) where it finds none."""
-    ranger = floorscan.VisualRanger(tab, columns=W, half_width=D, threshold=T, refine="none")
+    ranger = floorscan.VisualRanger(
+        tab, columns=W, half_width_px=D, threshold=T, refinement="first_crossing"
+    )
     scan = ranger.scan(img)
     theirs = numpy_columns(img, ranger.columns.astype(np.intp))
     status, rows = scan.status, scan.rows
