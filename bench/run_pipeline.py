@@ -6,7 +6,8 @@
 2. Peak memory of a 10-minute simulated run (6000 frames at 10 Hz, 320x240) through
    `floorscan run`'s loop: resident memory sampled every 600 frames, to show it stays flat.
 
-Run: .venv/bin/python bench/run_pipeline.py [--minutes 10]   (prints Markdown)
+Run: .venv/bin/python bench/run_pipeline.py [--minutes 10] [--fps-only] [--inline-decode]
+(prints Markdown; --inline-decode decodes on the main thread, for comparison with the prefetch)
 """
 
 from __future__ import annotations
@@ -117,7 +118,16 @@ def memory(tmp: Path, minutes: float) -> None:
 if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--minutes", type=float, default=10.0)
+    ap.add_argument("--fps-only", action="store_true", help="skip the memory run")
+    ap.add_argument(
+        "--inline-decode",
+        action="store_true",
+        help="decode on the main thread (as before the dataset source's prefetch), to compare",
+    )
     args = ap.parse_args()
+    if args.inline_decode:
+        DatasetSource.__iter__ = DatasetSource._frames
     with tempfile.TemporaryDirectory() as d:
         fps(Path(d))
-        memory(Path(d), args.minutes)
+        if not args.fps_only:
+            memory(Path(d), args.minutes)

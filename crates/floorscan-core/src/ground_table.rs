@@ -221,10 +221,19 @@ impl GroundTable {
             return None;
         }
         let s = self.spacing_px as f64;
-        let gu = (u.max(0.0) / s).min((self.nodes_u - 1) as f64);
-        let gv = (v.max(0.0) / s).min((self.nodes_v - 1) as f64);
-        let i = (gu.floor() as usize).min(self.nodes_u - 2);
-        let j = (gv.floor() as usize).min(self.nodes_v - 2);
+        // A power-of-two spacing divides exactly as a multiplication by its exact inverse
+        // (the same value, without a division's latency).
+        let (gu, gv) = if self.spacing_px.is_power_of_two() && self.spacing_px < 1 << 20 {
+            let inv = f64::from_bits((1023 - self.spacing_px.trailing_zeros() as u64) << 52);
+            (u.max(0.0) * inv, v.max(0.0) * inv)
+        } else {
+            (u.max(0.0) / s, v.max(0.0) / s)
+        };
+        let gu = gu.min((self.nodes_u - 1) as f64);
+        let gv = gv.min((self.nodes_v - 1) as f64);
+        // gu, gv >= 0 and finite here, where truncation is floor (and needs no libm call).
+        let i = (gu as usize).min(self.nodes_u - 2);
+        let j = (gv as usize).min(self.nodes_v - 2);
         Some((i, j, gu - i as f64, gv - j as f64))
     }
 
@@ -387,6 +396,18 @@ mod tests {
 
     fn affine(u: f64, v: f64) -> Point2 {
         Point2::new(3.0 - 0.01 * v + 0.002 * u, 0.5 - 0.004 * u + 0.0007 * v)
+    }
+
+    #[test]
+    fn power_of_two_spacing_divides_exactly() {
+        for p in 0..20u32 {
+            let s = (1usize << p) as f64;
+            let inv = f64::from_bits((1023 - p as u64) << 52);
+            assert_eq!(inv, 1.0 / s);
+            for u in [0.0, 0.25, 1.0, 3.7, 100.5, 639.49, 12345.678] {
+                assert_eq!(u * inv, u / s, "{u} / {s}");
+            }
+        }
     }
 
     #[test]

@@ -8,6 +8,11 @@ pub trait Pixel: Copy + Send + Sync + 'static {
     fn to_i32(self) -> i32;
     /// Largest intensity value.
     const MAX: i32;
+    /// The pixels as bytes, for 8-bit pixel types (the edge ranger's 16-bit lane kernels).
+    fn as_bytes(data: &[Self]) -> Option<&[u8]> {
+        let _ = data;
+        None
+    }
 }
 
 impl Pixel for u8 {
@@ -16,6 +21,9 @@ impl Pixel for u8 {
         self as i32
     }
     const MAX: i32 = u8::MAX as i32;
+    fn as_bytes(data: &[Self]) -> Option<&[u8]> {
+        Some(data)
+    }
 }
 
 impl Pixel for u16 {
@@ -91,6 +99,17 @@ impl<'a, P: Pixel> ImageView<'a, P> {
     }
     pub fn col_stride(&self) -> usize {
         self.col_stride
+    }
+
+    /// The same view typed as 8-bit pixels, if `P` is 8-bit.
+    pub fn as_u8(&self) -> Option<ImageView<'a, u8>> {
+        Some(ImageView {
+            data: P::as_bytes(self.data)?,
+            width: self.width,
+            height: self.height,
+            row_stride: self.row_stride,
+            col_stride: self.col_stride,
+        })
     }
 
     /// Pixel at column u, row v. Panics if out of bounds (internal use with checked indices).

@@ -26,6 +26,7 @@ pub mod grid_options;
 pub mod ground_table;
 pub mod image;
 pub mod inserter;
+pub mod lanes;
 pub mod laser;
 pub mod lens;
 pub mod local_map;

@@ -5,11 +5,18 @@
 //! All sampled columns advance together, one image row per step, so memory is read row-major;
 //! the per-column state is a running sum. The loop ends as soon as every column is resolved.
 //! Buffers live in the ranger, so scanning a frame allocates nothing.
+//!
+//! For 8-bit images the sums are 16-bit and a row step runs through the lane kernels of
+//! [`crate::lanes`] (AVX2 where the CPU has it, chosen at run time), which also mark the
+//! columns that crossed, so a row with crossings costs a look at those columns only. 16-bit
+//! images use 32-bit sums in plain Rust. Both give the readings of the direct filter of eq. (1)
+//! (the tests check every column of random images against it, for every kernel).
 
 use crate::edge::{direct_response_at, refine_crossing, threshold_to_sum};
 use crate::error::{Error, Result};
 use crate::ground_table::GroundTable;
 use crate::image::{ImageView, Pixel};
+use crate::lanes::{self, Kernel, LANES, MAX_HALF_WIDTH_I16};
 use crate::pose::Point2;
 use crate::ranger_options::{ColumnStart, RangerOptions};
 use crate::scan::{ColumnOutcome, ColumnReading, Scan};
@@ -45,6 +52,19 @@ pub struct VisualRanger {
     ring: Vec<u16>,
     /// Largest entry of `offsets` for the current frame.
     max_offset: usize,
+    /// The 8-bit path's buffers: 16-bit sums and thresholds (i16::MAX: not tested), the crossing
+    /// masks of the last row step (one word per LANES columns), and the byte ring.
+    kernel: Kernel,
+    threshold_sum16: i16,
+    sums16: Vec<i16>,
+    active_threshold16: Vec<i16>,
+    masks: Vec<u32>,
+    ring8: Vec<u8>,
+    /// The prefilter's byte threshold (None: not used) and per-column thresholds (255: column
+    /// not tested) and flags; see [`lanes::prefilter_threshold`].
+    prefilter: Option<u8>,
+    thresholds8: Vec<u8>,
+    flags: Vec<u8>,
     outcomes: Vec<Option<ColumnOutcome>>,
     /// Per column: the confidence of its outcome (see [`edge_confidence`]).
     confidence: Vec<f32>,
@@ -116,11 +136,24 @@ impl VisualRanger {
         let mut by_hi = scannable;
         by_hi.sort_by_key(|&j| plans[j].window.unwrap().1);
         let n = plans.len();
+        let threshold_sum = threshold_to_sum(options.threshold, d);
+        // Inside the 8-bit path |S| <= 255 d < i16::MAX, so a clamped threshold tests the same.
+        let threshold_sum16 = threshold_sum.clamp(-1, i16::MAX as i32) as i16;
+        let small_d = d <= MAX_HALF_WIDTH_I16;
         Ok(Self {
-            threshold_sum: threshold_to_sum(options.threshold, d),
+            threshold_sum,
             offsets: vec![0; n],
             ring: vec![0; (2 * d + 2) * n],
             max_offset: 0,
+            kernel: Kernel::detect(),
+            threshold_sum16,
+            sums16: vec![0; if small_d { n } else { 0 }],
+            active_threshold16: vec![i16::MAX; n],
+            masks: vec![0; n.div_ceil(LANES)],
+            ring8: vec![0; if small_d { ring8_rows(d) * n } else { 0 }],
+            prefilter: lanes::prefilter_threshold(d, threshold_sum),
+            thresholds8: vec![u8::MAX; n],
+            flags: vec![0; n],
             sums: vec![0; n],
             active_threshold: vec![i32::MAX; n],
             outcomes: vec![None; n],
@@ -143,6 +176,24 @@ impl VisualRanger {
     /// The sampled image columns, in output order.
     pub fn columns(&self) -> Vec<u32> {
         self.plans.iter().map(|p| p.column).collect()
+    }
+
+    /// The lane kernel 8-bit images are scanned with (the fastest this CPU has, by default).
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
+    }
+
+    /// Scans 8-bit images with this kernel (for tests and benchmarks; every kernel gives the
+    /// same readings). An error if the CPU lacks it.
+    pub fn set_kernel(&mut self, kernel: Kernel) -> Result<()> {
+        if !kernel.is_supported() {
+            return Err(crate::error::invalid_option(
+                "kernel",
+                format!("this CPU does not run the {} kernel", kernel.name()),
+            ));
+        }
+        self.kernel = kernel;
+        Ok(())
     }
 
     /// Scans one frame into a new [`Scan`].
@@ -185,7 +236,7 @@ impl VisualRanger {
                         None => self.no_boundary(j, image.height()),
                         Some(k) => {
                             self.confidence[j] = edge_confidence(response(k), self.threshold_sum);
-                            self.resolve_crossing(image, j, k)
+                            self.resolve_with(j, k, image.height(), response)
                         }
                     }
                 }
@@ -251,6 +302,16 @@ impl VisualRanger {
         // Consecutive image columns in a contiguous row: plain slices, which vectorise.
         let contiguous =
             image.col_stride() == 1 && self.offsets.windows(2).all(|w| w[1] == w[0] + 1);
+        if let Some(bytes) = image.as_u8() {
+            if self.prefilter.is_some() {
+                self.run_columns_prefiltered(&bytes, contiguous);
+                return;
+            }
+            if d <= MAX_HALF_WIDTH_I16 {
+                self.run_columns_u8(&bytes, contiguous);
+                return;
+            }
+        }
         let ring_rows = 2 * d + 2;
         self.active_threshold.fill(i32::MAX);
         let k_first = self.plans[self.by_lo[0]].window.unwrap().0;
@@ -315,6 +376,191 @@ impl VisualRanger {
         }
     }
 
+    /// `run_columns` for 8-bit images: 16-bit sums advanced by the lane kernels, which mark
+    /// the columns that crossed.
+    fn run_columns_u8(&mut self, image: &ImageView<u8>, contiguous: bool) {
+        let height = image.height();
+        let d = self.options.half_width_px;
+        let n = self.plans.len();
+        let row_of = |k: usize| height - 1 - k;
+        let ring_rows = ring8_rows(d);
+        self.active_threshold.fill(i32::MAX);
+        self.active_threshold16.fill(i16::MAX);
+        let k_first = self.plans[self.by_lo[0]].window.unwrap().0;
+        // First sums S(k_first) of every column, row-major: the d rows above minus the d below.
+        self.sums16.fill(0);
+        if contiguous {
+            let o = self.offsets[0];
+            for i in 1..=d {
+                lanes::accumulate_row(&mut self.sums16, &image.row(row_of(k_first + i))[o..], true);
+                lanes::accumulate_row(
+                    &mut self.sums16,
+                    &image.row(row_of(k_first - i))[o..],
+                    false,
+                );
+            }
+        } else {
+            for k in k_first - d..=k_first + d {
+                self.gather_row8(image, k, ring_rows);
+            }
+            let slot = |k: usize| (k & (ring_rows - 1)) * n;
+            for i in 1..=d {
+                let (up, down) = (slot(k_first + i), slot(k_first - i));
+                lanes::accumulate_row(&mut self.sums16, &self.ring8[up..up + n], true);
+                lanes::accumulate_row(&mut self.sums16, &self.ring8[down..down + n], false);
+            }
+        }
+        let mut unresolved = self.by_lo.len();
+        let mut events = EventCursor::default();
+        let mut k = k_first;
+        self.apply_window_events(&mut events, k, height, &mut unresolved);
+        let mut any_crossing =
+            lanes::test_sums(&self.sums16, &self.active_threshold16, &mut self.masks);
+        loop {
+            if any_crossing {
+                for chunk in 0..self.masks.len() {
+                    let mut m = self.masks[chunk];
+                    while m != 0 {
+                        let lane = m.trailing_zeros() as usize / 2;
+                        m &= !lanes::lane_bits(lane);
+                        let j = chunk * LANES + lane;
+                        let s = i32::from(self.sums16[j]);
+                        self.confidence[j] = edge_confidence(s, self.threshold_sum);
+                        self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
+                        self.active_threshold[j] = i32::MAX;
+                        self.active_threshold16[j] = i16::MAX;
+                        unresolved -= 1;
+                    }
+                }
+            }
+            if unresolved == 0 {
+                break;
+            }
+            let can_advance = k + d + 1 < height;
+            k += 1;
+            self.apply_window_events(&mut events, k, height, &mut unresolved);
+            if unresolved == 0 || !can_advance {
+                break;
+            }
+            any_crossing = if contiguous {
+                let o = self.offsets[0];
+                let row = |k: usize| &image.row(row_of(k))[o..o + n];
+                lanes::advance_u8(
+                    self.kernel,
+                    &mut self.sums16,
+                    &self.active_threshold16,
+                    [row(k - 1 - d), row(k - 1), row(k), row(k + d)],
+                    &mut self.masks,
+                )
+            } else {
+                self.gather_row8(image, k + d, ring_rows);
+                let slot = |k: usize| {
+                    &self.ring8[(k & (ring_rows - 1)) * n..((k & (ring_rows - 1)) + 1) * n]
+                };
+                lanes::advance_u8(
+                    self.kernel,
+                    &mut self.sums16,
+                    &self.active_threshold16,
+                    [slot(k - 1 - d), slot(k - 1), slot(k), slot(k + d)],
+                    &mut self.masks,
+                )
+            };
+        }
+    }
+
+    /// `run_columns` for 8-bit images where the prefilter applies (d a power of two): each row
+    /// step flags, from byte averages, the columns that may cross; only those get the exact
+    /// sum of eq. (1), from the 2d rows around the pixel.
+    fn run_columns_prefiltered(&mut self, image: &ImageView<u8>, contiguous: bool) {
+        let height = image.height();
+        let d = self.options.half_width_px;
+        let n = self.plans.len();
+        let ring_rows = ring8_rows(d);
+        self.active_threshold.fill(i32::MAX);
+        self.active_threshold16.fill(i16::MAX);
+        self.thresholds8.fill(u8::MAX);
+        let k_first = self.plans[self.by_lo[0]].window.unwrap().0;
+        if !contiguous {
+            for k in k_first - d..=k_first + d {
+                self.gather_row8(image, k, ring_rows);
+            }
+        }
+        let o = self.offsets[0];
+        let mut unresolved = self.by_lo.len();
+        let mut events = EventCursor::default();
+        let mut k = k_first;
+        self.apply_window_events(&mut events, k, height, &mut unresolved);
+        loop {
+            let mut rows: [&[u8]; 2 * lanes::MAX_PREFILTER_HALF_WIDTH + 1] =
+                [&[]; 2 * lanes::MAX_PREFILTER_HALF_WIDTH + 1];
+            // Rows k - d ..= k + d (from the image, or from the ring of gathered columns).
+            for (i, r) in rows[..2 * d + 1].iter_mut().enumerate() {
+                let kk = k + i - d;
+                *r = if contiguous {
+                    &image.row(height - 1 - kk)[o..o + n]
+                } else {
+                    let slot = kk & (ring_rows - 1);
+                    &self.ring8[slot * n..(slot + 1) * n]
+                };
+            }
+            let rows = &rows[..2 * d + 1];
+            if lanes::prefilter_u8(self.kernel, rows, &self.thresholds8, &mut self.flags) {
+                let words = n / 8;
+                for w in 0..=words {
+                    let word = if w < words {
+                        u64::from_le_bytes(self.flags[8 * w..8 * w + 8].try_into().unwrap())
+                    } else {
+                        self.flags[8 * w..]
+                            .iter()
+                            .rev()
+                            .fold(0u64, |acc, &f| (acc << 8) | f as u64)
+                    };
+                    let mut word = word;
+                    while word != 0 {
+                        let j = 8 * w + word.trailing_zeros() as usize / 8;
+                        word &= !(0xFFu64 << (8 * (j - 8 * w)));
+                        let s: i32 = (1..=d)
+                            .map(|t| rows[d + t][j] as i32 - rows[d - t][j] as i32)
+                            .sum();
+                        if s.abs() > self.threshold_sum {
+                            self.confidence[j] = edge_confidence(s, self.threshold_sum);
+                            self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
+                            self.active_threshold[j] = i32::MAX;
+                            self.active_threshold16[j] = i16::MAX;
+                            self.thresholds8[j] = u8::MAX;
+                            unresolved -= 1;
+                        }
+                    }
+                }
+            }
+            if unresolved == 0 {
+                break;
+            }
+            let can_advance = k + d + 1 < height;
+            k += 1;
+            self.apply_window_events(&mut events, k, height, &mut unresolved);
+            if unresolved == 0 || !can_advance {
+                break;
+            }
+            if !contiguous {
+                self.gather_row8(image, k + d, ring_rows);
+            }
+        }
+    }
+
+    /// Copies the sampled pixels of 8-bit row k (from the bottom) into its byte-ring slot.
+    fn gather_row8(&mut self, image: &ImageView<u8>, k: usize, ring_rows: usize) {
+        let n = self.plans.len();
+        let start = (k & (ring_rows - 1)) * n;
+        let row = image.row(image.height() - 1 - k);
+        // As in `gather_row`: one check of the largest offset covers every pixel.
+        assert!(self.max_offset < row.len(), "column offset outside the row");
+        for (dst, &o) in self.ring8[start..start + n].iter_mut().zip(&self.offsets) {
+            // SAFETY: o <= max_offset < row.len() (asserted above).
+            *dst = unsafe { *row.get_unchecked(o) };
+        }
+    }
+
     /// Copies the sampled pixels of row k (from the bottom) into its ring slot.
     fn gather_row<P: Pixel>(&mut self, image: &ImageView<P>, k: usize, ring_rows: usize) {
         let n = self.plans.len();
@@ -345,6 +591,8 @@ impl VisualRanger {
             let j = self.by_lo[cursor.lo];
             if self.outcomes[j].is_none() {
                 self.active_threshold[j] = self.threshold_sum;
+                self.active_threshold16[j] = self.threshold_sum16;
+                self.thresholds8[j] = self.prefilter.unwrap_or(u8::MAX);
             }
             cursor.lo += 1;
         }
@@ -356,6 +604,8 @@ impl VisualRanger {
             if self.outcomes[j].is_none() {
                 self.outcomes[j] = Some(self.no_boundary(j, height));
                 self.active_threshold[j] = i32::MAX;
+                self.active_threshold16[j] = i16::MAX;
+                self.thresholds8[j] = u8::MAX;
                 *unresolved -= 1;
             }
         }
@@ -370,6 +620,9 @@ impl VisualRanger {
         }
     }
 
+    /// Resolves the crossing of column j at row k_cross. The refinement's responses come from
+    /// prefix sums of the few pixels around the crossing, read once (exact integers: the
+    /// direct sums of eq. (1)).
     fn resolve_crossing<P: Pixel>(
         &self,
         image: &ImageView<P>,
@@ -378,18 +631,53 @@ impl VisualRanger {
     ) -> ColumnOutcome {
         let plan = &self.plans[j];
         let (lo, _) = plan.window.unwrap();
+        let d = self.options.half_width_px;
+        let height = image.height();
+        let c = plan.column as usize;
+        if k_cross == lo || self.options.refinement == crate::edge::Refinement::FirstCrossing {
+            return self.resolve_with(j, k_cross, height, |_| 0);
+        }
+        // The refinement asks for S(k) with k in k_cross - 1 ..= min(k_cross + d + 1, k_max);
+        // those read the pixels base ..= top (k_cross > lo >= d, so base >= 0).
+        let k_max = height - 1 - d;
+        let base = k_cross - 1 - d;
+        let top = (k_cross + d + 1).min(k_max) + d;
+        const SEGMENT: usize = 64;
+        if top - base + 2 > SEGMENT {
+            return self.resolve_with(j, k_cross, height, |k| direct_response_at(image, c, k, d));
+        }
+        let mut prefix = [0i32; SEGMENT];
+        let mut total = 0;
+        for (t, k) in (base..=top).enumerate() {
+            total += image.get(c, height - 1 - k).to_i32();
+            prefix[t + 1] = total;
+        }
+        let p = |k: usize| prefix[k - base];
+        self.resolve_with(j, k_cross, height, |k| {
+            (p(k + d + 1) - p(k + 1)) - (p(k) - p(k - d))
+        })
+    }
+
+    /// The outcome of column j whose response first crossed at k_cross, `response(k)` giving
+    /// S(k) for the refinement.
+    fn resolve_with(
+        &self,
+        j: usize,
+        k_cross: usize,
+        height: usize,
+        response: impl FnMut(usize) -> i32,
+    ) -> ColumnOutcome {
+        let plan = &self.plans[j];
+        let (lo, _) = plan.window.unwrap();
         if k_cross == lo {
             return ColumnOutcome::TooClose;
         }
         let d = self.options.half_width_px;
-        let height = image.height();
         let c = plan.column as usize;
         // Pixels exist for windows centred up to height - 1 - d; the refinement may look past
         // the column's top limit by up to d rows to find the peak.
         let k_max = height - 1 - d;
-        let peak = refine_crossing(self.options.refinement, k_cross, d, lo, k_max, |k| {
-            direct_response_at(image, c, k, d)
-        });
+        let peak = refine_crossing(self.options.refinement, k_cross, d, lo, k_max, response);
         let row = (height - 1) as f64 - peak.k;
         match self.table.lookup(c as f64, row) {
             Some(point) => {
@@ -405,6 +693,11 @@ impl VisualRanger {
             None => ColumnOutcome::Invalid { row: Some(row) },
         }
     }
+}
+
+/// Rows of the byte ring: at least the 2d + 2 a row step reads, a power of two (slot = k & mask).
+fn ring8_rows(d: usize) -> usize {
+    (2 * d + 2).next_power_of_two()
 }
 
 /// Confidence of an edge whose raw response `s` crossed `threshold_sum`: 1 - t / |S|, 0 at the

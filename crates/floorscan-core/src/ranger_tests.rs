@@ -487,3 +487,151 @@ impl RangerOptions {
         }
     }
 }
+
+/// Blocky random columns: runs of constant intensity (edges and plateaus both occur), plus
+/// noise of amplitude `noise`.
+fn blocky_image(width: usize, height: usize, seed: u64, noise: u64) -> Vec<u8> {
+    let mut rng = seed | 1;
+    let mut next = move || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        rng
+    };
+    let mut img = vec![0u8; width * height];
+    for u in 0..width {
+        let mut v = height;
+        while v > 0 {
+            let run = 1 + (next() % 40) as usize;
+            let val = (next() % 256) as u8;
+            for vv in v.saturating_sub(run)..v {
+                let n = if noise > 0 {
+                    (next() % (2 * noise + 1)) as i32 - noise as i32
+                } else {
+                    0
+                };
+                img[vv * width + u] = (val as i32 + n).clamp(0, 255) as u8;
+            }
+            v = v.saturating_sub(run);
+        }
+    }
+    img
+}
+
+fn all_kernels() -> Vec<crate::lanes::Kernel> {
+    use crate::lanes::Kernel;
+    [Kernel::Portable, Kernel::Sse2, Kernel::Avx2]
+        .into_iter()
+        .filter(|k| k.is_supported())
+        .collect()
+}
+
+/// Scans with every kernel and checks each against the direct filter and the brute force.
+fn check_every_kernel(
+    t: &GroundTable,
+    o: &RangerOptions,
+    img: &[u8],
+    width: usize,
+    height: usize,
+) -> Scan {
+    let reference = brute_force(t, o, img, width, height);
+    let mut ranger = VisualRanger::new(t.clone(), o.clone()).unwrap();
+    let view = ImageView::new(img, width, height).unwrap();
+    let mut direct = Scan::default();
+    ranger.scan_direct_into(&view, 0.0, &mut direct).unwrap();
+    for (r, (c, status, row)) in direct.readings.iter().zip(&reference) {
+        assert_eq!((r.column, r.status()), (*c, *status));
+        if *status != ColumnStatus::Invalid || row.is_finite() {
+            assert!(
+                (r.row() - row).abs() < 1e-9,
+                "column {c}: {} vs {row}",
+                r.row()
+            );
+        }
+    }
+    for kernel in all_kernels() {
+        ranger.set_kernel(kernel).unwrap();
+        let scan = ranger.scan(&view, 0.0).unwrap();
+        assert_eq!(scan, direct, "{kernel:?}");
+    }
+    direct
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(150))]
+    /// Wider images, many columns (all of them: the contiguous path; a count or an unordered
+    /// list: the gathered path), every lane kernel: the same readings as the direct filter of
+    /// eq. (1) column by column and as the brute-force scan.
+    #[test]
+    fn lane_kernels_scan_like_the_direct_filter(
+        width in 17usize..100, height in 24usize..80, seed in any::<u64>(), noise in 0u64..6,
+        d in 1usize..8, threshold in 0.0..60.0f64, refinement_i in 0usize..3,
+        mode in 0usize..3, n_cols in 1usize..100, margin in 0usize..4, horizon in 0.0..20.0f64,
+    ) {
+        prop_assume!(2 * d + 2 <= height);
+        let img = blocky_image(width, height, seed, noise);
+        let refinement = [Refinement::FirstCrossing, Refinement::Peak, Refinement::SubPixel][refinement_i];
+        let columns = match mode {
+            0 => ColumnSelection::Count(width),
+            1 => ColumnSelection::Count(n_cols.min(width)),
+            _ => ColumnSelection::Explicit(
+                (0..n_cols).map(|i| ((seed >> (i % 40)) as usize + 7 * i) as u32 % width as u32).collect(),
+            ),
+        };
+        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), ..options(d, threshold, refinement, columns) };
+        check_every_kernel(&table(width, height, horizon), &o, &img, width, height);
+    }
+}
+
+#[test]
+fn every_column_of_a_640x480_frame_every_status_every_kernel() {
+    let (w, h) = (640, 480);
+    let mut img = blocky_image(w, h, 42, 3);
+    // Columns 100-139: an obstacle from the bottom (too close); 200-239: plain floor (no edge).
+    for v in 0..h {
+        for u in 100..140 {
+            img[v * w + u] = if v > h - 4 { 40 } else { 200 };
+        }
+        for u in 200..240 {
+            img[v * w + u] = 90;
+        }
+    }
+    // Ground below a horizon that climbs across the image; none at all right of u = 600.
+    let t = GroundTable::from_fn(w, h, 8, |u, v| {
+        (u < 600.0 && v >= 100.0 + u * 0.3)
+            .then(|| Point2::new(0.2 + (h as f64 - v) * 0.01, (320.0 - u) * 0.004))
+    })
+    .unwrap();
+    for (d, refinement) in [
+        (1, Refinement::SubPixel),
+        (4, Refinement::SubPixel),
+        (4, Refinement::Peak),
+        (4, Refinement::FirstCrossing),
+        (21, Refinement::SubPixel),
+    ] {
+        let o = options(d, 10.0, refinement, ColumnSelection::Count(w));
+        let scan = check_every_kernel(&t, &o, &img, w, h);
+        for status in ColumnStatus::ALL {
+            assert!(
+                scan.readings.iter().any(|r| r.status() == status),
+                "d={d}: no {status:?} column"
+            );
+        }
+        let o = options(d, 10.0, refinement, ColumnSelection::Count(64));
+        check_every_kernel(&t, &o, &img, w, h);
+    }
+}
+
+#[test]
+fn half_widths_past_the_16_bit_sums_scan_like_the_direct_filter() {
+    // d = 127 > MAX_HALF_WIDTH_I16: 8-bit images take the 32-bit path.
+    let (w, h) = (48, 300);
+    let img = blocky_image(w, h, 5, 0);
+    for d in [
+        crate::lanes::MAX_HALF_WIDTH_I16,
+        crate::lanes::MAX_HALF_WIDTH_I16 + 1,
+    ] {
+        let o = options(d, 2.0, Refinement::SubPixel, ColumnSelection::Count(w));
+        check_every_kernel(&table(w, h, 0.0), &o, &img, w, h);
+    }
+}

@@ -72,11 +72,69 @@ class DatasetSource(FrameSource):
         return len(self.entries)
 
     def __iter__(self) -> Iterator[Frame]:
+        """Frames in order, decoded on a second thread up to ``PREFETCH_FRAMES`` ahead (the
+        decoders release the GIL, so decoding overlaps ranging and mapping)."""
+        return _prefetched(self._frames(), PREFETCH_FRAMES)
+
+    def _frames(self) -> Iterator[Frame]:
         for i, e in enumerate(self.entries):
             try:
                 yield Frame(i, e.timestamp, read_grey(e.path))
             except FloorscanError as err:
                 yield Frame(i, e.timestamp, None, str(err))
+
+
+PREFETCH_FRAMES = 4
+"""Frames a dataset source decodes ahead of the pipeline (bounded memory: 4 decoded frames)."""
+
+_END = object()
+
+
+class _Failed:
+    def __init__(self, exc: BaseException) -> None:
+        self.exc = exc
+
+
+def _prefetched(frames: Iterator[Frame], depth: int) -> Iterator[Frame]:
+    """Runs ``frames`` on a worker thread through a queue of ``depth``; the worker's exceptions
+    are raised here, and closing the iterator stops the worker."""
+    import queue
+
+    q: queue.Queue = queue.Queue(maxsize=depth)
+    stop = threading.Event()
+
+    def put(item) -> None:
+        while not stop.is_set():
+            try:
+                q.put(item, timeout=0.05)
+                return
+            except queue.Full:
+                continue
+
+    def work() -> None:
+        try:
+            for frame in frames:
+                if stop.is_set():
+                    return
+                put(frame)
+        except BaseException as exc:  # handed to the consumer, raised there
+            put(_Failed(exc))
+        finally:
+            put(_END)
+
+    worker = threading.Thread(target=work, name="floorscan-decode", daemon=True)
+    worker.start()
+    try:
+        while True:
+            item = q.get()
+            if item is _END:
+                return
+            if isinstance(item, _Failed):
+                raise item.exc
+            yield item
+    finally:
+        stop.set()
+        worker.join()
 
 
 class VideoSource(FrameSource):
