@@ -9,6 +9,7 @@ hidden in a function counts like one at the top of the file. Optional third-part
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "python" / "floorscan"
@@ -152,3 +153,28 @@ def test_tests_mirror_the_stages():
     for folder in folders:
         for path in (tests / folder).iterdir():
             assert path.suffix == ".py" and path.name.startswith("test_"), path
+
+
+CRATES = PACKAGE.parents[1] / "crates"
+
+
+def rust_module_graph(crate: Path) -> dict[str, set[str]]:
+    """Module -> modules it names (`crate::m`), per file of the crate's src/ (a folder module
+    is its mod.rs with its files), test code (after `#[cfg(test)]`) left out."""
+    src = crate / "src"
+    graph: dict[str, set[str]] = {}
+    for path in sorted(src.rglob("*.rs")):
+        rel = path.relative_to(src).with_suffix("")
+        name = rel.parts[0]
+        if name in ("lib", "main") or name.endswith("_tests"):
+            continue
+        text = path.read_text().split("#[cfg(test)]")[0]
+        text = re.sub(r"//[^\n]*", "", text)  # doc links are not dependencies
+        found = set(re.findall(r"\bcrate::(\w+)", text)) - {name}
+        graph.setdefault(name, set()).update(found)
+    return graph
+
+
+def test_no_module_circles_in_the_rust_crates():
+    for crate in sorted(p for p in CRATES.iterdir() if (p / "src").is_dir()):
+        assert cycles(rust_module_graph(crate)) == [], crate.name

@@ -15,13 +15,10 @@
 //! Sums saturate at the i32 range (at least 134 000 observations of 16 nats in one cell).
 
 use crate::error::{invalid_option, Error, Result};
-use crate::grid::{CellRect, Grid, Tile, TILE_BITS, TILE_CELLS, TILE_SIZE};
+use crate::grid::{CellRect, EvidenceTile, Grid, Tile, TILE_BITS, TILE_CELLS, TILE_SIZE};
 use crate::grid_options::CellLimits;
 use crate::pose::Point2;
 use crate::raycast::CellIndex;
-
-/// One tile of evidence, laid out as [`crate::grid::Tile`].
-pub type EvidenceTile = [i32; TILE_CELLS];
 
 /// Most cells a merged raster may hold (2^28: 1 GiB of i32).
 pub const MAX_RASTER_CELLS: usize = 1 << 28;

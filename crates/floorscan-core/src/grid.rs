@@ -6,7 +6,6 @@
 //! (x right, y up, REP 103). Cells never written hold 0 (p = 0.5, unknown).
 
 use crate::error::{Error, Result};
-use crate::evidence::EvidenceTile;
 use crate::grid_options::{CellLimits, GridOptions, Occupancy};
 use crate::log_odds::LogOdds;
 use crate::pose::Point2;
@@ -24,6 +23,9 @@ pub const MAX_DIRECTORY_TILES: usize = 1 << 24;
 
 /// One tile: row-major, `index = y_local * TILE_SIZE + x_local`.
 pub type Tile = [i16; TILE_CELLS];
+
+/// One tile of evidence, laid out as [`crate::grid::Tile`].
+pub type EvidenceTile = [i32; TILE_CELLS];
 
 /// A rectangle of cells, `min` included, `max` excluded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

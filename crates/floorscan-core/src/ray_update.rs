@@ -14,7 +14,7 @@
 
 use crate::branchless::free_update;
 use crate::error::{Error, Result};
-use crate::evidence::EvidenceTile;
+use crate::grid::EvidenceTile;
 use crate::grid::{tile_of, Grid, Tile, TILE_BITS, TILE_CELLS, TILE_SIZE};
 use crate::log_odds::Evidence;
 use crate::pose::Point2;

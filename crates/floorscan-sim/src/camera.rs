@@ -272,6 +272,39 @@ impl CameraRays {
     }
 }
 
+/// Where the camera is: its optical centre and the rotation of its ground frame.
+#[derive(Debug, Clone, Copy)]
+pub struct CameraPlacement {
+    pub origin: [f64; 3],
+    pub cos_yaw: f64,
+    pub sin_yaw: f64,
+    /// world_from_camera (the camera ground frame in the world).
+    pub world_from_camera: Pose2,
+}
+
+impl CameraPlacement {
+    pub fn new(rays: &CameraRays, world_from_robot: Pose2) -> CameraPlacement {
+        let wc = world_from_robot.compose(&rays.camera.robot_from_camera);
+        let (s, c) = wc.yaw.sin_cos();
+        CameraPlacement {
+            origin: [wc.x, wc.y, rays.camera.mount.height_m],
+            cos_yaw: c,
+            sin_yaw: s,
+            world_from_camera: wc,
+        }
+    }
+
+    /// A camera-ground-frame direction rotated into the world.
+    #[inline]
+    pub fn to_world(&self, d: [f64; 3]) -> [f64; 3] {
+        [
+            self.cos_yaw * d[0] - self.sin_yaw * d[1],
+            self.sin_yaw * d[0] + self.cos_yaw * d[1],
+            d[2],
+        ]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,8 +10,8 @@
 
 use floorscan_core::Point2;
 
-use crate::geometry::point_in_polygon;
-use crate::scene::Scene;
+use crate::geometry::{point_in_polygon, Aabb};
+use crate::world::Solid;
 
 /// Number of azimuth sectors (0.18 degrees each).
 pub const SECTORS: usize = 2048;
@@ -48,15 +48,15 @@ pub fn sector_of(azimuth: f64) -> usize {
 }
 
 impl Clearance {
-    /// Clearance around the point `o` (world frame).
-    pub fn new(scene: &Scene, o: Point2) -> Clearance {
+    /// Clearance around the point `o` (world frame) among `solids` (with their bounding
+    /// boxes, `bounds[k]` of `solids[k]`).
+    pub fn new(solids: &[Solid], bounds: &[Aabb], o: Point2) -> Clearance {
         let mut c = Clearance {
             free_m: vec![f64::INFINITY; SECTORS],
             nearest: vec![NO_SOLID; SECTORS],
             second_m: vec![f64::INFINITY; SECTORS],
         };
-        for (k, s) in scene.world.solids.iter().enumerate() {
-            let b = scene.solid_bounds[k];
+        for (k, (s, &b)) in solids.iter().zip(bounds).enumerate() {
             if b.contains(o) && point_in_polygon(o, &s.polygon) {
                 // The camera is above or below this solid (under a table): no shortcut.
                 return Clearance {
@@ -230,6 +230,7 @@ mod tests {
     use super::*;
     use crate::builtin::builtin_world;
     use crate::rng::Rng;
+    use crate::scene::Scene;
 
     #[test]
     fn clearance_is_a_lower_bound_of_the_first_solid_along_any_ray() {
@@ -237,7 +238,7 @@ mod tests {
             let scene = Scene::new(builtin_world(name).unwrap());
             let mut rng = Rng::new(3);
             let o = scene.world.start.translation();
-            let c = Clearance::new(&scene, o);
+            let c = Clearance::new(&scene.world.solids, &scene.solid_bounds, o);
             for _ in 0..20_000 {
                 let az = rng.uniform() * std::f64::consts::TAU;
                 let d = [az.cos(), az.sin(), 0.0];
@@ -269,7 +270,7 @@ mod tests {
                     b.min.x + rng.uniform() * (b.max.x - b.min.x),
                     b.min.y + rng.uniform() * (b.max.y - b.min.y),
                 );
-                let c = Clearance::new(&scene, o);
+                let c = Clearance::new(&scene.world.solids, &scene.solid_bounds, o);
                 let z = 0.1 + rng.uniform() * 1.2;
                 for _ in 0..300 {
                     let az = rng.uniform() * std::f64::consts::TAU;

@@ -7,7 +7,7 @@
 
 use floorscan_core::{Point2, Pose2};
 
-use crate::camera::CameraRays;
+use crate::camera::{CameraPlacement, CameraRays};
 use crate::clearance::{sector_of, Clearance};
 use crate::error::{invalid_option, Result};
 use crate::rng::{derive_seed, Rng};
@@ -27,39 +27,6 @@ pub struct RenderBuffers {
     pub labels: Vec<u8>,
     /// The exposure used for this frame (mean exposure times the jitter).
     pub exposure: f64,
-}
-
-/// Where the camera is: its optical centre and the rotation of its ground frame.
-#[derive(Debug, Clone, Copy)]
-pub struct CameraPlacement {
-    pub origin: [f64; 3],
-    pub cos_yaw: f64,
-    pub sin_yaw: f64,
-    /// world_from_camera (the camera ground frame in the world).
-    pub world_from_camera: Pose2,
-}
-
-impl CameraPlacement {
-    pub fn new(rays: &CameraRays, world_from_robot: Pose2) -> CameraPlacement {
-        let wc = world_from_robot.compose(&rays.camera.robot_from_camera);
-        let (s, c) = wc.yaw.sin_cos();
-        CameraPlacement {
-            origin: [wc.x, wc.y, rays.camera.mount.height_m],
-            cos_yaw: c,
-            sin_yaw: s,
-            world_from_camera: wc,
-        }
-    }
-
-    /// A camera-ground-frame direction rotated into the world.
-    #[inline]
-    pub fn to_world(&self, d: [f64; 3]) -> [f64; 3] {
-        [
-            self.cos_yaw * d[0] - self.sin_yaw * d[1],
-            self.sin_yaw * d[0] + self.cos_yaw * d[1],
-            d[2],
-        ]
-    }
 }
 
 const ID_NOTHING: u32 = 0;
@@ -163,7 +130,11 @@ pub fn render_into(
     out.labels.resize(n, 0);
     out.image.resize(n, 0);
     let place = CameraPlacement::new(rays, world_from_robot);
-    let clear = Clearance::new(scene, place.world_from_camera.translation());
+    let clear = Clearance::new(
+        &scene.world.solids,
+        &scene.solid_bounds,
+        place.world_from_camera.translation(),
+    );
     let yaw = place.world_from_camera.yaw;
 
     for k in 0..n {

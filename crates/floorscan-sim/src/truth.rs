@@ -9,10 +9,9 @@
 use floorscan_core::{ColumnStatus, Point2, Pose2};
 use serde::{Deserialize, Serialize};
 
-use crate::camera::CameraRays;
+use crate::camera::{CameraPlacement, CameraRays};
 use crate::clearance::{sector_of, Clearance};
 use crate::error::{check_range, Result};
-use crate::render::CameraPlacement;
 use crate::scene::{Scene, Surface};
 
 /// What a pixel centre sees. Codes are stable (they are written to label images).
@@ -213,7 +212,11 @@ pub fn frame_truth(
 ) -> FrameTruth {
     let place = CameraPlacement::new(rays, world_from_robot);
     let home = scene.covering_at(place.world_from_camera.translation());
-    let clear = Clearance::new(scene, place.world_from_camera.translation());
+    let clear = Clearance::new(
+        &scene.world.solids,
+        &scene.solid_bounds,
+        place.world_from_camera.translation(),
+    );
     let columns = (0..rays.camera.width as u32)
         .map(|u| {
             column_truth(
