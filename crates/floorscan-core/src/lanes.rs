@@ -385,11 +385,11 @@ mod x86 {
         masks: &mut [u32],
         chunks: usize,
     ) -> bool {
+        let zero = _mm_setzero_si128();
         let [a, b, c, e] = rows.map(|r| r.as_ptr());
         let s_ptr = sums.as_mut_ptr();
         let t_ptr = thresholds.as_ptr();
         let m_ptr = masks.as_mut_ptr();
-        let zero = _mm_setzero_si128();
         let mut any = 0u32;
         for ch in 0..chunks {
             let o = ch * LANES;
