@@ -64,3 +64,22 @@ def test_calibrate_errors_are_reported_not_raised(scene, tmp_path, capsys):
     assert code == 1
     assert "not found" in capsys.readouterr().err
     assert not (tmp_path / "t.json").exists()
+
+
+def test_calibrate_reads_the_config_and_flags_win(scene, tmp_path):
+    config = tmp_path / "robot.toml"
+    config.write_text('[calibration]\nspacing_px = 8\nmax_range_m = 2.0\ncoverage = "pattern"\n')
+    image = str(scene / "pattern.png")
+    assert main(["calibrate", image, "-o", str(tmp_path / "a.json"), "--config", str(config)]) == 0
+    a = GroundTable.load(tmp_path / "a.json")
+    assert a.spacing_px == 8
+    assert a.metadata["calibration"]["coverage"] == "pattern"
+    out = tmp_path / "b.json"
+    args = ["calibrate", image, "-o", str(out), "--config", str(config), "--spacing", "4"]
+    assert main(args) == 0
+    b = GroundTable.load(out)
+    assert b.spacing_px == 4 and b.metadata["calibration"]["coverage"] == "pattern"
+    # a bad value in the file is refused before any work, naming the key
+    config.write_text("[calibration]\nmax_error_fraction = -1\n")
+    assert main(["calibrate", image, "-o", str(tmp_path / "c.json"), "--config", str(config)]) != 0
+    assert not (tmp_path / "c.json").exists()

@@ -14,6 +14,7 @@ from ..calibration import calibrate, check_table, draw_calibration_overlay
 from ..calibration.options import CalibrationOptions, Coverage
 from ..errors import OptionError
 from ..formats.image_io import read_grey, write_png
+from ..pipeline.config import Config
 from ..ranging.ground_table import GroundTable
 
 
@@ -57,22 +58,20 @@ def register(sub) -> None:
     p.add_argument(
         "--spacing",
         type=int,
-        default=d.spacing_px,
-        help=f"table node spacing [px] (default {d.spacing_px})",
+        help=f"table node spacing [px] (default: the config's, {d.spacing_px})",
     )
     p.add_argument(
         "--coverage",
         choices=[c.value for c in Coverage],
-        default=d.coverage.value,
         help="nodes with ground: trusted = predicted error within --max-error of the range "
-        "(default); pattern = around the pattern only; all = wherever the model sees floor",
+        f"(default: the config's, {d.coverage.value}); pattern = around the pattern only; "
+        "all = wherever the model sees floor",
     )
     p.add_argument(
         "--max-error",
         type=float,
-        default=d.max_error_fraction,
         help="largest predicted error kept, fraction of the range "
-        f"(default {d.max_error_fraction})",
+        f"(default: the config's, {d.max_error_fraction})",
     )
     p.add_argument("--extrapolate", action="store_true", help="same as --coverage all")
     p.add_argument(
@@ -89,14 +88,32 @@ def register(sub) -> None:
     p.add_argument(
         "--max-range",
         type=float,
-        default=d.max_range_m,
-        help=f"no ground beyond this range [m] (default {d.max_range_m})",
+        help=f"no ground beyond this range [m] (default: the config's, {d.max_range_m})",
+    )
+    p.add_argument(
+        "--config",
+        help="configuration TOML: its [calibration] table (flags given here win over it)",
     )
     p.add_argument(
         "--families",
         help="comma-separated lens families to try (default: all; docs/calibration.md)",
     )
     p.set_defaults(run=run)
+
+
+def calibration_options(args: argparse.Namespace) -> dict:
+    """The ``[calibration]`` table of ``--config`` (or its defaults) with the flags given on
+    the command line in place of its values."""
+    options = (Config.load(args.config) if args.config else Config()).calibration.kwargs()
+    flags = {
+        "spacing_px": args.spacing,
+        "coverage": args.coverage,
+        "max_error_fraction": args.max_error,
+        "max_range_m": args.max_range,
+        "intrinsics": args.intrinsics,
+    }
+    options.update({k: v for k, v in flags.items() if v is not None})
+    return options
 
 
 def _patterns(args, images):
@@ -129,15 +146,11 @@ def run(args: argparse.Namespace) -> int:
         images if len(images) > 1 else images[0],
         patterns,
         offsets_m=args.offset,
-        intrinsics=args.intrinsics,
-        spacing_px=args.spacing,
-        coverage=args.coverage,
-        max_error_fraction=args.max_error,
         extrapolate=args.extrapolate,
         margin_m=args.margin,
         near_field=not args.no_near_field,
-        max_range_m=args.max_range,
         families=args.families.split(",") if args.families else None,
+        **calibration_options(args),
     )
     written = [str(table.save(args.output))]
     if args.overlay:
