@@ -21,7 +21,7 @@ def register(sub) -> None:
     p.add_argument(
         "--world",
         default="corridor",
-        help="built-in world (corridor, room, lab, tiles) or world file",
+        help=f"built-in world ({', '.join(World.builtin_names())}) or world file",
     )
     p.add_argument(
         "--seconds", type=float, default=60.0, help="simulated robot time [s] (default 60)"
