@@ -174,8 +174,13 @@ def test_ctrl_c_cancels_the_rest_and_keeps_what_finished(ray_local, recs, tmp_pa
         time.sleep(0.5)
         signal.pthread_kill(main_thread, signal.SIGINT)
 
-    threading.Thread(target=interrupt_when_a_and_b_are_done, daemon=True).start()
-    result = map_fleet(recordings(recs), out, ray="local", map_one=slow_c, progress=False)
+    # Python's own Ctrl-C (KeyboardInterrupt), whatever handler an earlier test left behind
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        threading.Thread(target=interrupt_when_a_and_b_are_done, daemon=True).start()
+        result = map_fleet(recordings(recs), out, ray="local", map_one=slow_c, progress=False)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert result.interrupted
     status = {r["name"]: r["status"] for r in result.recordings}
     assert status == {"a": "ok", "b": "ok", "c": "cancelled"}
