@@ -8,6 +8,8 @@ from floorscan.pipeline.progress import Progress
 
 class Terminal(io.StringIO):
     def isatty(self):
+        if self.closed:  # as real streams do
+            raise ValueError("I/O operation on closed file")
         return True
 
 
@@ -34,5 +36,6 @@ def test_a_closed_stream_disables_the_line():
     out = Terminal()
     out.close()
     p = Progress(None, stream=out)
+    assert p.bar.disable
     p.update(1)
     p.close()

@@ -5,7 +5,6 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from .._atomic import PathLike, deferred_signals, temp_path_for
@@ -21,7 +20,10 @@ def as_grey(image) -> np.ndarray:
     if image.dtype not in (np.uint8, np.uint16):
         raise ImageTypeError(f"image dtype must be uint8 or uint16, got {image.dtype}")
     if image.ndim == 3 and image.shape[2] in (3, 4):
-        # OpenCV's fixed-point BT.601 (8x numpy's float product at 640 x 480)
+        # OpenCV's fixed-point BT.601 (8x numpy's float product at 640 x 480), loaded on the
+        # first colour image: importing it costs `import floorscan` 120 ms otherwise.
+        import cv2
+
         code = cv2.COLOR_RGB2GRAY if image.shape[2] == 3 else cv2.COLOR_RGBA2GRAY
         image = cv2.cvtColor(np.ascontiguousarray(image), code)
     elif image.ndim == 3 and image.shape[2] == 1:

@@ -83,8 +83,12 @@ def read_map_yaml(path: PathLike) -> Dict[str, Any]:
     except (OSError, UnicodeDecodeError) as e:
         raise FileFormatError(f"cannot read map YAML {path}: {e}") from None
     try:
-        node = yaml.compose(text, Loader=yaml.SafeLoader)
-        data = yaml.safe_load(text)
+        loader = yaml.SafeLoader(text)  # parsed once: the nodes give the lines, then the data
+        try:
+            node = loader.get_single_node()
+            data = loader.construct_document(node) if node is not None else None
+        finally:
+            loader.dispose()
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
         where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
