@@ -8,7 +8,13 @@ inscribed or lethal costmap cell, and take the cheapest of
 
 where nav is the navigation function [cells] and the forward point lies
 ``forward_point_distance_m`` ahead of the rolled-out end pose. When no sample is admissible
-the robot turns on the spot towards the plan (a circular robot may always turn in place).
+or the best one stands still (a local minimum of the scores: facing a wall with the way on
+in another direction, or with the robot already inside an inflated cell after drift), the
+robot escapes as move_base's recovery would, but without waiting: it looks along 36 headings
+for a short straight move that the costmap allows (inside an inflated cell: one that never
+touches a lethal cell and ends in a cheaper one), turns towards the one whose end is lowest
+on the navigation function (or, where the plan reaches none, the most open one), and drives
+off slowly once facing it.
 Within two forward-point distances of the goal both terms use the straight-line distance of
 the end point to the goal, so the robot settles on it instead of circling.
 """
@@ -22,7 +28,7 @@ from typing import Tuple
 import numpy as np
 
 from ..errors import OptionError
-from .costmap import INSCRIBED
+from .costmap import INSCRIBED, LETHAL
 
 
 @dataclass(frozen=True)
@@ -134,11 +140,53 @@ def choose_velocity(
     )
     if ok.any():
         k = int(np.argmin(np.where(ok, score, np.inf)))
-        return float(V[k]), float(W[k]), True
-    # recovery: turn on the spot towards the cheaper side
-    ahead = nav(
-        x0 + 0.3 * np.cos(th0 + np.array([0.5, -0.5])),
-        y0 + 0.3 * np.sin(th0 + np.array([0.5, -0.5])),
-    )
-    sign = 1.0 if ahead[0] <= ahead[1] else -1.0
-    return 0.0, sign * min(o.max_turn_rad_s, 0.6), False
+        if V[k] > 1e-3:
+            return float(V[k]), float(W[k]), True
+    v, w = escape(pose, cost, origin_m, cell_size_m, nav, goal_xy, options)
+    return v, w, False
+
+
+ESCAPE_HEADINGS = 36
+ESCAPE_REACH_M = 0.4
+ESCAPE_SPEED_M_S = 0.15
+
+
+def _cost_at(cost: np.ndarray, origin_m, cell_size_m: float, x, y) -> np.ndarray:
+    """Costs at world points [m]; 0 outside the window (unknown, as the costmap's)."""
+    h, w = cost.shape
+    ci = np.floor((np.asarray(x) - origin_m[0]) / cell_size_m).astype(np.int64)
+    cj = np.floor((np.asarray(y) - origin_m[1]) / cell_size_m).astype(np.int64)
+    inside = (ci >= 0) & (ci < w) & (cj >= 0) & (cj < h)
+    c = np.zeros(np.shape(ci), np.float64)
+    c[inside] = cost[cj[inside], ci[inside]]
+    return c
+
+
+def escape(pose, cost, origin_m, cell_size_m: float, nav, goal_xy, options: DwaOptions):
+    """(v, omega) out of a local minimum: towards the best of ``ESCAPE_HEADINGS`` straight
+    moves of ``ESCAPE_REACH_M`` the costmap allows (see the module's docstring)."""
+    x0, y0, th0 = pose
+    heads = th0 + np.linspace(-math.pi, math.pi, ESCAPE_HEADINGS, endpoint=False)
+    r = np.arange(1, 9) * (ESCAPE_REACH_M / 8)
+    px = x0 + r[None, :] * np.cos(heads)[:, None]
+    py = y0 + r[None, :] * np.sin(heads)[:, None]
+    c = _cost_at(cost, origin_m, cell_size_m, px, py)
+    here = float(_cost_at(cost, origin_m, cell_size_m, x0, y0))
+    if here < INSCRIBED:
+        passable = c.max(axis=1) < INSCRIBED
+    else:  # already in an inflated cell: never touch a lethal one, end somewhere cheaper
+        passable = (c.max(axis=1) < LETHAL) & (c[:, -1] < here)
+    if not passable.any():
+        return 0.0, min(options.max_turn_rad_s, 0.6)
+    n_end = np.asarray(nav(px[:, -1], py[:, -1]), np.float64)
+    reach = passable & np.isfinite(n_end)
+    if reach.any():
+        k = int(np.argmin(np.where(reach, n_end, np.inf)))
+    else:  # the plan reaches none of them: the most open, then the nearest to the goal
+        d = np.hypot(px[:, -1] - goal_xy[0], py[:, -1] - goal_xy[1])
+        k = int(np.argmin(np.where(passable, c[:, -1] * 1e3 + d, np.inf)))
+    err = math.remainder(float(heads[k]) - th0, 2 * math.pi)
+    w = max(-options.max_turn_rad_s, min(options.max_turn_rad_s, 2.0 * err))
+    if abs(err) > 0.3:
+        return 0.0, w
+    return min(ESCAPE_SPEED_M_S, options.max_speed_m_s), w

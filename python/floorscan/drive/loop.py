@@ -21,6 +21,7 @@ from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
 from .costmap import CostmapOptions, inflate, navigation_function
 from .dwa import DwaOptions, choose_velocity
 from .result import DriveResult
+from .scan_matcher import ScanMatcher, ScanMatcherOptions
 from .sensor_model import VisualSensorModel
 from .solids import Solids
 
@@ -53,6 +54,10 @@ class DriveOptions:
     - ``replan_every``: frames between navigation-function updates. Default 5.
     - ``keep_frames``: keep camera images and map views for a GIF every this many frames
       (0: none). Default 5.
+    - ``scan_matching``: correct the odometry pose by matching each scan against the
+      robot's own persistent map (:class:`~floorscan.drive.scan_matcher.ScanMatcher`);
+      the pose the robot plans, maps and judges its waypoints with. Default True; False
+      drives on odometry alone.
     """
 
     speed_m_s: float = 0.3
@@ -68,6 +73,8 @@ class DriveOptions:
     laser_beams: int = 271
     replan_every: int = 5
     keep_frames: int = 5
+    scan_matching: bool = True
+    matcher: ScanMatcherOptions = field(default_factory=ScanMatcherOptions)
     map: AvoidanceMapOptions = field(default_factory=AvoidanceMapOptions)
     costmap: CostmapOptions = field(default_factory=CostmapOptions)
     model: VisualSensorModel = field(default_factory=VisualSensorModel)
@@ -122,6 +129,16 @@ def _between(a, b):
     c, s = math.cos(a[2]), math.sin(a[2])
     dx, dy = b[0] - a[0], b[1] - a[1]
     return (c * dx + s * dy, -s * dx + c * dy, b[2] - a[2])
+
+
+def _visual_points(scan, mount) -> np.ndarray:
+    """The scan's boundary points (N, 2) [m, robot frame]: the camera's ground frame moved by
+    ``mount`` (robot_from_camera)."""
+    status = np.asarray(scan.status_codes)
+    bnd = status == 0
+    x, y = np.asarray(scan.x)[bnd], np.asarray(scan.y)[bnd]
+    c, s = math.cos(mount[2]), math.sin(mount[2])
+    return np.stack([mount[0] + c * x - s * y, mount[1] + s * x + c * y], 1)
 
 
 def make_table(camera, kind: str):
@@ -195,7 +212,10 @@ def drive(
         ranger = VisualRanger(table, columns=int(o.columns))
     angles = np.linspace(-o.laser_fov_rad / 2, o.laser_fov_rad / 2, int(o.laser_beams))
     true_pose = tuple(world.start)
-    odo_pose = tuple(world.start)  # the odometry frame starts at the true start pose
+    # the robot's pose estimate: odometry (its frame starts at the true start pose),
+    # corrected by scan matching when on
+    odo_pose = tuple(world.start)
+    matcher = ScanMatcher(o.matcher, center=odo_pose[:2]) if o.scan_matching else None
     map_options = o.map
     if o.sensor == "laser":  # the laser's evidence is read as it is (no visual calibration)
         from dataclasses import replace
@@ -232,9 +252,15 @@ def drive(
         amap.recenter(*odo_pose[:2])
         if ranger is not None:
             scan = ranger.scan(image, timestamp=t)
+            if matcher is not None:
+                odo_pose = matcher.correct(_visual_points(scan, mount), odo_pose).pose
             amap.insert_visual(scan, odo_pose, mount=mount, table=ranger.table, model=o.model)
         else:
             r = solids.laser(true_pose, angles, range_max_m=o.laser_range_m)
+            if matcher is not None:
+                fin = np.isfinite(r)
+                pts = np.stack([r[fin] * np.cos(angles[fin]), r[fin] * np.sin(angles[fin])], 1)
+                odo_pose = matcher.correct(pts, odo_pose).pose
             amap.insert_laser(r, angles, odo_pose, range_max_m=o.laser_range_m)
         # --- waypoints (judged by the robot from its odometry) -------------------------
         goal = tuple(tour[target])

@@ -5,7 +5,7 @@ distances from a point to them, and an ideal 2-D laser cast against them."""
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Tuple
 
 import numpy as np
@@ -19,6 +19,8 @@ class Solids:
     a: np.ndarray
     b: np.ndarray
     polygons: Tuple[np.ndarray, ...]
+    owner: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    """Per edge, the index of its polygon (E,)."""
 
     @classmethod
     def of_world(cls, world, *, robot_height_m: float = 0.5) -> Solids:
@@ -40,14 +42,20 @@ class Solids:
             return cls(empty, empty, ())
         a = np.concatenate(polys)
         b = np.concatenate([np.roll(p, -1, axis=0) for p in polys])
-        return cls(a, b, polys)
+        owner = np.repeat(np.arange(len(polys)), [len(p) for p in polys])
+        return cls(a, b, polys, owner)
 
     def inside(self, x: float, y: float) -> bool:
         """True when (x, y) [m] lies inside a solid's footprint."""
-        for p in self.polygons:
-            if _point_in_polygon(x, y, p):
-                return True
-        return False
+        if len(self.a) == 0:
+            return False
+        # even-odd rule over every edge at once, the crossings counted per polygon
+        ya, yb = self.a[:, 1], self.b[:, 1]
+        cross = (ya > y) != (yb > y)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xint = (self.b[:, 0] - self.a[:, 0]) * (y - ya) / (yb - ya) + self.a[:, 0]
+        hits = np.bincount(self.owner[cross & (x < xint)], minlength=len(self.polygons))
+        return bool((hits % 2).any())
 
     def clearance(self, x: float, y: float) -> float:
         """Distance [m] from (x, y) to the nearest solid's footprint (0 inside one; +inf
@@ -84,12 +92,3 @@ class Solids:
         r = t.min(axis=1) if t.shape[1] else np.full(len(ang), np.inf)
         r[r > range_max_m] = np.inf
         return r
-
-
-def _point_in_polygon(x: float, y: float, poly: np.ndarray) -> bool:
-    xs, ys = poly[:, 0], poly[:, 1]
-    xj, yj = np.roll(xs, 1), np.roll(ys, 1)
-    cross = (ys > y) != (yj > y)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xint = (xj - xs) * (y - ys) / (yj - ys) + xs
-    return bool(np.count_nonzero(cross & (x < xint)) % 2)

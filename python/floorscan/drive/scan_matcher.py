@@ -1,0 +1,203 @@
+"""Correcting the odometry pose with the robot's own scans: a correlative scan-to-map matcher
+(Olson 2009; cartographer's real-time correlative scan matcher, hector_mapping's role).
+
+The robot keeps a persistent map of where its scans ended (hit counts on a fixed grid centred
+on its start, in the frame its waypoints are given in). Each frame, the scan's end points
+(visual boundary points, or laser returns) are tried at every pose of a small window around
+the odometry pose (translations on the grid's cells, yaws in fixed steps); each pose scores
+the mean of a likelihood field (exp(-d^2 / 2 sigma^2), d the distance to the nearest hit in
+the map) at the points, times a prior exp(-(|t| / sigma_t)^2 - (theta / sigma_theta)^2) that
+keeps the pose near odometry where the scan does not decide (a corridor's length). The best
+pose is kept when enough points score; then the scan's points join the map at that pose.
+
+Odometry's heading error grows with the square root of the distance travelled (wheel noise)
+and turns it into metres of position error; matching against walls seen before keeps the
+heading, and so the waypoints, where they are. It cannot close large loops (no global search,
+no graph): what was never seen stays as odometry leaves it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Tuple
+
+import numpy as np
+
+from ..errors import OptionError
+
+
+@dataclass(frozen=True)
+class ScanMatcherOptions:
+    """- ``size_m``: side of the persistent map [m], centred on the start, in [4, 400].
+      Default 80 (a floor of a building; 10 MB at the default cell). Points outside it are
+      neither matched nor stored.
+    - ``cell_size_m``: [m/cell], in [0.01, 0.2]. Default 0.025 (half the avoidance map's).
+    - ``sigma_m``: width of the likelihood field [m], > 0. Default 0.05 (the camera's
+      boundary error within 2 m; EVALUATION.md).
+    - ``search_xy_m``, ``search_yaw_rad``: half-widths of the search window. Defaults 0.15 m
+      and 0.08 rad (several frames of odometry error at 0.8 m/s).
+    - ``yaw_step_rad``: default 0.01 (2.5 cm at 2.5 m, one cell).
+    - ``prior_xy_m``, ``prior_yaw_rad``: widths of the odometry prior. Defaults 0.3 m and
+      0.3 rad (weak: a wall seen before wins, a featureless view keeps odometry).
+    - ``min_points``: fewest scan points to match, >= 3. Default 15.
+    - ``min_score``: the best pose's mean field value needed to accept it, in (0, 1).
+      Default 0.35 (about half the points within 7 cm of a stored hit).
+    - ``range_max_m``: points farther than this are ignored [m]. Default 3.0 (the ranger's
+      range; boundaries beyond it are a footprint of a pixel row apart).
+    """
+
+    size_m: float = 80.0
+    cell_size_m: float = 0.025
+    sigma_m: float = 0.05
+    search_xy_m: float = 0.15
+    search_yaw_rad: float = 0.08
+    yaw_step_rad: float = 0.01
+    prior_xy_m: float = 0.3
+    prior_yaw_rad: float = 0.3
+    min_points: int = 15
+    min_score: float = 0.35
+    range_max_m: float = 3.0
+
+    def __post_init__(self) -> None:
+        checks = {
+            "size_m": 4.0 <= self.size_m <= 400.0,
+            "cell_size_m": 0.01 <= self.cell_size_m <= 0.2,
+            "sigma_m": 0 < self.sigma_m <= 1.0,
+            "search_xy_m": 0 <= self.search_xy_m <= 2.0,
+            "search_yaw_rad": 0 <= self.search_yaw_rad <= 0.5,
+            "yaw_step_rad": 0.001 <= self.yaw_step_rad <= 0.1,
+            "prior_xy_m": self.prior_xy_m > 0,
+            "prior_yaw_rad": self.prior_yaw_rad > 0,
+            "min_points": int(self.min_points) >= 3,
+            "min_score": 0 < self.min_score < 1,
+            "range_max_m": 0 < self.range_max_m <= 100,
+        }
+        for name, ok in checks.items():
+            if not (ok and math.isfinite(float(getattr(self, name)))):
+                raise OptionError(f"invalid option `{name}`: got {getattr(self, name)!r}")
+        if (self.size_m / self.cell_size_m) ** 2 > 64e6:
+            raise OptionError("invalid options: size_m / cell_size_m gives over 64 M cells")
+
+
+@dataclass(frozen=True)
+class MatchResult:
+    """``pose``: the corrected world_from_robot (x, y, yaw); ``score``: its mean field value;
+    ``accepted``: whether the correction was applied; ``points``: points used."""
+
+    pose: Tuple[float, float, float]
+    score: float
+    accepted: bool
+    points: int
+
+
+class ScanMatcher:
+    """The persistent hit map and the correlative search (see the module's docstring)."""
+
+    def __init__(
+        self, options: ScanMatcherOptions = ScanMatcherOptions(), *, center=(0.0, 0.0)
+    ) -> None:
+        self.options = options
+        self.cell = options.cell_size_m
+        self.n = int(math.ceil(options.size_m / self.cell))
+        self.origin_m = (
+            float(center[0]) - 0.5 * self.n * self.cell,
+            float(center[1]) - 0.5 * self.n * self.cell,
+        )
+        self.hits = np.zeros((self.n, self.n), np.uint8)
+        self.frames = 0
+
+    def _cells(self, x, y):
+        i = np.floor((np.asarray(x) - self.origin_m[0]) / self.cell).astype(np.int64)
+        j = np.floor((np.asarray(y) - self.origin_m[1]) / self.cell).astype(np.int64)
+        return i, j
+
+    def _field(self, x0: float, y0: float, half_m: float):
+        """The likelihood field over a square of half-side ``half_m`` around (x0, y0):
+        (field (h, w) float32, i0, j0) with i0, j0 the crop's first cell."""
+        import cv2
+
+        ci, cj = self._cells(x0, y0)
+        r = int(math.ceil(half_m / self.cell))
+        i0, j0 = max(0, int(ci) - r), max(0, int(cj) - r)
+        i1, j1 = min(self.n, int(ci) + r + 1), min(self.n, int(cj) + r + 1)
+        if i1 <= i0 or j1 <= j0:
+            return np.zeros((0, 0), np.float32), i0, j0
+        crop = self.hits[j0:j1, i0:i1]
+        if not crop.any():
+            return np.zeros(crop.shape, np.float32), i0, j0
+        free = np.where(crop > 0, 0, 255).astype(np.uint8)
+        d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * self.cell
+        s = self.options.sigma_m
+        return np.exp(-0.5 * (d / s) ** 2).astype(np.float32), i0, j0
+
+    def match(self, points_robot: np.ndarray, prior) -> MatchResult:
+        """The best pose for ``points_robot`` (N, 2) [m, robot frame] near ``prior``
+        (world_from_robot); does not change the map."""
+        o = self.options
+        prior = tuple(float(v) for v in prior)
+        pts = np.asarray(points_robot, np.float64).reshape(-1, 2)
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        pts = pts[np.hypot(pts[:, 0], pts[:, 1]) <= o.range_max_m]
+        if len(pts) < o.min_points or self.frames == 0:
+            return MatchResult(prior, 0.0, False, len(pts))
+        half = o.range_max_m + o.search_xy_m + 3 * o.sigma_m
+        field, i0, j0 = self._field(prior[0], prior[1], half)
+        if field.size == 0 or not field.any():
+            return MatchResult(prior, 0.0, False, len(pts))
+        h, w = field.shape
+        steps = int(round(o.search_xy_m / self.cell))
+        offs = np.arange(-steps, steps + 1)
+        tx, ty = np.meshgrid(offs, offs)
+        tx, ty = tx.ravel(), ty.ravel()
+        n_yaw = int(round(o.search_yaw_rad / o.yaw_step_rad))
+        yaws = np.arange(-n_yaw, n_yaw + 1) * o.yaw_step_rad
+        prior_t = np.exp(-((np.hypot(tx, ty) * self.cell / o.prior_xy_m) ** 2))
+        best = (-1.0, 0, 0.0, 0.0)
+        for dyaw in yaws:
+            th = prior[2] + dyaw
+            c, s = math.cos(th), math.sin(th)
+            wx = prior[0] + c * pts[:, 0] - s * pts[:, 1]
+            wy = prior[1] + s * pts[:, 0] + c * pts[:, 1]
+            # continuous cell coordinates within the crop; translations shift whole cells
+            fi = (wx - self.origin_m[0]) / self.cell - i0 - 0.5
+            fj = (wy - self.origin_m[1]) / self.cell - j0 - 0.5
+            bi, bj = np.rint(fi).astype(np.int64), np.rint(fj).astype(np.int64)
+            ii = bi[None, :] + tx[:, None]
+            jj = bj[None, :] + ty[:, None]
+            inside = (ii >= 0) & (ii < w) & (jj >= 0) & (jj < h)
+            vals = np.where(inside, field[np.clip(jj, 0, h - 1), np.clip(ii, 0, w - 1)], 0.0)
+            mean = vals.mean(axis=1)
+            score = mean * prior_t * math.exp(-((dyaw / o.prior_yaw_rad) ** 2))
+            k = int(np.argmax(score))
+            if score[k] > best[0]:
+                best = (float(score[k]), k, float(dyaw), float(mean[k]))
+        _, k, dyaw, mean = best
+        pose = (prior[0] + tx[k] * self.cell, prior[1] + ty[k] * self.cell, prior[2] + dyaw)
+        if mean < o.min_score:
+            return MatchResult(prior, mean, False, len(pts))
+        return MatchResult(pose, mean, True, len(pts))
+
+    def insert(self, points_robot: np.ndarray, pose) -> None:
+        """Adds the points [m, robot frame] seen from ``pose`` to the map (counts saturate
+        at 255)."""
+        o = self.options
+        pts = np.asarray(points_robot, np.float64).reshape(-1, 2)
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        pts = pts[np.hypot(pts[:, 0], pts[:, 1]) <= o.range_max_m]
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        i, j = self._cells(
+            pose[0] + c * pts[:, 0] - s * pts[:, 1], pose[1] + s * pts[:, 0] + c * pts[:, 1]
+        )
+        ok = (i >= 0) & (i < self.n) & (j >= 0) & (j < self.n)
+        flat, counts = np.unique(j[ok] * self.n + i[ok], return_counts=True)
+        view = self.hits.reshape(-1)
+        view[flat] = np.minimum(view[flat].astype(np.int64) + counts, 255).astype(np.uint8)
+        self.frames += 1
+
+    def correct(self, points_robot: np.ndarray, prior) -> MatchResult:
+        """Matches the scan near ``prior``, then stores it at the pose found (or at the prior
+        when the match is refused)."""
+        result = self.match(points_robot, prior)
+        self.insert(points_robot, result.pose)
+        return result
