@@ -102,6 +102,21 @@ def test_the_robot_steers_around_a_box_on_the_route(sensor):
     assert np.abs(poses[beside, 1] - 1.5).min() > 0.2 + 0.18
 
 
+def test_scan_matching_keeps_the_pose_estimate_on_the_true_pose():
+    """The corridor's first four waypoints with the ideal laser: with scan matching the
+    robot's pose estimate stays within 25 cm of the simulator's truth and every waypoint is
+    reached; on odometry alone the same drive drifts past that bound."""
+    world = World.builtin("corridor")
+    tour = world.tour[:4]
+    runs = {}
+    for on in (True, False):
+        o = DriveOptions(seconds=60, table="exact", sensor="laser", keep_frames=0, scan_matching=on)
+        runs[on] = drive(world, o, waypoints=tour).summary()
+    assert runs[True]["pose_error_m_max"] < 0.25
+    assert runs[True]["waypoints_reached"] == 4
+    assert runs[False]["pose_error_m_max"] > 0.25
+
+
 def test_the_robot_stops_before_a_wall_across_the_route():
     world = World.from_toml(HALL + "\n[[boxes]]\nrect = [2.5, 0.0, 2.6, 3.0]\nheight_m = 1.0\n")
     result = drive(

@@ -21,7 +21,13 @@ def register(sub) -> None:
         "odometry, avoidance map, costmap with inflation and a dynamic-window planner. Writes "
         "summary.json, map.yaml/pgm, path.png and drive.gif into the output folder.",
     )
-    p.add_argument("--world", default="room", help="built-in world or world file (default room)")
+    p.add_argument(
+        "--world",
+        action="append",
+        default=None,
+        help="built-in world or world file (default room; with --suite: repeatable, default "
+        "the built-in carpet worlds)",
+    )
     p.add_argument("--speed", type=float, default=0.3, help="top speed [m/s] (default 0.3)")
     p.add_argument(
         "--seconds",
@@ -42,6 +48,12 @@ def register(sub) -> None:
     )
     p.add_argument("--no-gif", action="store_true", help="leave out drive.gif")
     p.add_argument(
+        "--no-scan-matching",
+        action="store_true",
+        help="drive on odometry alone (default: scans matched against the robot's own map "
+        "correct its pose)",
+    )
+    p.add_argument(
         "--suite",
         action="store_true",
         help="run the suite (carpet worlds x 0.3/0.5/0.8 m/s x seeds, camera and laser)",
@@ -54,10 +66,21 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.suite:
         seconds = args.seconds if args.seconds != 600.0 else 150.0
-        run_suite(args.out, seeds=range(args.seeds), seconds=seconds, table=args.table)
+        kw = {"worlds": args.world} if args.world else {}
+        run_suite(
+            args.out,
+            seeds=range(args.seeds),
+            seconds=seconds,
+            table=args.table,
+            scan_matching=not args.no_scan_matching,
+            **kw,
+        )
         print(open(f"{args.out}/suite.md").read())
         return 0
-    world = World.resolve(args.world)
+    if args.world and len(args.world) > 1:
+        print("error: one --world without --suite", file=sys.stderr)
+        return 2
+    world = World.resolve(args.world[0] if args.world else "room")
     if args.obstacles:
         world, placed = with_obstacles(world)
         print(f"obstacles: {placed}", file=sys.stderr)
@@ -68,6 +91,7 @@ def run(args: argparse.Namespace) -> int:
         sensor=args.sensor,
         table=args.table,
         keep_frames=0 if args.no_gif else 5,
+        scan_matching=not args.no_scan_matching,
     )
     result = drive(world, options)
     result.write(args.out, gif=not args.no_gif)

@@ -34,6 +34,8 @@ class DriveResult:
         duration = float(r.times_s[-1]) if r.times_s else 0.0
         reached = sum(1 for w in r.waypoints if w["reached"])
         step_ms = 1e3 * np.asarray(r.step_s) if r.step_s else np.zeros(1)
+        est = np.asarray(r.odometry, np.float64).reshape(-1, 3)
+        est_err = np.hypot(*(est[:, :2] - poses[:, :2]).T) if len(est) else np.zeros(1)
         return {
             "world": self.world.name,
             "sensor": self.options.sensor,
@@ -54,6 +56,9 @@ class DriveResult:
             "step_ms_median": round(float(np.median(step_ms)), 3),
             "plan_ms_median": round(1e3 * float(np.median(r.plan_s)), 3) if r.plan_s else None,
             "robot_radius_m": self.options.costmap.robot_radius_m,
+            "scan_matching": self.options.scan_matching,
+            "pose_error_m_max": round(float(est_err.max()), 4),
+            "pose_error_m_final": round(float(est_err[-1]), 4),
         }
 
     def write(self, out, *, gif: bool = True) -> Path:

@@ -31,9 +31,11 @@ def run_suite(
     seeds: Sequence[int] = (0, 1),
     seconds: float = 150.0,
     table: str = "exact",
+    scan_matching: bool = True,
     progress=print,
 ) -> List[Dict]:
-    """Runs every (world, speed, seed, sensor) for at most ``seconds`` [s] each; writes
+    """Runs every (world, speed, seed, sensor) for at most ``seconds`` [s] each (``worlds``:
+    built-in names or world files); writes
     ``suite.json`` and ``suite.md`` into ``out`` and returns the rows."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -42,7 +44,7 @@ def run_suite(
     rows: List[Dict] = []
     for name in worlds:
         n_way, count = SUITE_CASES.get(name, (None, 3))
-        world, placed = with_obstacles(World.builtin(name), count=count)
+        world, placed = with_obstacles(World.resolve(name), count=count)
         tour = world.tour if n_way is None else world.tour[:n_way]
         for speed in speeds:
             for seed in seeds:
@@ -54,6 +56,7 @@ def run_suite(
                         sensor=sensor,
                         table=table,
                         keep_frames=0,
+                        scan_matching=scan_matching,
                     )
                     s = drive(world, o, camera=camera, table=tbl, waypoints=tour).summary()
                     s.pop("waypoints")
@@ -77,8 +80,8 @@ def suite_table(rows: List[Dict]) -> str:
         groups.setdefault((r["world"], r["speed_m_s"], r["sensor"]), []).append(r)
     lines = [
         "| world | speed [m/s] | sensor | runs | collisions | per 100 m | waypoints reached "
-        "| time [s] | time / laser | min clearance [m] |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        "| time [s] | time / laser | min clearance [m] | pose error max [m] |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     for (w, v, sensor), rs in sorted(groups.items()):
         dist = sum(r["distance_m"] for r in rs)
@@ -91,8 +94,9 @@ def suite_table(rows: List[Dict]) -> str:
         ratio = f"{t / tl:.2f}" if tl > 0 else "-"
         clr = min(r["min_clearance_m"] for r in rs)
         per100 = 100.0 * col / dist if dist > 0 else 0.0
+        perr = max(r.get("pose_error_m_max", float("nan")) for r in rs)
         lines.append(
             f"| {w} | {v} | {sensor} | {len(rs)} | {col} | {per100:.1f} | {got}/{tot} "
-            f"({100.0 * got / max(tot, 1):.0f} %) | {t:.0f} | {ratio} | {clr:.3f} |"
+            f"({100.0 * got / max(tot, 1):.0f} %) | {t:.0f} | {ratio} | {clr:.3f} | {perr:.2f} |"
         )
     return "\n".join(lines) + "\n"
