@@ -200,3 +200,23 @@ def test_config_with_limits_round_trips():
     cfg = Config.from_toml("[limits]\nmax_image_pixels = 1000\n[map]\nmax_cells = 4096\n")
     assert cfg.limits.max_image_pixels == 1000 and cfg.grid.max_cells == 4096
     assert json.loads(json.dumps(cfg.to_dict()))["limits"]["max_image_pixels"] == 1000
+
+
+def test_drive_natives_refuse_bad_grids_windows_and_poses():
+    from floorscan._native.drive import correlative_search, geodesic_distances
+
+    field = np.zeros((4, 4), np.float32)
+    pts = np.zeros((3, 2))
+    with pytest.raises(FloorscanError):  # a window of 10^12 evaluations
+        correlative_search(field, (0, 0), 0.1, pts, (0, 0, 0), 200_000, 10, 0.01, 1, 1)
+    with pytest.raises(FloorscanError):
+        correlative_search(field, (0, 0), 0.1, pts, (math.nan, 0, 0), 2, 2, 0.01, 1, 1)
+    with pytest.raises(FloorscanError):
+        correlative_search(field, (0, 0), 0.0, pts, (0, 0, 0), 2, 2, 0.01, 1, 1)
+    blocked = np.zeros((3, 3), bool)
+    with pytest.raises(FloorscanError):  # a seed outside the grid
+        geodesic_distances(blocked, np.ones((3, 3)), np.array([9]), np.array([0.0]), 0.1)
+    with pytest.raises(FloorscanError):  # shapes that disagree
+        geodesic_distances(blocked, np.ones((3, 4)), np.array([0]), np.array([0.0]), 0.1)
+    with pytest.raises(FloorscanError):
+        geodesic_distances(blocked, np.full((3, 3), np.nan), np.array([0]), np.array([0.0]), 0.1)

@@ -7,7 +7,9 @@
 //! builder: log-odds maths ([`log_odds`]), grids ([`grid_options`], [`grid`], [`queries`],
 //! the unclamped, mergeable [`evidence`] layer),
 //! the exact ray walk ([`raycast`]), updates from visual scans, lasers and sonars
-//! ([`inserter`], [`ray_update`], [`laser`], [`sonar`]) and the robot-centred [`local_map`].
+//! ([`inserter`], [`ray_update`], [`laser`], [`sonar`]) and the robot-centred [`local_map`];
+//! for driving on the maps: a planner's [`navigation`] function and the search of a
+//! correlative [`scan_matcher`].
 //!
 //! Conventions: SI units; REP 103 frames (x forward, y left, z up, angles counter-clockwise in
 //! radians); image rows count from the top (v = 0 is the top row); REP 117 ranges.
@@ -32,6 +34,7 @@ pub mod lens;
 pub mod local_map;
 pub mod log_odds;
 pub mod mount;
+pub mod navigation;
 pub mod pose;
 pub mod queries;
 pub mod ranger;
@@ -39,6 +42,7 @@ pub mod ranger_options;
 pub mod ray_update;
 pub mod raycast;
 pub mod scan;
+pub mod scan_matcher;
 pub mod sonar;
 
 pub use appearance::AppearanceRanger;

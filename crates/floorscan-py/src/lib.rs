@@ -23,10 +23,12 @@ mod image;
 mod inserter;
 mod local_map;
 mod log_odds;
+mod navigation;
 mod options;
 mod ranger;
 mod ranger_options;
 mod scan;
+mod scan_matcher;
 mod sim;
 
 /// Panics inside [`errors::guard`], for the test that a panic reaches Python as
@@ -127,6 +129,22 @@ mod _native {
         #[pymodule_init]
         fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
             register_submodule(m, "mapping")
+        }
+    }
+
+    /// Driving: the planner's navigation function and the scan matcher's search.
+    #[pymodule]
+    mod drive {
+        use super::*;
+
+        #[pymodule_export]
+        use crate::navigation::geodesic_distances;
+        #[pymodule_export]
+        use crate::scan_matcher::correlative_search;
+
+        #[pymodule_init]
+        fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+            register_submodule(m, "drive")
         }
     }
 

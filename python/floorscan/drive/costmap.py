@@ -9,12 +9,12 @@ Unknown cells cost nothing (the local costmap's ``track_unknown_space: false``).
 
 from __future__ import annotations
 
-import heapq
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._native.drive import geodesic_distances
 from ..errors import OptionError
 
 LETHAL = 254
@@ -109,8 +109,6 @@ def navigation_function(
     ox, oy = origin_m
     gx, gy = goal_xy
     gi, gj = int((gx - ox) // step), int((gy - oy) // step)
-    dist = np.full((h, w), np.inf)
-    heap = []
     jj, ii = np.nonzero(~blocked)
     cx, cy = ox + (ii + 0.5) * step, oy + (jj + 0.5) * step
     d0 = np.hypot(cx - gx, cy - gy)
@@ -121,26 +119,10 @@ def navigation_function(
             sel = np.zeros(d0.shape, bool)
     else:
         sel = (ii == 0) | (ii == w - 1) | (jj == 0) | (jj == h - 1)
-    dist[jj[sel], ii[sel]] = d0[sel]
-    heap = list(zip(d0[sel].tolist(), jj[sel].tolist(), ii[sel].tolist()))
-    heapq.heapify(heap)
-    nbrs = [(-1, 0, 1.0), (1, 0, 1.0), (0, -1, 1.0), (0, 1, 1.0)]
-    nbrs += [(a, b, math.sqrt(2)) for a in (-1, 1) for b in (-1, 1)]
-    bl = blocked.tolist()
-    wt = weight.tolist()
-    dl = dist.tolist()
-    while heap:
-        d, j, i = heapq.heappop(heap)
-        if d > dl[j][i]:
-            continue
-        for dj, di, ln in nbrs:
-            jn, inn = j + dj, i + di
-            if 0 <= jn < h and 0 <= inn < w and not bl[jn][inn]:
-                nd = d + ln * step * 0.5 * (wt[j][i] + wt[jn][inn])
-                if nd < dl[jn][inn]:
-                    dl[jn][inn] = nd
-                    heapq.heappush(heap, (nd, jn, inn))
-    dist = np.array(dl)
+    cells = (jj[sel] * w + ii[sel]).astype(np.int64)
+    dist = geodesic_distances(
+        np.ascontiguousarray(blocked), np.ascontiguousarray(weight), cells, d0[sel], step
+    )
 
     def at(x, y):
         i = np.floor((np.asarray(x) - ox) / step).astype(np.int64)

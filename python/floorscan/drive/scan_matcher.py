@@ -24,6 +24,7 @@ from typing import Tuple
 
 import numpy as np
 
+from .._native.drive import correlative_search
 from ..errors import OptionError
 
 
@@ -145,35 +146,20 @@ class ScanMatcher:
         field, i0, j0 = self._field(prior[0], prior[1], half)
         if field.size == 0 or not field.any():
             return MatchResult(prior, 0.0, False, len(pts))
-        h, w = field.shape
-        steps = int(round(o.search_xy_m / self.cell))
-        offs = np.arange(-steps, steps + 1)
-        tx, ty = np.meshgrid(offs, offs)
-        tx, ty = tx.ravel(), ty.ravel()
-        n_yaw = int(round(o.search_yaw_rad / o.yaw_step_rad))
-        yaws = np.arange(-n_yaw, n_yaw + 1) * o.yaw_step_rad
-        prior_t = np.exp(-((np.hypot(tx, ty) * self.cell / o.prior_xy_m) ** 2))
-        best = (-1.0, 0, 0.0, 0.0)
-        for dyaw in yaws:
-            th = prior[2] + dyaw
-            c, s = math.cos(th), math.sin(th)
-            wx = prior[0] + c * pts[:, 0] - s * pts[:, 1]
-            wy = prior[1] + s * pts[:, 0] + c * pts[:, 1]
-            # continuous cell coordinates within the crop; translations shift whole cells
-            fi = (wx - self.origin_m[0]) / self.cell - i0 - 0.5
-            fj = (wy - self.origin_m[1]) / self.cell - j0 - 0.5
-            bi, bj = np.rint(fi).astype(np.int64), np.rint(fj).astype(np.int64)
-            ii = bi[None, :] + tx[:, None]
-            jj = bj[None, :] + ty[:, None]
-            inside = (ii >= 0) & (ii < w) & (jj >= 0) & (jj < h)
-            vals = np.where(inside, field[np.clip(jj, 0, h - 1), np.clip(ii, 0, w - 1)], 0.0)
-            mean = vals.mean(axis=1)
-            score = mean * prior_t * math.exp(-((dyaw / o.prior_yaw_rad) ** 2))
-            k = int(np.argmax(score))
-            if score[k] > best[0]:
-                best = (float(score[k]), k, float(dyaw), float(mean[k]))
-        _, k, dyaw, mean = best
-        pose = (prior[0] + tx[k] * self.cell, prior[1] + ty[k] * self.cell, prior[2] + dyaw)
+        origin = (self.origin_m[0] + i0 * self.cell, self.origin_m[1] + j0 * self.cell)
+        pose, mean, _ = correlative_search(
+            np.ascontiguousarray(field),
+            origin,
+            self.cell,
+            np.ascontiguousarray(pts),
+            prior,
+            int(round(o.search_xy_m / self.cell)),
+            int(round(o.search_yaw_rad / o.yaw_step_rad)),
+            o.yaw_step_rad,
+            o.prior_xy_m,
+            o.prior_yaw_rad,
+        )
+        pose = tuple(float(v) for v in pose)
         if mean < o.min_score:
             return MatchResult(prior, mean, False, len(pts))
         return MatchResult(pose, mean, True, len(pts))

@@ -1,0 +1,248 @@
+//! The search of a correlative scan matcher (Olson 2009; cartographer's real-time correlative
+//! scan matcher): every pose of a window around a prior, scored by the mean of a likelihood
+//! field at the scan's points, times a prior that keeps the pose near the prior where the scan
+//! does not decide.
+//!
+//! Translations move whole field cells; yaws go in fixed steps. The likelihood field (values
+//! in [0, 1], row major, row 0 = lowest y) is the caller's: floorscan's drive builds it from the
+//! distance to the nearest stored hit.
+
+use crate::error::{invalid_option, Error, Result};
+use crate::pose::Pose2;
+
+/// The search window and the prior.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SearchWindow {
+    /// Translations tried: -steps..=steps cells in x and in y.
+    pub xy_steps: u32,
+    /// Yaws tried: -yaw_steps..=yaw_steps times `yaw_step_rad`.
+    pub yaw_steps: u32,
+    /// Yaw step [rad], > 0.
+    pub yaw_step_rad: f64,
+    /// Width of the translation prior [m], > 0: exp(-(|t| / prior_xy_m)^2).
+    pub prior_xy_m: f64,
+    /// Width of the rotation prior [rad], > 0: exp(-(dyaw / prior_yaw_rad)^2).
+    pub prior_yaw_rad: f64,
+}
+
+/// The best pose of a search.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SearchResult {
+    /// The pose found (world_from_robot).
+    pub pose: Pose2,
+    /// Mean field value at the points there, in [0, 1].
+    pub mean: f64,
+    /// `mean` times the prior: what the search maximised.
+    pub score: f64,
+}
+
+/// The largest window a search runs (candidates x points), a bound on the work an argument can
+/// ask for.
+pub const MAX_EVALUATIONS: u64 = 1 << 32;
+
+/// A likelihood field: `width` x `height` values, its cell (0, 0)'s lower-left corner at
+/// `origin_m` [m], cells `cell_m` [m] wide.
+#[derive(Debug, Clone, Copy)]
+pub struct Field<'a> {
+    pub values: &'a [f32],
+    pub width: usize,
+    pub height: usize,
+    pub origin_m: (f64, f64),
+    pub cell_m: f64,
+}
+
+/// The best pose for `points` (robot frame [m]) in `window` around `prior`; points off the
+/// field score 0.
+pub fn search(
+    field: &Field<'_>,
+    points: &[[f64; 2]],
+    prior: Pose2,
+    window: &SearchWindow,
+) -> Result<SearchResult> {
+    if field.values.len() != field.width * field.height {
+        return Err(Error::LengthMismatch(format!(
+            "field {} x {} needs {} values, got {}",
+            field.width,
+            field.height,
+            field.width * field.height,
+            field.values.len()
+        )));
+    }
+    if !(field.cell_m.is_finite() && field.cell_m > 0.0) {
+        return Err(invalid_option("cell_m", "must be > 0"));
+    }
+    for (name, v) in [
+        ("yaw_step_rad", window.yaw_step_rad),
+        ("prior_xy_m", window.prior_xy_m),
+        ("prior_yaw_rad", window.prior_yaw_rad),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(invalid_option(name, format!("must be > 0, got {v}")));
+        }
+    }
+    let side = 2 * window.xy_steps as u64 + 1;
+    let work = side * side * (2 * window.yaw_steps as u64 + 1) * points.len() as u64;
+    if work > MAX_EVALUATIONS {
+        return Err(invalid_option(
+            "window",
+            format!("{work} evaluations > {MAX_EVALUATIONS}"),
+        ));
+    }
+    if !(prior.x.is_finite() && prior.y.is_finite() && prior.yaw.is_finite()) {
+        return Err(Error::InvalidGeometry("prior pose not finite".into()));
+    }
+    let mut best = SearchResult {
+        pose: prior,
+        mean: 0.0,
+        score: -1.0,
+    };
+    if points.is_empty() {
+        best.score = 0.0;
+        return Ok(best);
+    }
+    let s = window.xy_steps as i64;
+    let (w, h) = (field.width as i64, field.height as i64);
+    let inv_n = 1.0 / points.len() as f64;
+    let mut cells: Vec<(i64, i64)> = Vec::with_capacity(points.len());
+    for ky in -(window.yaw_steps as i64)..=(window.yaw_steps as i64) {
+        let dyaw = ky as f64 * window.yaw_step_rad;
+        let yaw = prior.yaw + dyaw;
+        let (sn, cs) = yaw.sin_cos();
+        cells.clear();
+        for p in points {
+            let wx = prior.x + cs * p[0] - sn * p[1];
+            let wy = prior.y + sn * p[0] + cs * p[1];
+            let fi = ((wx - field.origin_m.0) / field.cell_m).floor();
+            let fj = ((wy - field.origin_m.1) / field.cell_m).floor();
+            if fi.is_finite() && fj.is_finite() && fi.abs() < 1e15 && fj.abs() < 1e15 {
+                cells.push((fi as i64, fj as i64));
+            }
+        }
+        let yaw_prior = (-(dyaw / window.prior_yaw_rad).powi(2)).exp();
+        for ty in -s..=s {
+            for tx in -s..=s {
+                let mut sum = 0.0f64;
+                for &(i, j) in &cells {
+                    let (ii, jj) = (i + tx, j + ty);
+                    if ii >= 0 && jj >= 0 && ii < w && jj < h {
+                        sum += field.values[(jj * w + ii) as usize] as f64;
+                    }
+                }
+                let mean = sum * inv_n;
+                let t = ((tx * tx + ty * ty) as f64).sqrt() * field.cell_m;
+                let score = mean * (-(t / window.prior_xy_m).powi(2)).exp() * yaw_prior;
+                if score > best.score {
+                    best = SearchResult {
+                        pose: Pose2::new(
+                            prior.x + tx as f64 * field.cell_m,
+                            prior.y + ty as f64 * field.cell_m,
+                            yaw,
+                        ),
+                        mean,
+                        score,
+                    };
+                }
+            }
+        }
+    }
+    Ok(best)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CELL: f64 = 0.05;
+
+    /// A field of 1 on the cells of an L of walls (x = 1 m and y = 1 m, within 0..2 m), 0
+    /// elsewhere, 40 x 40 cells from the origin.
+    fn l_field() -> Vec<f32> {
+        let mut v = vec![0.0f32; 40 * 40];
+        for k in 0..40 {
+            v[k * 40 + 20] = 1.0; // x = 1.0..1.05
+            v[20 * 40 + k] = 1.0; // y = 1.0..1.05
+        }
+        v
+    }
+
+    fn window() -> SearchWindow {
+        SearchWindow {
+            xy_steps: 4,
+            yaw_steps: 5,
+            yaw_step_rad: 0.01,
+            prior_xy_m: 1.0,
+            prior_yaw_rad: 1.0,
+        }
+    }
+
+    #[test]
+    fn recovers_a_shifted_pose_of_an_l_shaped_scan() {
+        let values = l_field();
+        let field = Field {
+            values: &values,
+            width: 40,
+            height: 40,
+            origin_m: (0.0, 0.0),
+            cell_m: CELL,
+        };
+        // the robot truly at (0.4, 0.3, 0): points on both walls, in its frame
+        let truth = Pose2::new(0.4, 0.3, 0.0);
+        let mut pts = Vec::new();
+        for k in 0..30 {
+            let y = 0.0 + 0.05 * k as f64 + 0.025;
+            pts.push([1.025 - truth.x, y - truth.y]);
+            pts.push([y - truth.x, 1.025 - truth.y]);
+        }
+        let prior = Pose2::new(0.4 + 3.0 * CELL, 0.3 - 2.0 * CELL, 0.0);
+        let r = search(&field, &pts, prior, &window()).unwrap();
+        assert!((r.pose.x - truth.x).abs() < 1e-9 && (r.pose.y - truth.y).abs() < 1e-9);
+        assert!(r.pose.yaw.abs() < 1e-12);
+        assert!((r.mean - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_score_is_the_mean_of_the_field_times_the_prior() {
+        let values = vec![0.5f32; 16];
+        let field = Field {
+            values: &values,
+            width: 4,
+            height: 4,
+            origin_m: (0.0, 0.0),
+            cell_m: 1.0,
+        };
+        let r = search(
+            &field,
+            &[[0.0, 0.0], [10.0, 10.0]],
+            Pose2::new(1.5, 1.5, 0.0),
+            &window(),
+        );
+        let r = r.unwrap();
+        // one point on the field (0.5), one off it (0): the unshifted pose wins by its prior
+        assert!((r.mean - 0.25).abs() < 1e-12 && r.pose == Pose2::new(1.5, 1.5, 0.0));
+    }
+
+    #[test]
+    fn bad_arguments_are_errors() {
+        let values = vec![0.0f32; 3];
+        let field = Field {
+            values: &values,
+            width: 2,
+            height: 2,
+            origin_m: (0.0, 0.0),
+            cell_m: 1.0,
+        };
+        assert!(search(&field, &[], Pose2::IDENTITY, &window()).is_err());
+        let values = vec![0.0f32; 4];
+        let field = Field {
+            values: &values,
+            ..field
+        };
+        let mut w = window();
+        w.yaw_step_rad = 0.0;
+        assert!(search(&field, &[], Pose2::IDENTITY, &w).is_err());
+        w = window();
+        w.xy_steps = 100_000;
+        assert!(search(&field, &[[0.0, 0.0]], Pose2::IDENTITY, &w).is_err());
+        assert!(search(&field, &[], Pose2::new(f64::NAN, 0.0, 0.0), &window()).is_err());
+    }
+}
