@@ -90,3 +90,29 @@ def test_a_scan_unlike_the_map_is_refused():
 def test_options_are_validated(kwargs):
     with pytest.raises(OptionError):
         ScanMatcherOptions(**kwargs)
+
+
+def test_only_points_the_map_does_not_explain_are_stored():
+    m = ScanMatcher()
+    wall = np.stack([np.linspace(-1, 1, 41), np.full(41, 1.0)], 1)
+    assert m.insert(wall, (0.0, 0.0, 0.0)) > 0
+    before = m.hits.copy()
+    # the same wall seen 3 cm off (within novelty_m) adds nothing; a new wall 1 m away is kept
+    assert m.insert(wall, (0.0, 0.03, 0.0), novel_only=True) == 0
+    assert np.array_equal(m.hits, before)
+    other = np.stack([np.full(21, 2.0), np.linspace(-0.5, 0.5, 21)], 1)
+    assert m.insert(other, (0.0, 0.0, 0.0), novel_only=True) == 21
+
+
+def test_a_drifted_return_is_pulled_back_to_the_first_view():
+    """Frames seen from a pose whose heading drifts by 0.01 rad per frame: matched against a
+    map that keeps the first view, the heading error does not grow."""
+    m = ScanMatcher(center=(2, 1.5))
+    truth = (1.5, 1.2, 0.3)
+    m.correct(_room_scan(truth), truth)
+    estimate = truth
+    for _ in range(12):
+        # odometry says the robot turned 0.01 rad more than it did, each frame
+        estimate = (estimate[0], estimate[1], estimate[2] + 0.01)
+        estimate = m.correct(_room_scan(truth), estimate).pose
+    assert abs(estimate[2] - truth[2]) <= m.options.yaw_step_rad

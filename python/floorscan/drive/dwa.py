@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -44,6 +44,12 @@ class DwaOptions:
       at 10 Hz control); ``vth_samples``: default 21 (20, made odd so omega = 0 is a sample).
     - ``path_distance_bias``: 32; ``goal_distance_bias``: 24; ``occdist_scale``: 0.01;
       ``forward_point_distance_m``: 0.325.
+    - ``blind_radius_m``: beyond this distance [m] from the robot a roll-out may not enter a
+      cell the map has no evidence for (given ``unknown``): a camera sees a 136-degree wedge,
+      so an arc into unseen floor may hide an obstacle beside the robot; the robot turns to
+      look first. Within it (the footprint and the floor just ahead that the camera cannot
+      see) unknown cells are allowed. Default 0.35 (0.18 m radius plus the strip before the
+      camera's nearest visible floor).
     """
 
     max_speed_m_s: float = 0.3
@@ -58,6 +64,7 @@ class DwaOptions:
     goal_distance_bias: float = 24.0
     occdist_scale: float = 0.01
     forward_point_distance_m: float = 0.325
+    blind_radius_m: float = 0.35
 
     def __post_init__(self) -> None:
         for name, v in self.__dict__.items():
@@ -79,8 +86,10 @@ def choose_velocity(
     goal_xy,
     dt_s: float,
     options: DwaOptions,
+    unknown: Optional[np.ndarray] = None,
 ) -> Tuple[float, float, bool]:
-    """(v [m/s], omega [rad/s], admissible) for the next control period ``dt_s`` [s]."""
+    """(v [m/s], omega [rad/s], admissible) for the next control period ``dt_s`` [s].
+    ``unknown``: (H, W) bool, the cells without evidence (see ``blind_radius_m``)."""
     o = options
     v0, w0 = velocity
     vs = np.linspace(
@@ -118,6 +127,11 @@ def choose_velocity(
     c[inside] = cost[cj[inside], ci[inside]]
     worst = c.max(axis=1)
     ok = worst < INSCRIBED
+    if unknown is not None:
+        beyond = np.hypot(xs - x0, ys - y0) > o.blind_radius_m
+        unseen = np.zeros(xs.shape, bool)
+        unseen[inside] = unknown[cj[inside], ci[inside]]
+        ok &= ~(unseen & beyond).any(axis=1)
     ex, ey, eth = xs[:, -1], ys[:, -1], th[:, -1]
     fx = ex + o.forward_point_distance_m * np.cos(eth)
     fy = ey + o.forward_point_distance_m * np.sin(eth)

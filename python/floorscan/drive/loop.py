@@ -286,6 +286,7 @@ def drive(
             budget = o.waypoint_timeout_s + 3 * math.dist(goal, odo_pose[:2]) / o.speed_m_s
         # --- plan ---------------------------------------------------------------------
         cost = inflate(amap.occupied(), amap.cell, o.costmap)
+        known = np.abs(amap.log_odds) >= 0.05
         if nav is None or k % o.replan_every == 0:
             tp = time.perf_counter()
             nav = navigation_function(
@@ -294,7 +295,7 @@ def drive(
                 amap.origin_m,
                 goal,
                 o.costmap,
-                known=np.abs(amap.log_odds) >= 0.05,
+                known=known,
             )
             rec.plan_s.append(time.perf_counter() - tp)
         if backup > 0:
@@ -302,7 +303,16 @@ def drive(
             v, w = -0.1, 0.0
         else:
             v, w, _ = choose_velocity(
-                odo_pose, velocity, cost, amap.origin_m, amap.cell, nav, goal, dt, dwa
+                odo_pose,
+                velocity,
+                cost,
+                amap.origin_m,
+                amap.cell,
+                nav,
+                goal,
+                dt,
+                dwa,
+                unknown=~known,
             )
         rec.step_s.append(time.perf_counter() - t0)
         rec.commands.append((v, w))

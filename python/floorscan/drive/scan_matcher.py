@@ -8,7 +8,11 @@ the odometry pose (translations on the grid's cells, yaws in fixed steps); each 
 the mean of a likelihood field (exp(-d^2 / 2 sigma^2), d the distance to the nearest hit in
 the map) at the points, times a prior exp(-(|t| / sigma_t)^2 - (theta / sigma_theta)^2) that
 keeps the pose near odometry where the scan does not decide (a corridor's length). The best
-pose is kept when enough points score; then the scan's points join the map at that pose.
+pose is kept when enough points score; then the scan's points that the map does not already
+explain (no stored hit within ``novelty_m``) join the map at that pose. Storing only what is
+new keeps the map as it was first seen: a robot that comes back with drifted odometry matches
+the walls as they were, not its own latest, drifted copies of them (which would let the error
+stay, as a matcher against its last few frames does).
 
 Odometry's heading error grows with the square root of the distance travelled (wheel noise)
 and turns it into metres of position error; matching against walls seen before keeps the
@@ -37,7 +41,8 @@ class ScanMatcherOptions:
     - ``sigma_m``: width of the likelihood field [m], > 0. Default 0.05 (the camera's
       boundary error within 2 m; EVALUATION.md).
     - ``search_xy_m``, ``search_yaw_rad``: half-widths of the search window. Defaults 0.15 m
-      and 0.08 rad (several frames of odometry error at 0.8 m/s).
+      and 0.15 rad (odometry's heading error over a room's excursion: the wheelbase error alone
+      is 0.06 rad per half turn).
     - ``yaw_step_rad``: default 0.01 (2.5 cm at 2.5 m, one cell).
     - ``prior_xy_m``, ``prior_yaw_rad``: widths of the odometry prior. Defaults 0.3 m and
       0.3 rad (weak: a wall seen before wins, a featureless view keeps odometry).
@@ -46,19 +51,22 @@ class ScanMatcherOptions:
       Default 0.35 (about half the points within 7 cm of a stored hit).
     - ``range_max_m``: points farther than this are ignored [m]. Default 3.0 (the ranger's
       range; boundaries beyond it are a footprint of a pixel row apart).
+    - ``novelty_m``: a scan point joins the map only when no stored hit lies within this
+      distance [m] of it, in [0, 1]; 0 stores every point. Default 0.1 (2 sigma).
     """
 
     size_m: float = 80.0
     cell_size_m: float = 0.025
     sigma_m: float = 0.05
     search_xy_m: float = 0.15
-    search_yaw_rad: float = 0.08
+    search_yaw_rad: float = 0.15
     yaw_step_rad: float = 0.01
     prior_xy_m: float = 0.3
     prior_yaw_rad: float = 0.3
     min_points: int = 15
     min_score: float = 0.35
     range_max_m: float = 3.0
+    novelty_m: float = 0.1
 
     def __post_init__(self) -> None:
         checks = {
@@ -73,6 +81,7 @@ class ScanMatcherOptions:
             "min_points": int(self.min_points) >= 3,
             "min_score": 0 < self.min_score < 1,
             "range_max_m": 0 < self.range_max_m <= 100,
+            "novelty_m": 0 <= self.novelty_m <= 1,
         }
         for name, ok in checks.items():
             if not (ok and math.isfinite(float(getattr(self, name)))):
@@ -164,9 +173,10 @@ class ScanMatcher:
             return MatchResult(prior, mean, False, len(pts))
         return MatchResult(pose, mean, True, len(pts))
 
-    def insert(self, points_robot: np.ndarray, pose) -> None:
+    def insert(self, points_robot: np.ndarray, pose, *, novel_only: bool = False) -> int:
         """Adds the points [m, robot frame] seen from ``pose`` to the map (counts saturate
-        at 255)."""
+        at 255); ``novel_only``: only those without a stored hit within ``novelty_m``.
+        Returns how many were stored."""
         o = self.options
         pts = np.asarray(points_robot, np.float64).reshape(-1, 2)
         pts = pts[np.all(np.isfinite(pts), axis=1)]
@@ -176,14 +186,26 @@ class ScanMatcher:
             pose[0] + c * pts[:, 0] - s * pts[:, 1], pose[1] + s * pts[:, 0] + c * pts[:, 1]
         )
         ok = (i >= 0) & (i < self.n) & (j >= 0) & (j < self.n)
-        flat, counts = np.unique(j[ok] * self.n + i[ok], return_counts=True)
+        i, j = i[ok], j[ok]
+        r = int(math.floor(o.novelty_m / self.cell))
+        if novel_only and self.frames > 0 and r > 0 and len(i):
+            d = np.arange(-r, r + 1)
+            di, dj = (a.ravel() for a in np.meshgrid(d, d))
+            disc = di * di + dj * dj <= r * r
+            di, dj = di[disc], dj[disc]
+            ni = np.clip(i[:, None] + di[None, :], 0, self.n - 1)
+            nj = np.clip(j[:, None] + dj[None, :], 0, self.n - 1)
+            new = ~(self.hits[nj, ni] > 0).any(axis=1)
+            i, j = i[new], j[new]
+        flat, counts = np.unique(j * self.n + i, return_counts=True)
         view = self.hits.reshape(-1)
         view[flat] = np.minimum(view[flat].astype(np.int64) + counts, 255).astype(np.uint8)
         self.frames += 1
+        return len(i)
 
     def correct(self, points_robot: np.ndarray, prior) -> MatchResult:
-        """Matches the scan near ``prior``, then stores it at the pose found (or at the prior
-        when the match is refused)."""
+        """Matches the scan near ``prior``, then stores what it shows that the map does not
+        hold yet, at the pose found (or at the prior when the match is refused)."""
         result = self.match(points_robot, prior)
-        self.insert(points_robot, result.pose)
+        self.insert(points_robot, result.pose, novel_only=True)
         return result
