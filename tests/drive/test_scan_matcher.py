@@ -116,3 +116,13 @@ def test_a_drifted_return_is_pulled_back_to_the_first_view():
         estimate = (estimate[0], estimate[1], estimate[2] + 0.01)
         estimate = m.correct(_room_scan(truth), estimate).pose
     assert abs(estimate[2] - truth[2]) <= m.options.yaw_step_rad
+
+
+def test_the_cached_field_with_new_hits_stamped_equals_a_fresh_field():
+    m = ScanMatcher(center=(2, 1.5))
+    m.insert(_room_scan((1.5, 1.2, 0.3)), (1.5, 1.2, 0.3))
+    cached, i0, j0 = m._cached_field(1.5, 1.2, 3.3)
+    m.insert(_room_scan((2.5, 1.0, 2.0)), (2.6, 1.1, 2.05))  # a shifted copy: new hits
+    fresh, f0, g0 = m._field(1.5, 1.2, 3.3 + 1.0)
+    assert (i0, j0) == (f0, g0)
+    assert np.abs(m._cache[0] - fresh).max() < 1e-5

@@ -24,12 +24,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 
 from .._native.drive import correlative_search
 from ..errors import OptionError
+
+CACHE_MARGIN_M = 1.0
+"""The likelihood field is computed this much [m] beyond what one match needs, and reused
+(new hits stamped into it) while the robot stays within it."""
+STAMP_SIGMAS = 3.0
+"""The field is 0 beyond this many sigmas from every hit (exp(-4.5) = 0.011)."""
 
 
 @dataclass(frozen=True)
@@ -51,6 +57,9 @@ class ScanMatcherOptions:
       Default 0.35 (about half the points within 7 cm of a stored hit).
     - ``range_max_m``: points farther than this are ignored [m]. Default 3.0 (the ranger's
       range; boundaries beyond it are a footprint of a pixel row apart).
+    - ``max_points``: at most this many points, evenly spaced along the scan, are matched
+      (>= ``min_points``). Default 100 (every column of 160 adds little: neighbours see the
+      same wall).
     - ``novelty_m``: a scan point joins the map only when no stored hit lies within this
       distance [m] of it, in [0, 1]; 0 stores every point. Default 0.1 (2 sigma).
     """
@@ -67,6 +76,7 @@ class ScanMatcherOptions:
     min_score: float = 0.35
     range_max_m: float = 3.0
     novelty_m: float = 0.1
+    max_points: int = 100
 
     def __post_init__(self) -> None:
         checks = {
@@ -82,6 +92,7 @@ class ScanMatcherOptions:
             "min_score": 0 < self.min_score < 1,
             "range_max_m": 0 < self.range_max_m <= 100,
             "novelty_m": 0 <= self.novelty_m <= 1,
+            "max_points": int(self.min_points) <= int(self.max_points) <= 100_000,
         }
         for name, ok in checks.items():
             if not (ok and math.isfinite(float(getattr(self, name)))):
@@ -116,6 +127,9 @@ class ScanMatcher:
         )
         self.hits = np.zeros((self.n, self.n), np.uint8)
         self.frames = 0
+        # the last likelihood field (field, i0, j0), reused while the robot stays within it;
+        # newly stored hits are stamped into it
+        self._cache: Optional[Tuple[np.ndarray, int, int]] = None
 
     def _cells(self, x, y):
         i = np.floor((np.asarray(x) - self.origin_m[0]) / self.cell).astype(np.int64)
@@ -137,9 +151,48 @@ class ScanMatcher:
         if not crop.any():
             return np.zeros(crop.shape, np.float32), i0, j0
         free = np.where(crop > 0, 0, 255).astype(np.uint8)
-        d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * self.cell
+        d = cv2.distanceTransform(free, cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * self.cell
         s = self.options.sigma_m
-        return np.exp(-0.5 * (d / s) ** 2).astype(np.float32), i0, j0
+        field = np.exp(-0.5 * (d / s) ** 2).astype(np.float32)
+        field[d > STAMP_SIGMAS * s] = 0.0
+        return field, i0, j0
+
+    def _stamp(self, i: np.ndarray, j: np.ndarray) -> None:
+        """Raises the cached field around newly stored hits (cells i, j) to each one's
+        Gaussian: the field is the largest Gaussian of the hits, so this equals a field
+        computed afresh."""
+        if self._cache is None or len(i) == 0:
+            return
+        field, i0, j0 = self._cache
+        h, w = field.shape
+        s = self.options.sigma_m
+        r = int(math.floor(STAMP_SIGMAS * s / self.cell))
+        d = np.arange(-r, r + 1)
+        di, dj = (a.ravel() for a in np.meshgrid(d, d))
+        dist = np.hypot(di, dj) * self.cell
+        keep = dist <= STAMP_SIGMAS * s
+        di, dj = di[keep], dj[keep]
+        val = np.exp(-0.5 * (dist[keep] / s) ** 2).astype(np.float32)
+        ii = (i - i0)[:, None] + di[None, :]
+        jj = (j - j0)[:, None] + dj[None, :]
+        inside = (ii >= 0) & (ii < w) & (jj >= 0) & (jj < h)
+        vals = np.broadcast_to(val[None, :], ii.shape)
+        np.maximum.at(field, (jj[inside], ii[inside]), vals[inside])
+
+    def _cached_field(self, x0: float, y0: float, half_m: float):
+        """The field over at least ``half_m`` around (x0, y0): the cached one when it covers
+        that square, else a new one ``CACHE_MARGIN_M`` larger."""
+        ci, cj = self._cells(x0, y0)
+        r = int(math.ceil(half_m / self.cell))
+        if self._cache is not None:
+            field, i0, j0 = self._cache
+            h, w = field.shape
+            lo_i, lo_j = max(0, int(ci) - r), max(0, int(cj) - r)
+            hi_i, hi_j = min(self.n, int(ci) + r + 1), min(self.n, int(cj) + r + 1)
+            if i0 <= lo_i and j0 <= lo_j and hi_i <= i0 + w and hi_j <= j0 + h:
+                return self._cache
+        self._cache = self._field(x0, y0, half_m + CACHE_MARGIN_M)
+        return self._cache
 
     def match(self, points_robot: np.ndarray, prior) -> MatchResult:
         """The best pose for ``points_robot`` (N, 2) [m, robot frame] near ``prior``
@@ -151,8 +204,10 @@ class ScanMatcher:
         pts = pts[np.hypot(pts[:, 0], pts[:, 1]) <= o.range_max_m]
         if len(pts) < o.min_points or self.frames == 0:
             return MatchResult(prior, 0.0, False, len(pts))
+        if len(pts) > o.max_points:
+            pts = pts[np.linspace(0, len(pts) - 1, int(o.max_points)).round().astype(np.int64)]
         half = o.range_max_m + o.search_xy_m + 3 * o.sigma_m
-        field, i0, j0 = self._field(prior[0], prior[1], half)
+        field, i0, j0 = self._cached_field(prior[0], prior[1], half)
         if field.size == 0 or not field.any():
             return MatchResult(prior, 0.0, False, len(pts))
         origin = (self.origin_m[0] + i0 * self.cell, self.origin_m[1] + j0 * self.cell)
@@ -197,6 +252,7 @@ class ScanMatcher:
             nj = np.clip(j[:, None] + dj[None, :], 0, self.n - 1)
             new = ~(self.hits[nj, ni] > 0).any(axis=1)
             i, j = i[new], j[new]
+        self._stamp(i, j)
         flat, counts = np.unique(j * self.n + i, return_counts=True)
         view = self.hits.reshape(-1)
         view[flat] = np.minimum(view[flat].astype(np.int64) + counts, 255).astype(np.uint8)
