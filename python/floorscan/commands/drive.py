@@ -10,6 +10,7 @@ import sys
 from ..drive import DriveOptions, drive
 from ..drive.obstacles import with_obstacles
 from ..drive.suite import run_suite
+from ..pipeline.config import Config
 from ..sim import World
 
 
@@ -46,6 +47,10 @@ def register(sub) -> None:
     p.add_argument(
         "--obstacles", action="store_true", help="place boxes, chairs, tables and bins on the route"
     )
+    p.add_argument(
+        "--config",
+        help="configuration TOML: its [ranger] and [appearance] tables make the range sensor",
+    )
     p.add_argument("--no-gif", action="store_true", help="leave out drive.gif")
     p.add_argument(
         "--no-scan-matching",
@@ -64,6 +69,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    config = Config.load(args.config) if args.config else None
     if args.suite:
         seconds = args.seconds if args.seconds != 600.0 else 150.0
         kw = {"worlds": args.world} if args.world else {}
@@ -73,6 +79,7 @@ def run(args: argparse.Namespace) -> int:
             seconds=seconds,
             table=args.table,
             scan_matching=not args.no_scan_matching,
+            config=config,
             **kw,
         )
         print(open(f"{args.out}/suite.md").read())
@@ -93,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
         keep_frames=0 if args.no_gif else 5,
         scan_matching=not args.no_scan_matching,
     )
-    result = drive(world, options)
+    result = drive(world, options, config=config)
     result.write(args.out, gif=not args.no_gif)
     s = result.summary()
     s.pop("waypoints")

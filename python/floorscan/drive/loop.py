@@ -8,14 +8,15 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, List, Sequence
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, List, Optional, Sequence
 
 import numpy as np
 
 from ..calibration import calibrate
 from ..errors import OptionError
-from ..ranging.ranger import VisualRanger
+from ..pipeline.config import Config
+from ..pipeline.mapper import ranger_from_config
 from ..sim import Camera, Robot, render_calibration, render_image
 from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
 from .costmap import CostmapOptions, inflate, navigation_function
@@ -54,6 +55,7 @@ class DriveOptions:
     - ``replan_every``: frames between navigation-function updates. Default 5.
     - ``keep_frames``: keep camera images and map views for a GIF every this many frames
       (0: none). Default 5.
+    - ``dwa``: the dynamic window's options; its ``max_speed_m_s`` is ``speed_m_s``.
     - ``scan_matching``: correct the odometry pose by matching each scan against the
       robot's own persistent map (:class:`~floorscan.drive.scan_matcher.ScanMatcher`);
       the pose the robot plans, maps and judges its waypoints with. Default True; False
@@ -75,6 +77,7 @@ class DriveOptions:
     keep_frames: int = 5
     scan_matching: bool = True
     matcher: ScanMatcherOptions = field(default_factory=ScanMatcherOptions)
+    dwa: DwaOptions = field(default_factory=DwaOptions)
     map: AvoidanceMapOptions = field(default_factory=AvoidanceMapOptions)
     costmap: CostmapOptions = field(default_factory=CostmapOptions)
     model: VisualSensorModel = field(default_factory=VisualSensorModel)
@@ -186,12 +189,16 @@ def drive(
     waypoints=None,
     changes=None,
     table=None,
+    config: Optional[Config] = None,
 ) -> DriveResult:
     """Drives the world's tour once (or ``waypoints`` (K, 2) [m, world frame]) in closed loop.
 
     ``changes``: optional list of (time [s], World) switching the world the robot moves in
     (a moved or removed obstacle); contact and the laser always use the current one.
-    ``table``: a ready ground table (skips calibration). Returns a :class:`DriveResult`.
+    ``table``: a ready ground table (skips calibration). ``config``: a
+    :class:`~floorscan.pipeline.config.Config` whose ``[ranger]`` (and ``[appearance]``)
+    tables make the range sensor, as for ``floorscan run`` (its ``columns`` give way to
+    ``options.columns``). Returns a :class:`DriveResult`.
     """
     o = options
     camera = camera or Camera()
@@ -209,7 +216,7 @@ def drive(
     ranger = None
     if o.sensor == "camera":
         table = table if table is not None else make_table(camera, o.table)
-        ranger = VisualRanger(table, columns=int(o.columns))
+        ranger = ranger_from_config(table, config or Config(), columns=int(o.columns))
     angles = np.linspace(-o.laser_fov_rad / 2, o.laser_fov_rad / 2, int(o.laser_beams))
     true_pose = tuple(world.start)
     # the robot's pose estimate: odometry (its frame starts at the true start pose),
@@ -218,11 +225,9 @@ def drive(
     matcher = ScanMatcher(o.matcher, center=odo_pose[:2]) if o.scan_matching else None
     map_options = o.map
     if o.sensor == "laser":  # the laser's evidence is read as it is (no visual calibration)
-        from dataclasses import replace
-
         map_options = replace(o.map, probability_scale=1.0, probability_offset=0.0)
     amap = AvoidanceMap(map_options, center=odo_pose[:2])
-    dwa = DwaOptions(max_speed_m_s=o.speed_m_s)
+    dwa = replace(o.dwa, max_speed_m_s=o.speed_m_s)
     rec = DriveRecord()
     velocity = (0.0, 0.0)
     target, target_since = 0, 0.0

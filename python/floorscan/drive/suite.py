@@ -32,10 +32,12 @@ def run_suite(
     seconds: float = 150.0,
     table: str = "exact",
     scan_matching: bool = True,
+    config=None,
     progress=print,
 ) -> List[Dict]:
     """Runs every (world, speed, seed, sensor) for at most ``seconds`` [s] each (``worlds``:
-    built-in names or world files); writes
+    built-in names or world files; ``config``: the range sensor's configuration, see
+    :func:`~floorscan.drive.drive`); writes
     ``suite.json`` and ``suite.md`` into ``out`` and returns the rows."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -58,7 +60,9 @@ def run_suite(
                         keep_frames=0,
                         scan_matching=scan_matching,
                     )
-                    s = drive(world, o, camera=camera, table=tbl, waypoints=tour).summary()
+                    s = drive(
+                        world, o, camera=camera, table=tbl, waypoints=tour, config=config
+                    ).summary()
                     s.pop("waypoints")
                     s["obstacles"] = placed
                     rows.append(s)
