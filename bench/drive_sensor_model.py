@@ -14,6 +14,7 @@ import numpy as np
 from floorscan.drive import AvoidanceMapOptions, VisualSensorModel, make_table
 from floorscan.drive.sensor_fit import (
     fit_probability_calibration,
+    fit_probability_knots,
     fit_sensor_model,
     fused_map,
     log_loss,
@@ -137,15 +138,22 @@ def main() -> None:
     cases = (
         ("default_raw", VisualSensorModel(), False),
         ("default", VisualSensorModel(), True),
+        ("default_isotonic", VisualSensorModel(), "isotonic"),
         ("fitted", fitted, True),
         ("octomap_constant", constant, False),
     )
     for name, m, calibrate_output in cases:
-        if calibrate_output:
+        knots = None
+        if calibrate_output == "isotonic":
+            scale, offset = 1.0, 0.0
+            knots = fit_probability_knots(train, table, m)
+        elif calibrate_output:
             scale, offset = fit_probability_calibration(train, table, m)
         else:
             scale, offset = 1.0, 0.0
-        mo = AvoidanceMapOptions(probability_scale=scale, probability_offset=offset)
+        mo = AvoidanceMapOptions(
+            probability_scale=scale, probability_offset=offset, probability_knots=knots
+        )
         fm = fused_map(test, table, m, map_options=mo)
         frames = frames_to_reliable_view(test, table, m, starts, map_options=mo)
         finite = sorted(f if f is not None else 99 for f in frames)
@@ -154,6 +162,7 @@ def main() -> None:
             "model": m.as_dict(),
             "probability_scale": scale,
             "probability_offset": offset,
+            "probability_knots": knots,
             "reliability": rel,
             "max_gap_points": max(100 * abs(r["predicted"] - r["observed"]) for r in rel),
             "log_loss": log_loss(fm, raster),

@@ -47,6 +47,11 @@ class AvoidanceMapOptions:
       (successive frames are correlated, so summed evidence overstates certainty). Defaults
       0.612 / -1.581, fitted by ``bench/drive_sensor_model.py`` on the corridor and room
       (EVALUATION.md); (1, 0) reads the log odds as they are (the laser robot).
+    - ``probability_knots``: instead of the Platt curve, a monotone calibration: knots
+      ((log_odds, probability), ...) with increasing log odds and non-decreasing
+      probabilities in [0, 1], interpolated linearly (constant beyond the ends); fitted by
+      isotonic regression (:func:`~floorscan.drive.sensor_fit.fit_probability_knots`).
+      Default None (Platt).
     """
 
     size_m: float = 8.0
@@ -59,6 +64,7 @@ class AvoidanceMapOptions:
     free_threshold: float = field(default_factory=lambda: defaults("grid")["free_threshold"])
     probability_scale: float = 0.612
     probability_offset: float = -1.581
+    probability_knots: Optional[Tuple[Tuple[float, float], ...]] = None
 
     def __post_init__(self) -> None:
         if not 1.0 <= self.size_m <= 100.0:
@@ -76,6 +82,20 @@ class AvoidanceMapOptions:
             raise OptionError(
                 "invalid probability calibration: need 0 < scale <= 10, |offset| <= 10"
             )
+        if self.probability_knots is not None:
+            k = np.asarray(self.probability_knots, np.float64)
+            ok = k.ndim == 2 and k.shape[1] == 2 and 2 <= len(k) <= 1000
+            ok = ok and bool(np.all(np.isfinite(k))) and bool(np.all(np.diff(k[:, 0]) > 0))
+            ok = (
+                ok
+                and bool(np.all(np.diff(k[:, 1]) >= 0))
+                and bool(np.all((k[:, 1] >= 0) & (k[:, 1] <= 1)))
+            )
+            if not ok:
+                raise OptionError(
+                    "invalid option `probability_knots`: need 2-1000 (log_odds, probability) "
+                    "pairs, log odds increasing, probabilities non-decreasing in [0, 1]"
+                )
         if not 0 < self.free_threshold < 0.5 < self.occupied_threshold < 1:
             raise OptionError("invalid thresholds: need 0 < free < 0.5 < occupied < 1")
 
@@ -141,7 +161,13 @@ class AvoidanceMap:
         """Calibrated occupancy probabilities (see ``probability_scale``); cells without
         evidence read logistic(offset)."""
         a, b = self.options.probability_scale, self.options.probability_offset
-        p = 1.0 / (1.0 + np.exp(-(a * self.log_odds.astype(np.float64) + b)))
+        L = self.log_odds.astype(np.float64)
+        knots = self.options.probability_knots
+        if knots is not None:
+            k = np.asarray(knots, np.float64)
+            p = np.interp(L, k[:, 0], k[:, 1])
+        else:
+            p = 1.0 / (1.0 + np.exp(-(a * L + b)))
         p[np.abs(self.log_odds) < _NO_EVIDENCE] = 0.5
         return p
 

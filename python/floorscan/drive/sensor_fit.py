@@ -152,6 +152,12 @@ def log_loss(amap: AvoidanceMap, raster) -> float:
 def fit_probability_calibration(runs, table, model, *, cell_size_m=0.05):
     """Platt scaling: (scale, offset) with P(occupied) = logistic(scale * L + offset) over
     the fused maps' cells with evidence, against the truth."""
+    x, y = _cells_with_evidence(runs, table, model, cell_size_m)
+    b, a = _logistic_fit(x, y)
+    return a, b
+
+
+def _cells_with_evidence(runs, table, model, cell_size_m):
     xs, ys = [], []
     for run in runs:
         raster = run.world.occupancy(resolution_m=cell_size_m)
@@ -160,8 +166,46 @@ def fit_probability_calibration(runs, table, model, *, cell_size_m=0.05):
         sel = (np.abs(m.log_odds) > 0.05) & (truth >= 0)
         xs.append(m.log_odds[sel].astype(np.float64))
         ys.append((truth[sel] == 100).astype(np.float64))
-    b, a = _logistic_fit(np.concatenate(xs), np.concatenate(ys))
-    return a, b
+    return np.concatenate(xs), np.concatenate(ys)
+
+
+def isotonic(x: np.ndarray, y: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Pool-adjacent-violators: the non-decreasing fit of ``y`` (ordered by ``x``, weights
+    ``w``) with the least weighted squared error."""
+    order = np.argsort(x, kind="stable")
+    vals, wts, sizes = [], [], []
+    for v, wt in zip(y[order].tolist(), w[order].tolist()):
+        vals.append(v)
+        wts.append(wt)
+        sizes.append(1)
+        while len(vals) > 1 and vals[-2] > vals[-1]:
+            wsum = wts[-2] + wts[-1]
+            v2 = (vals[-2] * wts[-2] + vals[-1] * wts[-1]) / wsum
+            n2 = sizes[-2] + sizes[-1]
+            del vals[-1], wts[-1], sizes[-1]
+            vals[-1], wts[-1], sizes[-1] = v2, wsum, n2
+    fit = np.repeat(vals, sizes)
+    out = np.empty_like(fit)
+    out[order] = fit
+    return out
+
+
+def fit_probability_knots(runs, table, model, *, bins: int = 24, cell_size_m=0.05):
+    """Isotonic calibration of the fused maps' log odds against the truth: the cells with
+    evidence are grouped into ``bins`` quantile bins of log odds, the bins' occupied
+    frequencies made non-decreasing (pool-adjacent-violators, weighted by cell count); the
+    knots are (mean log odds, calibrated frequency) per bin, for
+    ``AvoidanceMapOptions.probability_knots``."""
+    x, y = _cells_with_evidence(runs, table, model, cell_size_m)
+    edges = np.unique(np.quantile(x, np.linspace(0, 1, bins + 1)))
+    idx = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, len(edges) - 2)
+    n = np.bincount(idx, minlength=len(edges) - 1).astype(np.float64)
+    keep = n > 0
+    mx = np.bincount(idx, weights=x, minlength=len(n))[keep] / n[keep]
+    my = np.bincount(idx, weights=y, minlength=len(n))[keep] / n[keep]
+    fy = isotonic(mx, my, n[keep])
+    mx, fy = np.unique(mx), fy[np.unique(mx, return_index=True)[1]]
+    return tuple((round(float(a), 4), round(float(b), 4)) for a, b in zip(mx, fy))
 
 
 def fit_fusion_weight(
