@@ -1,7 +1,13 @@
 """The closed loop in the simulator: sense (the camera through the ranger, or an ideal laser),
-map (the avoidance map, in the odometry frame), plan (costmap with inflation, navigation
-function, dynamic window), act (the simulator's differential drive with odometry noise), and
-judge (contact between the robot's footprint and any solid, from truth the robot never sees).
+localise (scan matching against the robot's own map), map (the avoidance map, in the
+odometry frame), plan (costmap with inflation, navigation function, dynamic window), act (the
+simulator's differential drive with odometry noise), and judge (contact between the robot's
+footprint and any solid, from truth the robot never sees).
+
+Frames as REP 105 has them: the avoidance map and the planner live in the odometry frame,
+which moves smoothly with the wheels (what the robot saw a moment ago stays where it saw it);
+scan matching estimates ``map_from_odom``, the correction that puts odometry into the world
+frame the waypoints are given in, and the goal is carried into the odometry frame through it.
 """
 
 from __future__ import annotations
@@ -46,8 +52,8 @@ class DriveOptions:
       demo``; the default) or ``"exact"`` (the camera's perfect table).
     - ``columns``: ranger columns, default 160 (every second column of a 320-wide image: a
       2.5 cm chair leg at 1 m spans at least one).
-    - ``goal_tolerance_m``: a waypoint counts as reached (by the robot, from its odometry)
-      within this distance [m]. Default 0.15.
+    - ``goal_tolerance_m``: a waypoint counts as reached (by the robot, from its pose
+      estimate in the world frame) within this distance [m]. Default 0.15.
     - ``waypoint_timeout_s``: the robot gives a waypoint up after 20 s plus three times its
       straight-line travel time. Default 20.
     - ``laser_fov_rad``, ``laser_range_m``, ``laser_beams``: the ideal laser; defaults
@@ -56,10 +62,10 @@ class DriveOptions:
     - ``keep_frames``: keep camera images and map views for a GIF every this many frames
       (0: none). Default 5.
     - ``dwa``: the dynamic window's options; its ``max_speed_m_s`` is ``speed_m_s``.
-    - ``scan_matching``: correct the odometry pose by matching each scan against the
-      robot's own persistent map (:class:`~floorscan.drive.scan_matcher.ScanMatcher`);
-      the pose the robot plans, maps and judges its waypoints with. Default True; False
-      drives on odometry alone.
+    - ``scan_matching``: estimate the robot's pose in the world frame by matching each scan
+      against its own persistent map (:class:`~floorscan.drive.scan_matcher.ScanMatcher`):
+      the correction ``map_from_odom`` carries the waypoints into the odometry frame the
+      avoidance map and the planner work in. Default True; False drives on odometry alone.
     """
 
     speed_m_s: float = 0.3
@@ -107,12 +113,14 @@ class DriveOptions:
 
 @dataclass
 class DriveRecord:
-    """What happened: per frame ``times_s``, true ``poses`` and ``odometry`` (N, 3),
+    """What happened: per frame ``times_s``, true ``poses``, the robot's world-frame pose
+    ``estimates`` and its raw ``odometry`` (N, 3),
     commands (N, 2) and clearance (N,) [m]; contact events; waypoint outcomes; keyframes."""
 
     times_s: List[float] = field(default_factory=list)
     poses: List[Sequence[float]] = field(default_factory=list)
     odometry: List[Sequence[float]] = field(default_factory=list)
+    estimates: List[Sequence[float]] = field(default_factory=list)
     commands: List[Sequence[float]] = field(default_factory=list)
     clearance_m: List[float] = field(default_factory=list)
     contacts: List[dict] = field(default_factory=list)
@@ -125,6 +133,11 @@ class DriveRecord:
 def _compose(a, b):
     c, s = math.cos(a[2]), math.sin(a[2])
     return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
+
+
+def _inverse(a):
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (-c * a[0] - s * a[1], s * a[0] - c * a[1], -a[2])
 
 
 def _between(a, b):
@@ -219,9 +232,11 @@ def drive(
         ranger = ranger_from_config(table, config or Config(), columns=int(o.columns))
     angles = np.linspace(-o.laser_fov_rad / 2, o.laser_fov_rad / 2, int(o.laser_beams))
     true_pose = tuple(world.start)
-    # the robot's pose estimate: odometry (its frame starts at the true start pose),
-    # corrected by scan matching when on
+    # odometry (its frame starts at the true start pose) and the correction into the world
+    # frame that scan matching estimates (REP 105's map -> odom)
     odo_pose = tuple(world.start)
+    map_from_odom = (0.0, 0.0, 0.0)
+    est_pose = odo_pose
     matcher = ScanMatcher(o.matcher, center=odo_pose[:2]) if o.scan_matching else None
     map_options = o.map
     if o.sensor == "laser":  # the laser's evidence is read as it is (no visual calibration)
@@ -244,6 +259,7 @@ def drive(
         rec.times_s.append(t)
         rec.poses.append(true_pose)
         rec.odometry.append(odo_pose)
+        rec.estimates.append(est_pose)
         rec.clearance_m.append(solids.clearance(*true_pose[:2]) - radius)
         if target >= len(tour):
             rec.commands.append((0.0, 0.0))
@@ -258,18 +274,19 @@ def drive(
         if ranger is not None:
             scan = ranger.scan(image, timestamp=t)
             if matcher is not None:
-                odo_pose = matcher.correct(_visual_points(scan, mount), odo_pose).pose
+                est_pose = matcher.correct(_visual_points(scan, mount), est_pose).pose
             amap.insert_visual(scan, odo_pose, mount=mount, table=ranger.table, model=o.model)
         else:
             r = solids.laser(true_pose, angles, range_max_m=o.laser_range_m)
             if matcher is not None:
                 fin = np.isfinite(r)
                 pts = np.stack([r[fin] * np.cos(angles[fin]), r[fin] * np.sin(angles[fin])], 1)
-                odo_pose = matcher.correct(pts, odo_pose).pose
+                est_pose = matcher.correct(pts, est_pose).pose
             amap.insert_laser(r, angles, odo_pose, range_max_m=o.laser_range_m)
-        # --- waypoints (judged by the robot from its odometry) -------------------------
+        map_from_odom = _compose(est_pose, _inverse(odo_pose))
+        # --- waypoints (judged by the robot from its world-frame estimate) -------------
         goal = tuple(tour[target])
-        reached = math.dist(goal, odo_pose[:2]) < o.goal_tolerance_m
+        reached = math.dist(goal, est_pose[:2]) < o.goal_tolerance_m
         if reached or t - target_since > budget:
             rec.waypoints.append(
                 {
@@ -288,8 +305,9 @@ def drive(
                 rec.step_s.append(time.perf_counter() - t0)
                 break
             goal = tuple(tour[target])
-            budget = o.waypoint_timeout_s + 3 * math.dist(goal, odo_pose[:2]) / o.speed_m_s
-        # --- plan ---------------------------------------------------------------------
+            budget = o.waypoint_timeout_s + 3 * math.dist(goal, est_pose[:2]) / o.speed_m_s
+        # --- plan, in the odometry frame (the goal carried there) ----------------------
+        goal_odom = _compose(_inverse(map_from_odom), (goal[0], goal[1], 0.0))[:2]
         cost = inflate(amap.occupied(), amap.cell, o.costmap)
         known = np.abs(amap.log_odds) >= 0.05
         if nav is None or k % o.replan_every == 0:
@@ -298,7 +316,7 @@ def drive(
                 cost,
                 amap.cell,
                 amap.origin_m,
-                goal,
+                goal_odom,
                 o.costmap,
                 known=known,
             )
@@ -314,7 +332,7 @@ def drive(
                 amap.origin_m,
                 amap.cell,
                 nav,
-                goal,
+                goal_odom,
                 dt,
                 dwa,
                 unknown=~known,
@@ -347,6 +365,7 @@ def drive(
         in_contact = False
         true_pose = tuple(float(c) for c in poses[-1])
         odo_pose = _compose(odo_pose, inc)
+        est_pose = _compose(map_from_odom, odo_pose)  # the prediction the next match starts at
         velocity = (v, w)
     for i in range(target, len(tour)):
         rec.waypoints.append(

@@ -33,8 +33,13 @@ class DriveResult:
         dist = float(steps.sum())
         duration = float(r.times_s[-1]) if r.times_s else 0.0
         reached = sum(1 for w in r.waypoints if w["reached"])
+        # the truth's judgement: reached by the robot, and truly within twice its tolerance
+        true_tol = 2.0 * self.options.goal_tolerance_m
+        truly = sum(
+            1 for w in r.waypoints if w["reached"] and (w["true_error_m"] or 0.0) <= true_tol
+        )
         step_ms = 1e3 * np.asarray(r.step_s) if r.step_s else np.zeros(1)
-        est = np.asarray(r.odometry, np.float64).reshape(-1, 3)
+        est = np.asarray(r.estimates, np.float64).reshape(-1, 3)
         est_err = np.hypot(*(est[:, :2] - poses[:, :2]).T) if len(est) else np.zeros(1)
         return {
             "world": self.world.name,
@@ -48,6 +53,8 @@ class DriveResult:
             "duration_s": round(duration, 3),
             "waypoints_reached": reached,
             "waypoints_total": len(r.waypoints),
+            "waypoints_reached_true": truly,
+            "true_tolerance_m": true_tol,
             "tour_done": bool(r.waypoints) and r.waypoints[-1]["time_s"] is not None,
             "min_clearance_m": round(float(min(r.clearance_m)), 4) if r.clearance_m else None,
             "mean_speed_m_s": round(dist / duration, 4) if duration > 0 else 0.0,
