@@ -102,32 +102,42 @@ pub fn search(
     }
     let s = window.xy_steps as i64;
     let (w, h) = (field.width as i64, field.height as i64);
+    // the field inside a border of 2s zero cells: a point within s cells of the field reads
+    // inside the padded field at every shift (no bounds check, no wrap to the next row); a
+    // point farther out reads 0 at every shift and is left out of the sums (not of the mean)
+    let pad = 2 * s;
+    let pw = w + 2 * pad;
+    let mut padded = vec![0.0f32; (pw * (h + 2 * pad)) as usize];
+    for j in 0..h {
+        let src = &field.values[(j * w) as usize..((j + 1) * w) as usize];
+        let at = ((j + pad) * pw + pad) as usize;
+        padded[at..at + w as usize].copy_from_slice(src);
+    }
     let inv_n = 1.0 / points.len() as f64;
-    let mut cells: Vec<(i64, i64)> = Vec::with_capacity(points.len());
+    let mut bases: Vec<i64> = Vec::with_capacity(points.len());
     for ky in -(window.yaw_steps as i64)..=(window.yaw_steps as i64) {
         let dyaw = ky as f64 * window.yaw_step_rad;
         let yaw = prior.yaw + dyaw;
         let (sn, cs) = yaw.sin_cos();
-        cells.clear();
+        bases.clear();
         for p in points {
             let wx = prior.x + cs * p[0] - sn * p[1];
             let wy = prior.y + sn * p[0] + cs * p[1];
             let fi = ((wx - field.origin_m.0) / field.cell_m).floor();
             let fj = ((wy - field.origin_m.1) / field.cell_m).floor();
-            if fi.is_finite() && fj.is_finite() && fi.abs() < 1e15 && fj.abs() < 1e15 {
-                cells.push((fi as i64, fj as i64));
+            let reach = |f: f64, n: i64| f >= -(s as f64) && f < (n + s) as f64;
+            if reach(fi, w) && reach(fj, h) {
+                bases.push((fj as i64 + pad) * pw + fi as i64 + pad);
             }
         }
         let yaw_prior = (-(dyaw / window.prior_yaw_rad).powi(2)).exp();
         for ty in -s..=s {
             for tx in -s..=s {
-                let mut sum = 0.0f64;
-                for &(i, j) in &cells {
-                    let (ii, jj) = (i + tx, j + ty);
-                    if ii >= 0 && jj >= 0 && ii < w && jj < h {
-                        sum += field.values[(jj * w + ii) as usize] as f64;
-                    }
-                }
+                let shift = ty * pw + tx;
+                let sum: f64 = bases
+                    .iter()
+                    .map(|&b| padded[(b + shift) as usize] as f64)
+                    .sum();
                 let mean = sum * inv_n;
                 let t = ((tx * tx + ty * ty) as f64).sqrt() * field.cell_m;
                 let score = mean * (-(t / window.prior_xy_m).powi(2)).exp() * yaw_prior;
@@ -219,6 +229,76 @@ mod tests {
         let r = r.unwrap();
         // one point on the field (0.5), one off it (0): the unshifted pose wins by its prior
         assert!((r.mean - 0.25).abs() < 1e-12 && r.pose == Pose2::new(1.5, 1.5, 0.0));
+    }
+
+    /// The mean field value of `points` at `pose`, read cell by cell with bounds checks.
+    fn mean_at(field: &Field<'_>, points: &[[f64; 2]], pose: Pose2) -> f64 {
+        let (sn, cs) = pose.yaw.sin_cos();
+        let mut sum = 0.0;
+        for p in points {
+            let wx = pose.x + cs * p[0] - sn * p[1];
+            let wy = pose.y + sn * p[0] + cs * p[1];
+            let i = ((wx - field.origin_m.0) / field.cell_m).floor() as i64;
+            let j = ((wy - field.origin_m.1) / field.cell_m).floor() as i64;
+            if i >= 0 && j >= 0 && i < field.width as i64 && j < field.height as i64 {
+                sum += field.values[j as usize * field.width + i as usize] as f64;
+            }
+        }
+        sum / points.len() as f64
+    }
+
+    #[test]
+    fn the_search_finds_the_brute_force_best_on_random_fields_and_points_near_the_edges() {
+        let mut state = 99u64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % 1_000_000) as f64 / 1_000_000.0
+        };
+        for _ in 0..10 {
+            let (w, h) = (23, 17);
+            let values: Vec<f32> = (0..w * h).map(|_| rnd() as f32).collect();
+            let field = Field {
+                values: &values,
+                width: w,
+                height: h,
+                origin_m: (-0.3, 0.2),
+                cell_m: 0.1,
+            };
+            // points around and beyond the field's edges, in the robot frame of the prior
+            let pts: Vec<[f64; 2]> = (0..30)
+                .map(|_| [rnd() * 3.4 - 0.9, rnd() * 2.6 - 0.9])
+                .collect();
+            let prior = Pose2::new(0.2, 0.9, 0.05);
+            let win = SearchWindow {
+                xy_steps: 3,
+                yaw_steps: 2,
+                yaw_step_rad: 0.02,
+                prior_xy_m: 0.5,
+                prior_yaw_rad: 0.5,
+            };
+            let r = search(&field, &pts, prior, &win).unwrap();
+            let mut best = -1.0;
+            for ky in -2..=2 {
+                for ty in -3..=3 {
+                    for tx in -3..=3 {
+                        let dyaw = ky as f64 * 0.02;
+                        let pose =
+                            Pose2::new(0.2 + tx as f64 * 0.1, 0.9 + ty as f64 * 0.1, 0.05 + dyaw);
+                        let t = ((tx * tx + ty * ty) as f64).sqrt() * 0.1;
+                        let score = mean_at(&field, &pts, pose)
+                            * (-(t / 0.5f64).powi(2)).exp()
+                            * (-(dyaw / 0.5f64).powi(2)).exp();
+                        if score > best {
+                            best = score;
+                        }
+                    }
+                }
+            }
+            assert!((r.score - best).abs() < 1e-9, "{} vs {best}", r.score);
+            assert!((mean_at(&field, &pts, r.pose) - r.mean).abs() < 1e-9);
+        }
     }
 
     #[test]
