@@ -177,8 +177,14 @@ class ScanMatcher:
         ii = (i - i0)[:, None] + di[None, :]
         jj = (j - j0)[:, None] + dj[None, :]
         inside = (ii >= 0) & (ii < w) & (jj >= 0) & (jj < h)
-        vals = np.broadcast_to(val[None, :], ii.shape)
-        np.maximum.at(field, (jj[inside], ii[inside]), vals[inside])
+        vals = np.broadcast_to(val[None, :], ii.shape)[inside]
+        flat = (jj[inside] * w + ii[inside]).astype(np.int64)
+        # the largest value per cell without ufunc.at (slow): writes in ascending order of
+        # value, so the last write to a cell, which wins, is its largest
+        order = np.argsort(vals, kind="stable")
+        flat, vals = flat[order], vals[order]
+        view = field.reshape(-1)
+        view[flat] = np.maximum(view[flat], vals)
 
     def _cached_field(self, x0: float, y0: float, half_m: float):
         """The field over at least ``half_m`` around (x0, y0): the cached one when it covers
