@@ -3,6 +3,7 @@
 
 use floorscan_core::Point2;
 
+use crate::cell_memo::CellMemo;
 use crate::clearance::{SectorClear, NO_SOLID};
 use crate::geometry::{point_in_polygon, ray_segment, Aabb};
 use crate::grid_index::{segment_cells, segment_meets_box, CellLists, CellWalk, GridShape};
@@ -100,6 +101,8 @@ pub struct Scene {
     solid_sides: Vec<std::ops::Range<u32>>,
     /// 1 / the grid's cell size [1/m].
     inv_cell_m: f64,
+    /// The grid's (nx, ny) as floats (a conversion per lookup otherwise).
+    extent: (f64, f64),
     /// The world's coverings, prepared for shading (same indices).
     pub coverings: Vec<PreparedCovering>,
 }
@@ -177,6 +180,7 @@ impl Scene {
             solid_bounds,
             coverings: world.coverings.iter().map(|c| c.prepare()).collect(),
             inv_cell_m: 1.0 / shape.cell_m,
+            extent: (shape.nx as f64, shape.ny as f64),
             solid_sides,
             world,
         }
@@ -184,12 +188,23 @@ impl Scene {
 
     /// The floor covering (index into `world.coverings`) at a floor point.
     pub fn covering_at(&self, p: Point2) -> usize {
+        self.covering_cached(p, &mut CellMemo::default())
+    }
+
+    /// [`Self::covering_at`], remembering the last cell of one covering in `memo`.
+    #[inline]
+    pub fn covering_cached(&self, p: Point2, memo: &mut CellMemo<usize>) -> usize {
         let gx = (p.x - self.shape.origin.x) * self.inv_cell_m;
         let gy = (p.y - self.shape.origin.y) * self.inv_cell_m;
-        if gx >= 0.0 && gy >= 0.0 && gx < self.shape.nx as f64 && gy < self.shape.ny as f64 {
+        if let Some(c) = memo.get(gx, gy) {
+            return c;
+        }
+        if gx >= 0.0 && gy >= 0.0 && gx < self.extent.0 && gy < self.extent.1 {
             // In range (checked above): the fast floor is exact.
-            let cell = fast_floor(gy) as usize * self.shape.nx + fast_floor(gx) as usize;
+            let (ix, iy) = (fast_floor(gx), fast_floor(gy));
+            let cell = iy as usize * self.shape.nx + ix as usize;
             if let Ok(c) = usize::try_from(self.cell_covering[cell]) {
+                memo.set(ix, iy, c);
                 return c;
             }
             for &r in self.regions.get(cell).iter().rev() {
