@@ -86,28 +86,16 @@ impl LightMap {
     }
 
     /// [`Self::at`], remembering the corner values of the last cell in `memo`.
-    #[inline]
+    #[inline(always)]
     pub fn at_cached(&self, p: Point2, memo: &mut CellMemo<[f32; 4]>) -> f32 {
         let gx = (p.x - self.origin.x) * self.inv_cell;
         let gy = (p.y - self.origin.y) * self.inv_cell;
         let corners = match memo.get(gx, gy) {
             Some(corners) => corners,
-            None => {
-                if !(gx >= 0.0 && gy >= 0.0 && gx < self.extent.0 && gy < self.extent.1) {
-                    return self.ambient;
-                }
-                // In range (checked above), so the fast floor is exact and non-negative.
-                let (i, j) = (fast_floor(gx), fast_floor(gy));
-                let k = j as usize * self.nx + i as usize;
-                // The cell's two rows of two corners (one bounds check each).
-                let (t, b) = (
-                    &self.values[k..k + 2],
-                    &self.values[k + self.nx..k + self.nx + 2],
-                );
-                let corners = [t[0], t[1], b[0], b[1]];
-                memo.set(i, j, corners);
-                corners
-            }
+            None => match self.enter(gx, gy, memo) {
+                Some(corners) => corners,
+                None => return self.ambient,
+            },
         };
         // The fractions (gx - floor(gx)), (gy - floor(gy)), with the remembered floors.
         let (x0, y0) = memo.corner();
@@ -116,6 +104,26 @@ impl LightMap {
         let top = t0 + (t1 - t0) * fx;
         let bottom = b0 + (b1 - b0) * fx;
         top + (bottom - top) * fy
+    }
+
+    /// The corner values of the cell holding raster coordinates (gx, gy), remembered in `memo`;
+    /// None outside the raster (out of line: the rarer path).
+    #[inline(never)]
+    fn enter(&self, gx: f64, gy: f64, memo: &mut CellMemo<[f32; 4]>) -> Option<[f32; 4]> {
+        if !(gx >= 0.0 && gy >= 0.0 && gx < self.extent.0 && gy < self.extent.1) {
+            return None;
+        }
+        // In range (checked above), so the fast floor is exact and non-negative.
+        let (i, j) = (fast_floor(gx), fast_floor(gy));
+        let k = j as usize * self.nx + i as usize;
+        // The cell's two rows of two corners (one bounds check each).
+        let (t, b) = (
+            &self.values[k..k + 2],
+            &self.values[k + self.nx..k + self.nx + 2],
+        );
+        let corners = [t[0], t[1], b[0], b[1]];
+        memo.set(i, j, corners);
+        Some(corners)
     }
 }
 
