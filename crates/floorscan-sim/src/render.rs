@@ -11,7 +11,7 @@ use crate::camera::{CameraPlacement, CameraRays};
 use crate::clearance::{sector_of, Clearance};
 use crate::error::{invalid_option, Result};
 use crate::rng::{derive_seed, Rng};
-use crate::scene::Scene;
+use crate::scene::{Scene, Surface};
 use crate::shade::{shade, ShadeCache, ID_NOTHING};
 use crate::truth::PixelLabel;
 
@@ -60,6 +60,7 @@ pub fn render_into(
     // Every per-pixel array cut to n (so the loop indexes them without bounds checks).
     let (dirs, azimuth, horizontal) = (&rays.dirs[..n], &rays.azimuth[..n], &rays.horizontal[..n]);
     let (pixel_angle, footprint) = (&rays.pixel_angle[..n], &rays.floor_footprint[..n]);
+    let floor_t = &rays.floor_t[..n];
     let (radiance, ids, labels) = (
         &mut out.radiance[..n],
         &mut out.ids[..n],
@@ -75,7 +76,13 @@ pub fn render_into(
         }
         let d = place.to_world(d0);
         let sector = clear.sector(sector_of(azimuth[k] + yaw));
-        let hit = scene.trace_clear(place.origin, d, sector, horizontal[k]);
+        // The floor's t is the camera's, in any pose (o[2] is the mount height, d[2] d0[2]).
+        let limit = if floor_t[k].is_nan() {
+            scene.limit(place.origin, d)
+        } else {
+            (floor_t[k], Surface::Floor)
+        };
+        let hit = scene.trace_clear_from(place.origin, d, sector, horizontal[k], limit);
         let sample = shade(scene, &hit, pixel_angle[k], footprint[k], &mut cache);
         ids[k] = sample.id;
         labels[k] = sample.label as u8;
@@ -322,6 +329,28 @@ mod tests {
             v.iter().sum::<f64>() / v.len() as f64
         };
         assert!(mean(PixelLabel::Paper) > mean(PixelLabel::Carpet) + 50.0);
+    }
+
+    #[test]
+    fn each_pixels_floor_t_is_the_scenes_floor_limit_in_any_pose() {
+        // The renderer takes the floor's t from CameraRays::floor_t instead of Scene::limit:
+        // the same bits, for every pixel and pose (poses turn about the vertical).
+        let scene = Scene::new(builtin_world("corridor").unwrap());
+        let rays = CameraRays::new(Camera::default()).unwrap();
+        for pose in [Pose2::new(3.0, 0.2, 0.3), Pose2::new(-7.1, 4.4, -2.9)] {
+            let place = CameraPlacement::new(&rays, pose);
+            for (d0, &t) in rays.dirs.iter().zip(&rays.floor_t) {
+                if d0[0].is_nan() {
+                    continue;
+                }
+                let (want_t, want) = scene.limit(place.origin, place.to_world(*d0));
+                if t.is_nan() {
+                    assert_ne!(want, Surface::Floor);
+                } else {
+                    assert_eq!((t.to_bits(), Surface::Floor), (want_t.to_bits(), want));
+                }
+            }
+        }
     }
 
     #[test]

@@ -24,6 +24,18 @@ pub struct SideFace {
     pub length: f64,
     /// Texture seed of this face.
     pub seed: u64,
+    /// How much of the main light this face catches: faces turned differently are lit
+    /// differently (a fixed main light direction), see [`SideFace::turn_towards_light`].
+    pub turn: f32,
+}
+
+impl SideFace {
+    /// The shading factor of a face from `a` to `b` of length `length`: 0.88 + 0.12 times its
+    /// outward normal along the main light's direction (0.6, 0.8).
+    pub fn turn_towards_light(a: Point2, b: Point2, length: f64) -> f32 {
+        let (nx, ny) = ((b.y - a.y) / length, -(b.x - a.x) / length);
+        0.88 + 0.12 * (0.6 * nx + 0.8 * ny) as f32
+    }
 }
 
 /// What a ray hit.
@@ -141,6 +153,7 @@ impl Scene {
                     solid: k as u32,
                     length,
                     seed: splitmix64((k as u64) << 16 | e as u64),
+                    turn: SideFace::turn_towards_light(a, b, length),
                 });
             }
             solid_sides.push(first..sides.len() as u32);
@@ -219,7 +232,7 @@ impl Scene {
 
     /// Where the ray meets the floor or the ceiling (t, surface), if it does.
     #[inline]
-    fn limit(&self, o: [f64; 3], d: [f64; 3]) -> (f64, Surface) {
+    pub(crate) fn limit(&self, o: [f64; 3], d: [f64; 3]) -> (f64, Surface) {
         let ceiling = self.world.ceiling_m;
         if d[2] < -1e-12 && o[2] > 0.0 {
             (o[2] / -d[2], Surface::Floor)
@@ -242,8 +255,20 @@ impl Scene {
         sector: SectorClear,
         horizontal: f64,
     ) -> Hit {
+        self.trace_clear_from(o, d, sector, horizontal, self.limit(o, d))
+    }
+
+    /// [`Self::trace_clear`] given the ray's [`Self::limit`] (the floor's, known per pixel).
+    #[inline]
+    pub(crate) fn trace_clear_from(
+        &self,
+        o: [f64; 3],
+        d: [f64; 3],
+        sector: SectorClear,
+        horizontal: f64,
+        (t, surface): (f64, Surface),
+    ) -> Hit {
         let free_m = sector.free_m;
-        let (t, surface) = self.limit(o, d);
         let at = |t: f64, surface| Hit {
             t,
             surface,

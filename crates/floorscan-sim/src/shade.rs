@@ -81,8 +81,7 @@ pub(crate) fn shade(
                 &mut cache.wall,
             );
             // Faces turned differently are lit differently (a fixed main light direction).
-            let (nx, ny) = ((f.b.y - f.a.y) / f.length, -(f.b.x - f.a.x) / f.length);
-            let turn = 0.88 + 0.12 * (0.6 * nx + 0.8 * ny) as f32;
+            let turn = f.turn;
             let radiance = albedo
                 * scene.light.at_cached(p, &mut cache.light)
                 * world.lighting.wall_factor as f32
