@@ -1,13 +1,16 @@
-"""Side-by-side map insertion speed: floorscan's OccupancyGrid against OctoMap, on the same rays.
+"""Side-by-side map insertion speed: floorscan's OccupancyGrid against OctoMap and Bonxai, on the
+same rays, in one run.
 
 Workloads: (1) 10,000 scans of 64 rays over 360 degrees, ranges uniform in [0.2, 4] m, the
 robot on a random walk in a 40 m square; (2) the real Freiburg 079 laser log (4791 scans of
-360 beams; no-return readings left out). Both libraries insert every scan with their
-once-per-scan rule at 4 cm cells, z = 0 for OctoMap. Each side is timed on its insert calls
-only (floorscan: one batch call per workload, GIL released; OctoMap: one insertPointCloud per
-scan), best of ``--repeat`` runs.
+360 beams; no-return readings left out). Every library inserts every scan with its
+once-per-scan rule at 4 cm cells, z = 0 for OctoMap and Bonxai. Each side is timed on its
+insert calls only (floorscan: one batch call per workload, GIL released; OctoMap: one
+insertPointCloud per scan; Bonxai: one ProbabilisticMap::insertPointCloud per scan), best of
+``--repeat`` runs.
 
-Usage (from the repository root, after ``make dev`` and ``make -C bench/octomap``):
+Usage (from the repository root, after ``make dev``, ``make -C bench/octomap`` and
+``make -C bench/bonxai BONXAI_DIR=...``; without the Bonxai binary its rows are left out):
 
     .venv/bin/python bench/octomap/compare.py [--scans 10000] [--repeat 3]
 """
@@ -22,6 +25,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from functools import partial
 from pathlib import Path
 
 import floorscan
@@ -71,40 +75,41 @@ def write_rays(path: Path, ranges, poses, angle_min, angle_increment) -> int:
     return rays
 
 
-def run_ours(ranges, poses, angle_min, angle_increment, range_max, repeat: int):
-    best = None
-    for _ in range(repeat):
-        grid = floorscan.OccupancyGrid(cell_size_m=0.04)
-        t0 = time.perf_counter()
-        stats = grid.insert_lasers(
-            ranges,
-            poses=poses,
-            angle_min=angle_min,
-            angle_increment=angle_increment,
-            range_max_m=range_max,
-        )
-        seconds = time.perf_counter() - t0
-        if best is None or seconds < best["seconds"]:
-            cells = grid.allocated_tiles * 128 * 128
-            best = {
-                "rays": stats.rays,
-                "cells_traversed": stats.cells_traversed,
-                "seconds": seconds,
-                "bytes_per_cell": grid._native.grid_memory_bytes / max(cells, 1),
-                "memory_bytes": grid._native.grid_memory_bytes,
-            }
-    return best
+def run_ours(ranges, poses, angle_min, angle_increment, range_max):
+    grid = floorscan.OccupancyGrid(cell_size_m=0.04)
+    t0 = time.perf_counter()
+    stats = grid.insert_lasers(
+        ranges,
+        poses=poses,
+        angle_min=angle_min,
+        angle_increment=angle_increment,
+        range_max_m=range_max,
+    )
+    seconds = time.perf_counter() - t0
+    cells = grid.allocated_tiles * 128 * 128
+    return {
+        "rays": stats.rays,
+        "cells_traversed": stats.cells_traversed,
+        "seconds": seconds,
+        "bytes_per_cell": grid._native.grid_memory_bytes / max(cells, 1),
+        "memory_bytes": grid._native.grid_memory_bytes,
+    }
 
 
-def run_octomap(binary: Path, rays_file: Path, repeat: int):
-    best = None
+def run_harness(command: list[str]):
+    """One run of a C++ harness (octomap_insert, bonxai_insert): its JSON line."""
+    return json.loads(subprocess.run(command, check=True, capture_output=True, text=True).stdout)
+
+
+def best_of(repeat: int, runs: dict):
+    """Each library's fastest of ``repeat`` runs, the libraries taking turns within a repeat
+    (so a burst of load on the shared machine does not fall on one library's runs only)."""
+    best: dict = {}
     for _ in range(repeat):
-        out = subprocess.run(
-            [str(binary), str(rays_file), "0.04"], check=True, capture_output=True, text=True
-        ).stdout
-        r = json.loads(out)
-        if best is None or r["seconds"] < best["seconds"]:
-            best = r
+        for lib, run in runs.items():
+            r = run()
+            if lib not in best or r["seconds"] < best[lib]["seconds"]:
+                best[lib] = r
     return best
 
 
@@ -118,11 +123,17 @@ def row(name, lib, r):
     )
 
 
+def ratio(a, b) -> float:
+    """a's rays/s over b's."""
+    return (a["rays"] / a["seconds"]) / (b["rays"] / b["seconds"])
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--scans", type=int, default=10_000)
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--octomap", default=str(HERE / "octomap_insert"))
+    p.add_argument("--bonxai", default=str(HERE.parent / "bonxai" / "bonxai_insert"))
     p.add_argument(
         "--log",
         default=str(REPO.parent / "shared" / "data" / "carmen" / "freiburg-079-corrected.log.gz"),
@@ -134,6 +145,9 @@ def main(argv=None) -> int:
             f"build the OctoMap side first: make -C {HERE} (needs liboctomap-dev)", file=sys.stderr
         )
         return 2
+    bonxai = Path(args.bonxai)
+    if not bonxai.is_file():
+        print(f"(no {bonxai}: Bonxai rows left out; see bench/bonxai/Makefile)", file=sys.stderr)
     workloads = [(f"synthetic {args.scans} x 64 rays, <= 4 m", synthetic(args.scans))]
     if Path(args.log).is_file():
         workloads.append(("Freiburg 079 log (4791 x 360)", freiburg(Path(args.log))))
@@ -147,17 +161,36 @@ def main(argv=None) -> int:
         for name, (ranges, poses, amin, ainc, rmax) in workloads:
             rays_file = Path(tmp) / "rays.bin"
             write_rays(rays_file, ranges, poses, amin, ainc)
-            octo = run_octomap(binary, rays_file, args.repeat)
-            ours = run_ours(ranges, poses, amin, ainc, rmax, args.repeat)
+            runs = {
+                "octomap": partial(run_harness, [str(binary), str(rays_file), "0.04"]),
+                "floorscan": partial(run_ours, ranges, poses, amin, ainc, rmax),
+            }
+            if bonxai.is_file():
+                runs["bonxai"] = partial(
+                    run_harness, [str(bonxai), str(rays_file), "0.04", str(rmax)]
+                )
+            best = best_of(args.repeat, runs)
+            octo, ours, bonx = best["octomap"], best["floorscan"], best.get("bonxai")
             lines.append(row(name, "OctoMap 1.9.7", octo))
+            if bonx is not None:
+                lines.append(row(name, "Bonxai", bonx))
             lines.append(row(name, "floorscan", ours))
-            speedup = (ours["rays"] / ours["seconds"]) / (octo["rays"] / octo["seconds"])
-            lines.append(
-                f"| | speed-up | | | **{speedup:.0f}x** | | "
-                f"(floorscan {ours['bytes_per_cell']:.3f} B/cell, "
+            memory = (
+                f"floorscan {ours['bytes_per_cell']:.3f} B/cell, "
                 f"{ours['memory_bytes'] / 1e6:.1f} MB; "
-                f"OctoMap {octo['memory_bytes'] / 1e6:.1f} MB for {octo['leaf_nodes']:,} leaves) |"
+                f"OctoMap {octo['memory_bytes'] / 1e6:.1f} MB for {octo['leaf_nodes']:,} leaves"
             )
+            if bonx is not None:
+                memory += (
+                    f"; Bonxai {bonx['memory_bytes'] / 1e6:.1f} MB for "
+                    f"{bonx['active_cells']:,} cells"
+                )
+            lines.append(
+                f"| | floorscan / OctoMap | | | **{ratio(ours, octo):.1f}x** | | ({memory}) |"
+            )
+            if bonx is not None:
+                lines.append(f"| | floorscan / Bonxai | | | **{ratio(ours, bonx):.1f}x** | | |")
+                lines.append(f"| | Bonxai / OctoMap | | | {ratio(bonx, octo):.1f}x | | |")
     print("\n".join(lines))
     return 0
 

@@ -175,6 +175,9 @@ pub struct CameraRays {
     /// Footprint of each pixel on the floor [m] (it stretches along the ray as
     /// 1 / sqrt(sin(depression)) on average); meaningless for rays that miss the floor.
     pub floor_footprint: Vec<Footprint>,
+    /// Where each ray meets the floor, `t` along its unit direction [m] (height / -d_z, the
+    /// same in every pose: poses turn about the vertical); NaN for rays that do not go down.
+    pub floor_t: Vec<f64>,
 }
 
 impl CameraRays {
@@ -226,6 +229,17 @@ impl CameraRays {
                 Footprint::new(height / down * *a as f64 / down.sqrt())
             })
             .collect();
+        // As Scene::limit computes it for a camera at this height.
+        let floor_t = dirs
+            .iter()
+            .map(|d| {
+                if d[2] < -1e-12 && height > 0.0 {
+                    height / -d[2]
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect();
         Ok(CameraRays {
             camera,
             dirs,
@@ -234,6 +248,7 @@ impl CameraRays {
             azimuth,
             horizontal,
             floor_footprint,
+            floor_t,
         })
     }
 

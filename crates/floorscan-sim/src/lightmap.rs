@@ -5,6 +5,7 @@
 
 use floorscan_core::Point2;
 
+use crate::cell_memo::CellMemo;
 use crate::geometry::Aabb;
 use crate::rng::fast_floor;
 use crate::world::Lighting;
@@ -18,8 +19,10 @@ pub const MAX_LIGHT_EVALUATIONS: f64 = 4.0e8;
 pub struct LightMap {
     origin: Point2,
     nx: usize,
-    ny: usize,
     inv_cell: f64,
+    /// (nx - 1, ny - 1) as floats: the raster's extent in cells (a conversion per lookup
+    /// otherwise).
+    extent: (f64, f64),
     values: Vec<f32>,
     ambient: f32,
     /// Median illumination over the raster: the exposure reference.
@@ -69,8 +72,8 @@ impl LightMap {
         LightMap {
             origin: bounds.min,
             nx,
-            ny,
             inv_cell: 1.0 / cell,
+            extent: ((nx - 1) as f64, (ny - 1) as f64),
             values,
             ambient: lighting.ambient as f32,
             typical,
@@ -78,21 +81,49 @@ impl LightMap {
     }
 
     /// Floor illuminance at `p` (ambient outside the raster).
-    #[inline]
     pub fn at(&self, p: Point2) -> f32 {
+        self.at_cached(p, &mut CellMemo::default())
+    }
+
+    /// [`Self::at`], remembering the corner values of the last cell in `memo`.
+    #[inline(always)]
+    pub fn at_cached(&self, p: Point2, memo: &mut CellMemo<[f32; 4]>) -> f32 {
         let gx = (p.x - self.origin.x) * self.inv_cell;
         let gy = (p.y - self.origin.y) * self.inv_cell;
-        if !(gx >= 0.0 && gy >= 0.0 && gx < (self.nx - 1) as f64 && gy < (self.ny - 1) as f64) {
-            return self.ambient;
+        let corners = match memo.get(gx, gy) {
+            Some(corners) => corners,
+            None => match self.enter(gx, gy, memo) {
+                Some(corners) => corners,
+                None => return self.ambient,
+            },
+        };
+        // The fractions (gx - floor(gx)), (gy - floor(gy)), with the remembered floors.
+        let (x0, y0) = memo.corner();
+        let (fx, fy) = ((gx - x0) as f32, (gy - y0) as f32);
+        let [t0, t1, b0, b1] = corners;
+        let top = t0 + (t1 - t0) * fx;
+        let bottom = b0 + (b1 - b0) * fx;
+        top + (bottom - top) * fy
+    }
+
+    /// The corner values of the cell holding raster coordinates (gx, gy), remembered in `memo`;
+    /// None outside the raster (out of line: the rarer path).
+    #[inline(never)]
+    fn enter(&self, gx: f64, gy: f64, memo: &mut CellMemo<[f32; 4]>) -> Option<[f32; 4]> {
+        if !(gx >= 0.0 && gy >= 0.0 && gx < self.extent.0 && gy < self.extent.1) {
+            return None;
         }
         // In range (checked above), so the fast floor is exact and non-negative.
-        let (i, j) = (fast_floor(gx) as usize, fast_floor(gy) as usize);
-        let (fx, fy) = ((gx - i as f64) as f32, (gy - j as f64) as f32);
-        let v = &self.values;
-        let k = j * self.nx + i;
-        let top = v[k] + (v[k + 1] - v[k]) * fx;
-        let bottom = v[k + self.nx] + (v[k + self.nx + 1] - v[k + self.nx]) * fx;
-        top + (bottom - top) * fy
+        let (i, j) = (fast_floor(gx), fast_floor(gy));
+        let k = j as usize * self.nx + i as usize;
+        // The cell's two rows of two corners (one bounds check each).
+        let (t, b) = (
+            &self.values[k..k + 2],
+            &self.values[k + self.nx..k + self.nx + 2],
+        );
+        let corners = [t[0], t[1], b[0], b[1]];
+        memo.set(i, j, corners);
+        Some(corners)
     }
 }
 
@@ -167,7 +198,7 @@ mod tests {
             max: Point2::new(2000.0, 2000.0),
         };
         let m = LightMap::new(&lighting, b, b);
-        let evaluations = (m.nx * m.ny) as f64 * lighting.lights.len() as f64;
+        let evaluations = m.values.len() as f64 * lighting.lights.len() as f64;
         // The bound, plus the two border rows and columns of cells.
         assert!(evaluations <= MAX_LIGHT_EVALUATIONS * 1.1, "{evaluations}");
         assert!(m.at(Point2::new(0.0, 0.0)) >= 0.3);

@@ -5,14 +5,14 @@
 //! Deterministic: the noise of frame `frame_index` comes from `derive_seed(seed, frame_index)`,
 //! and textures are fixed to the world.
 
-use floorscan_core::{Point2, Pose2};
+use floorscan_core::Pose2;
 
 use crate::camera::{CameraPlacement, CameraRays};
 use crate::clearance::{sector_of, Clearance};
 use crate::error::{invalid_option, Result};
 use crate::rng::{derive_seed, Rng};
-use crate::scene::{Hit, Scene, Surface};
-use crate::texture::{CoveringClass, Footprint};
+use crate::scene::{Scene, Surface};
+use crate::shade::{shade, ShadeCache, ID_NOTHING};
 use crate::truth::PixelLabel;
 
 /// Reusable buffers of a render (so rendering a run allocates once).
@@ -27,87 +27,6 @@ pub struct RenderBuffers {
     pub labels: Vec<u8>,
     /// The exposure used for this frame (mean exposure times the jitter).
     pub exposure: f64,
-}
-
-const ID_NOTHING: u32 = 0;
-const ID_CEILING: u32 = 1;
-const ID_SIDE: u32 = 1 << 30;
-const ID_CAP: u32 = 1 << 31;
-
-/// A shaded sample: radiance (albedo times illumination), surface identity (for finding
-/// edges) and label.
-struct Sample {
-    radiance: f32,
-    id: u32,
-    label: PixelLabel,
-}
-
-/// Shades a hit seen along `d` by a pixel of angle `pixel_angle` [rad].
-#[inline]
-fn shade(scene: &Scene, hit: &Hit, pixel_angle: f32, floor_footprint: Footprint) -> Sample {
-    let world = &scene.world;
-    let p = Point2::new(hit.point[0], hit.point[1]);
-    match hit.surface {
-        Surface::Nothing => Sample {
-            radiance: 0.0,
-            id: ID_NOTHING,
-            label: PixelLabel::Nothing,
-        },
-        Surface::Ceiling => Sample {
-            radiance: world.lighting.ceiling_brightness as f32,
-            id: ID_CEILING,
-            label: PixelLabel::Ceiling,
-        },
-        Surface::Floor => {
-            let c = scene.covering_at(p);
-            let covering = &scene.coverings[c];
-            let albedo = covering.albedo_at(p, floor_footprint);
-            let label = match covering.covering.class {
-                CoveringClass::Carpet => PixelLabel::Carpet,
-                CoveringClass::Other => PixelLabel::OtherCovering,
-                CoveringClass::Paper => PixelLabel::Paper,
-            };
-            Sample {
-                radiance: albedo * scene.light.at(p),
-                id: 2 + c as u32,
-                label,
-            }
-        }
-        Surface::Side { face, s } => {
-            let f = &scene.sides[face as usize];
-            let solid = &world.solids[f.solid as usize];
-            let app = &world.appearances[solid.appearance];
-            let albedo = app.albedo_at(
-                s,
-                hit.point[2],
-                Footprint::new(hit.t * pixel_angle as f64),
-                f.seed,
-            );
-            // Faces turned differently are lit differently (a fixed main light direction).
-            let (nx, ny) = ((f.b.y - f.a.y) / f.length, -(f.b.x - f.a.x) / f.length);
-            let turn = 0.88 + 0.12 * (0.6 * nx + 0.8 * ny) as f32;
-            let radiance = albedo * scene.light.at(p) * world.lighting.wall_factor as f32 * turn;
-            Sample {
-                radiance,
-                id: ID_SIDE | face,
-                label: PixelLabel::Obstacle,
-            }
-        }
-        Surface::Cap { solid, up } => {
-            let app = &world.appearances[world.solids[solid as usize].appearance];
-            let albedo = app.albedo_at_point(p, Footprint::new(hit.t * pixel_angle as f64));
-            let light = if up {
-                scene.light.at(p)
-            } else {
-                0.4 * world.lighting.ambient as f32
-            };
-            Sample {
-                radiance: albedo * light,
-                id: ID_CAP | solid << 1 | up as u32,
-                label: PixelLabel::Obstacle,
-            }
-        }
-    }
 }
 
 /// Renders the view of a robot at `world_from_robot` into `out` (image and labels).
@@ -137,25 +56,41 @@ pub fn render_into(
     );
     let yaw = place.world_from_camera.yaw;
 
+    let mut cache = ShadeCache::default();
+    // Every per-pixel array cut to n (so the loop indexes them without bounds checks).
+    let (dirs, azimuth, horizontal) = (&rays.dirs[..n], &rays.azimuth[..n], &rays.horizontal[..n]);
+    let (pixel_angle, footprint) = (&rays.pixel_angle[..n], &rays.floor_footprint[..n]);
+    let floor_t = &rays.floor_t[..n];
+    let (radiance, ids, labels) = (
+        &mut out.radiance[..n],
+        &mut out.ids[..n],
+        &mut out.labels[..n],
+    );
     for k in 0..n {
-        let d0 = rays.dirs[k];
+        let d0 = dirs[k];
         if d0[0].is_nan() {
-            out.radiance[k] = 0.0;
-            out.ids[k] = ID_NOTHING;
-            out.labels[k] = PixelLabel::Nothing as u8;
+            radiance[k] = 0.0;
+            ids[k] = ID_NOTHING;
+            labels[k] = PixelLabel::Nothing as u8;
             continue;
         }
         let d = place.to_world(d0);
-        let sector = clear.sector(sector_of(rays.azimuth[k] + yaw));
-        let hit = scene.trace_clear(place.origin, d, sector, rays.horizontal[k]);
-        let sample = shade(scene, &hit, rays.pixel_angle[k], rays.floor_footprint[k]);
-        out.ids[k] = sample.id;
-        out.labels[k] = sample.label as u8;
-        out.radiance[k] = sample.radiance;
+        let sector = clear.sector(sector_of(azimuth[k] + yaw));
+        // The floor's t is the camera's, in any pose (o[2] is the mount height, d[2] d0[2]).
+        let limit = if floor_t[k].is_nan() {
+            scene.limit(place.origin, d)
+        } else {
+            (floor_t[k], Surface::Floor)
+        };
+        let hit = scene.trace_clear_from(place.origin, d, sector, horizontal[k], limit);
+        let sample = shade(scene, &hit, pixel_angle[k], footprint[k], &mut cache);
+        ids[k] = sample.id;
+        labels[k] = sample.label as u8;
+        radiance[k] = sample.radiance;
     }
 
     if cam.imaging.antialias {
-        antialias(scene, rays, &place, &clear, out);
+        antialias(scene, rays, &place, &clear, out, &mut cache);
     }
     if cam.imaging.blur_sigma_px > 0.0 {
         gaussian_blur(
@@ -179,14 +114,15 @@ pub fn render_into(
     let read = cam.imaging.read_noise_dn as f32;
     let shot = cam.imaging.shot_noise_gain as f32;
     let noisy = read > 0.0 || shot > 0.0;
-    for k in 0..n {
-        let mut v = out.radiance[k] * rays.gain[k] * scale;
+    let pixels = out.image[..n].iter_mut().zip(&out.radiance[..n]);
+    for ((byte, &radiance), &gain) in pixels.zip(&rays.gain[..n]) {
+        let mut v = radiance * gain * scale;
         if noisy {
             let sigma = (read * read + shot * v.max(0.0)).sqrt();
             v += sigma * rng.normal_fast();
         }
         // Round half up (no libm call); the clamp keeps it in range.
-        out.image[k] = (v.clamp(0.0, 255.0) + 0.5) as u8;
+        *byte = (v.clamp(0.0, 255.0) + 0.5) as u8;
     }
     Ok(())
 }
@@ -203,6 +139,7 @@ fn antialias(
     place: &CameraPlacement,
     clear: &Clearance,
     out: &mut RenderBuffers,
+    cache: &mut ShadeCache,
 ) {
     let (w, h) = (rays.camera.width, rays.camera.height);
     let yaw = place.world_from_camera.yaw;
@@ -226,7 +163,8 @@ fn antialias(
                 let d = place.to_world(rays.interpolated(u as f64 + du, v as f64 + dv));
                 let hit =
                     scene.trace_clear(place.origin, d, sector, (d[0] * d[0] + d[1] * d[1]).sqrt());
-                sum += shade(scene, &hit, rays.pixel_angle[k], rays.floor_footprint[k]).radiance;
+                let pixel_angle = rays.pixel_angle[k];
+                sum += shade(scene, &hit, pixel_angle, rays.floor_footprint[k], cache).radiance;
             }
             out.radiance[k] = sum / (AA_OFFSETS.len() + 1) as f32;
         }
@@ -243,24 +181,24 @@ fn gaussian_blur(img: &mut [f32], tmp: &mut Vec<f32>, w: usize, h: usize, sigma:
     kernel.iter_mut().for_each(|k| *k /= s);
     tmp.clear();
     tmp.resize(w * h, 0.0);
-    // Horizontal pass into tmp: clamped at the borders, straight in the interior.
+    // Horizontal pass into tmp: clamped at the borders; in the interior tap by tap along the
+    // row (each pixel's sum in the same order as one pixel at a time, and vectorisable).
     for v in 0..h {
         let row = &img[v * w..(v + 1) * w];
         let out = &mut tmp[v * w..(v + 1) * w];
-        for u in 0..w {
-            if u < r || u + r >= w {
-                out[u] = kernel
-                    .iter()
-                    .enumerate()
-                    .map(|(i, k)| k * row[(u + i).saturating_sub(r).min(w - 1)])
-                    .sum();
-            } else {
-                out[u] = kernel
-                    .iter()
-                    .zip(&row[u - r..=u + r])
-                    .map(|(k, x)| k * x)
-                    .sum();
+        let inner = w - 2 * r; // r <= w / 2
+        out[r..w - r].fill(0.0);
+        for (i, k) in kernel.iter().enumerate() {
+            for (o, x) in out[r..w - r].iter_mut().zip(&row[i..i + inner]) {
+                *o += k * x;
             }
+        }
+        for u in (0..r).chain(w - r..w) {
+            out[u] = kernel
+                .iter()
+                .enumerate()
+                .map(|(i, k)| k * row[(u + i).saturating_sub(r).min(w - 1)])
+                .sum();
         }
     }
     // Vertical pass back into img: whole rows at a time (contiguous, vectorisable).
@@ -391,6 +329,28 @@ mod tests {
             v.iter().sum::<f64>() / v.len() as f64
         };
         assert!(mean(PixelLabel::Paper) > mean(PixelLabel::Carpet) + 50.0);
+    }
+
+    #[test]
+    fn each_pixels_floor_t_is_the_scenes_floor_limit_in_any_pose() {
+        // The renderer takes the floor's t from CameraRays::floor_t instead of Scene::limit:
+        // the same bits, for every pixel and pose (poses turn about the vertical).
+        let scene = Scene::new(builtin_world("corridor").unwrap());
+        let rays = CameraRays::new(Camera::default()).unwrap();
+        for pose in [Pose2::new(3.0, 0.2, 0.3), Pose2::new(-7.1, 4.4, -2.9)] {
+            let place = CameraPlacement::new(&rays, pose);
+            for (d0, &t) in rays.dirs.iter().zip(&rays.floor_t) {
+                if d0[0].is_nan() {
+                    continue;
+                }
+                let (want_t, want) = scene.limit(place.origin, place.to_world(*d0));
+                if t.is_nan() {
+                    assert_ne!(want, Surface::Floor);
+                } else {
+                    assert_eq!((t.to_bits(), Surface::Floor), (want_t.to_bits(), want));
+                }
+            }
+        }
     }
 
     #[test]

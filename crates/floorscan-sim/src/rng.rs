@@ -90,7 +90,7 @@ const HX: u32 = 0x8DA6_B343;
 const HY: u32 = 0xD816_3841;
 
 #[inline(always)]
-fn seed32(seed: u64) -> u32 {
+pub(crate) fn seed32(seed: u64) -> u32 {
     (seed ^ (seed >> 32)) as u32
 }
 
@@ -127,19 +127,30 @@ pub fn fast_floor(x: f64) -> i64 {
 #[inline]
 pub fn value_noise(x: f64, y: f64, seed: u64) -> f32 {
     let (ix, iy) = (fast_floor(x), fast_floor(y));
+    blend(&lattice_corners(ix, iy, seed32(seed)), x, y, ix, iy)
+}
+
+/// The hashed values at the corners of lattice cell (ix, iy) for the 32-bit seed `s`
+/// (`seed32` of the noise's seed): (ix, iy), (ix + 1, iy), (ix, iy + 1), (ix + 1, iy + 1).
+#[inline(always)]
+pub(crate) fn lattice_corners(ix: i64, iy: i64, s: u32) -> [f32; 4] {
+    let (x0, y0) = ((ix as u32).wrapping_mul(HX), (iy as u32).wrapping_mul(HY));
+    let (x1, y1) = (x0.wrapping_add(HX), y0.wrapping_add(HY));
+    [
+        to_unit(mix(x0, y0, s)),
+        to_unit(mix(x1, y0, s)),
+        to_unit(mix(x0, y1, s)),
+        to_unit(mix(x1, y1, s)),
+    ]
+}
+
+/// [`value_noise`] at (x, y) from the corners of its lattice cell (ix, iy) = floor(x, y).
+#[inline(always)]
+pub(crate) fn blend(corners: &[f32; 4], x: f64, y: f64, ix: i64, iy: i64) -> f32 {
     let (tx, ty) = ((x - ix as f64) as f32, (y - iy as f64) as f32);
     let sx = tx * tx * (3.0 - 2.0 * tx);
     let sy = ty * ty * (3.0 - 2.0 * ty);
-    let (s, x0, y0) = (
-        seed32(seed),
-        (ix as u32).wrapping_mul(HX),
-        (iy as u32).wrapping_mul(HY),
-    );
-    let (x1, y1) = (x0.wrapping_add(HX), y0.wrapping_add(HY));
-    let a = to_unit(mix(x0, y0, s));
-    let b = to_unit(mix(x1, y0, s));
-    let c = to_unit(mix(x0, y1, s));
-    let d = to_unit(mix(x1, y1, s));
+    let [a, b, c, d] = *corners;
     let top = a + (b - a) * sx;
     let bottom = c + (d - c) * sx;
     top + (bottom - top) * sy

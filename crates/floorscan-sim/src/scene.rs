@@ -3,6 +3,7 @@
 
 use floorscan_core::Point2;
 
+use crate::cell_memo::CellMemo;
 use crate::clearance::{SectorClear, NO_SOLID};
 use crate::geometry::{point_in_polygon, ray_segment, Aabb};
 use crate::grid_index::{segment_cells, segment_meets_box, CellLists, CellWalk, GridShape};
@@ -23,6 +24,18 @@ pub struct SideFace {
     pub length: f64,
     /// Texture seed of this face.
     pub seed: u64,
+    /// How much of the main light this face catches: faces turned differently are lit
+    /// differently (a fixed main light direction), see [`SideFace::turn_towards_light`].
+    pub turn: f32,
+}
+
+impl SideFace {
+    /// The shading factor of a face from `a` to `b` of length `length`: 0.88 + 0.12 times its
+    /// outward normal along the main light's direction (0.6, 0.8).
+    pub fn turn_towards_light(a: Point2, b: Point2, length: f64) -> f32 {
+        let (nx, ny) = ((b.y - a.y) / length, -(b.x - a.x) / length);
+        0.88 + 0.12 * (0.6 * nx + 0.8 * ny) as f32
+    }
 }
 
 /// What a ray hit.
@@ -100,6 +113,8 @@ pub struct Scene {
     solid_sides: Vec<std::ops::Range<u32>>,
     /// 1 / the grid's cell size [1/m].
     inv_cell_m: f64,
+    /// The grid's (nx, ny) as floats (a conversion per lookup otherwise).
+    extent: (f64, f64),
     /// The world's coverings, prepared for shading (same indices).
     pub coverings: Vec<PreparedCovering>,
 }
@@ -138,6 +153,7 @@ impl Scene {
                     solid: k as u32,
                     length,
                     seed: splitmix64((k as u64) << 16 | e as u64),
+                    turn: SideFace::turn_towards_light(a, b, length),
                 });
             }
             solid_sides.push(first..sides.len() as u32);
@@ -177,6 +193,7 @@ impl Scene {
             solid_bounds,
             coverings: world.coverings.iter().map(|c| c.prepare()).collect(),
             inv_cell_m: 1.0 / shape.cell_m,
+            extent: (shape.nx as f64, shape.ny as f64),
             solid_sides,
             world,
         }
@@ -184,12 +201,23 @@ impl Scene {
 
     /// The floor covering (index into `world.coverings`) at a floor point.
     pub fn covering_at(&self, p: Point2) -> usize {
+        self.covering_cached(p, &mut CellMemo::default())
+    }
+
+    /// [`Self::covering_at`], remembering the last cell of one covering in `memo`.
+    #[inline]
+    pub fn covering_cached(&self, p: Point2, memo: &mut CellMemo<usize>) -> usize {
         let gx = (p.x - self.shape.origin.x) * self.inv_cell_m;
         let gy = (p.y - self.shape.origin.y) * self.inv_cell_m;
-        if gx >= 0.0 && gy >= 0.0 && gx < self.shape.nx as f64 && gy < self.shape.ny as f64 {
+        if let Some(c) = memo.get(gx, gy) {
+            return c;
+        }
+        if gx >= 0.0 && gy >= 0.0 && gx < self.extent.0 && gy < self.extent.1 {
             // In range (checked above): the fast floor is exact.
-            let cell = fast_floor(gy) as usize * self.shape.nx + fast_floor(gx) as usize;
+            let (ix, iy) = (fast_floor(gx), fast_floor(gy));
+            let cell = iy as usize * self.shape.nx + ix as usize;
             if let Ok(c) = usize::try_from(self.cell_covering[cell]) {
+                memo.set(ix, iy, c);
                 return c;
             }
             for &r in self.regions.get(cell).iter().rev() {
@@ -204,7 +232,7 @@ impl Scene {
 
     /// Where the ray meets the floor or the ceiling (t, surface), if it does.
     #[inline]
-    fn limit(&self, o: [f64; 3], d: [f64; 3]) -> (f64, Surface) {
+    pub(crate) fn limit(&self, o: [f64; 3], d: [f64; 3]) -> (f64, Surface) {
         let ceiling = self.world.ceiling_m;
         if d[2] < -1e-12 && o[2] > 0.0 {
             (o[2] / -d[2], Surface::Floor)
@@ -227,8 +255,20 @@ impl Scene {
         sector: SectorClear,
         horizontal: f64,
     ) -> Hit {
+        self.trace_clear_from(o, d, sector, horizontal, self.limit(o, d))
+    }
+
+    /// [`Self::trace_clear`] given the ray's [`Self::limit`] (the floor's, known per pixel).
+    #[inline]
+    pub(crate) fn trace_clear_from(
+        &self,
+        o: [f64; 3],
+        d: [f64; 3],
+        sector: SectorClear,
+        horizontal: f64,
+        (t, surface): (f64, Surface),
+    ) -> Hit {
         let free_m = sector.free_m;
-        let (t, surface) = self.limit(o, d);
         let at = |t: f64, surface| Hit {
             t,
             surface,

@@ -9,6 +9,7 @@
 use floorscan_core::Point2;
 use serde::{Deserialize, Serialize};
 
+use crate::noise_cell::NoiseCell;
 use crate::rng::{fast_floor, hash2, value_noise};
 
 /// How a floor covering is labelled in the ground truth.
@@ -177,6 +178,15 @@ impl Covering {
     }
 }
 
+/// The lattice cells of a carpet's two noises kept from one shaded pixel to the next (see
+/// [`NoiseCell`]): pass the same one to [`PreparedCovering::albedo_cached`] for consecutive
+/// pixels. Any value is correct; only the speed depends on it.
+#[derive(Debug, Clone, Default)]
+pub struct CarpetCells {
+    fine: NoiseCell,
+    coarse: NoiseCell,
+}
+
 /// A [`Covering`] with inverted scales (see [`Covering::prepare`]).
 #[derive(Debug, Clone)]
 pub struct PreparedCovering {
@@ -199,23 +209,32 @@ impl PreparedCovering {
         contrast: f64,
         grain_m: f64,
         mottle: f64,
+        cells: &mut CarpetCells,
     ) -> f32 {
         let seed = self.covering.seed;
         let k = detail(grain_m, fp);
         let (gx, gy) = (p.x * self.inv_a, p.y * self.inv_a);
         let fine = if k >= 0.5 {
-            value_noise(gx, gy, seed)
+            cells.fine.value_noise(gx, gy, seed)
         } else if k > 0.02 {
             VALUE_NOISE_STD / HASH_STD * hash2(fast_floor(gx), fast_floor(gy), seed)
         } else {
             0.0
         };
-        let coarse = value_noise(p.x * self.inv_b, p.y * self.inv_b, seed ^ 0xAA);
+        let coarse = cells
+            .coarse
+            .value_noise(p.x * self.inv_b, p.y * self.inv_b, seed ^ 0xAA);
         1.0 + contrast as f32 * 2.4 * k * fine + mottle as f32 * 2.4 * coarse
     }
 
     /// Albedo at world point `p` for a pixel footprint `fp`.
     pub fn albedo_at(&self, p: Point2, fp: Footprint) -> f32 {
+        self.albedo_cached(p, fp, &mut CarpetCells::default())
+    }
+
+    /// [`Self::albedo_at`], the carpet noise's lattice cells kept in `cells` between calls.
+    #[inline]
+    pub fn albedo_cached(&self, p: Point2, fp: Footprint, cells: &mut CarpetCells) -> f32 {
         let c = &self.covering;
         let a = c.albedo as f32;
         let seed = c.seed;
@@ -225,7 +244,7 @@ impl PreparedCovering {
                 grain_m,
                 mottle,
                 ..
-            } => a * self.carpet_texture(p, fp, *contrast, *grain_m, *mottle),
+            } => a * self.carpet_texture(p, fp, *contrast, *grain_m, *mottle, cells),
             FloorPattern::Linoleum {
                 mottle, speckle, ..
             } => {
@@ -314,7 +333,7 @@ impl PreparedCovering {
                     (1.0 - pc, 1.0 + pc)
                 };
                 let tone = own * w + other * (1.0 - w);
-                a * tone * self.carpet_texture(p, fp, *contrast, *grain_m, *mottle)
+                a * tone * self.carpet_texture(p, fp, *contrast, *grain_m, *mottle, cells)
             }
             FloorPattern::Paper => {
                 a * (1.0 + 0.02 * detail(0.002, fp) * value_noise(p.x * 500.0, p.y * 500.0, seed))
@@ -409,14 +428,26 @@ pub struct Appearance {
 
 impl Appearance {
     /// Albedo at position `s` along the face and height `z` [m], footprint `fp`.
-    #[inline]
     pub fn albedo_at(&self, s: f64, z: f64, fp: Footprint, face_seed: u64) -> f32 {
+        self.albedo_cached(s, z, fp, face_seed, &mut NoiseCell::default())
+    }
+
+    /// [`Self::albedo_at`], the texture's lattice cell kept in `cell` between calls.
+    #[inline]
+    pub fn albedo_cached(
+        &self,
+        s: f64,
+        z: f64,
+        fp: Footprint,
+        face_seed: u64,
+        cell: &mut NoiseCell,
+    ) -> f32 {
         if z < self.baseboard_m {
             return self.baseboard_albedo as f32;
         }
         let k = detail(self.texture_m, fp);
         let inv = 1.0 / self.texture_m;
-        let n = value_noise(s * inv, z * inv, self.seed ^ face_seed);
+        let n = cell.value_noise(s * inv, z * inv, self.seed ^ face_seed);
         self.albedo as f32 * (1.0 + self.texture as f32 * 2.4 * k * n)
     }
 
