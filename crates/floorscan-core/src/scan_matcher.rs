@@ -158,6 +158,104 @@ pub fn search(
     Ok(best)
 }
 
+/// The field read bilinearly between cell centres at world point (x, y) [m]; 0 off the field.
+fn bilinear(field: &Field<'_>, x: f64, y: f64) -> f64 {
+    let fx = (x - field.origin_m.0) / field.cell_m - 0.5;
+    let fy = (y - field.origin_m.1) / field.cell_m - 0.5;
+    if !(fx.is_finite() && fy.is_finite()) || fx.abs() > 1e12 || fy.abs() > 1e12 {
+        return 0.0;
+    }
+    let (i0, j0) = (fx.floor() as i64, fy.floor() as i64);
+    let (ax, ay) = (fx - i0 as f64, fy - j0 as f64);
+    let at = |i: i64, j: i64| -> f64 {
+        if i >= 0 && j >= 0 && i < field.width as i64 && j < field.height as i64 {
+            field.values[j as usize * field.width + i as usize] as f64
+        } else {
+            0.0
+        }
+    };
+    (1.0 - ax) * (1.0 - ay) * at(i0, j0)
+        + ax * (1.0 - ay) * at(i0 + 1, j0)
+        + (1.0 - ax) * ay * at(i0, j0 + 1)
+        + ax * ay * at(i0 + 1, j0 + 1)
+}
+
+/// (score, mean) of `points` at `pose`, the field read bilinearly, the prior as in [`search`].
+fn smooth_score(
+    field: &Field<'_>,
+    points: &[[f64; 2]],
+    pose: Pose2,
+    prior: Pose2,
+    window: &SearchWindow,
+) -> (f64, f64) {
+    let (sn, cs) = pose.yaw.sin_cos();
+    let sum: f64 = points
+        .iter()
+        .map(|p| {
+            bilinear(
+                field,
+                pose.x + cs * p[0] - sn * p[1],
+                pose.y + sn * p[0] + cs * p[1],
+            )
+        })
+        .sum();
+    let mean = sum / points.len().max(1) as f64;
+    let t = (pose.x - prior.x).hypot(pose.y - prior.y);
+    let dyaw = pose.yaw - prior.yaw;
+    let score =
+        mean * (-(t / window.prior_xy_m).powi(2) - (dyaw / window.prior_yaw_rad).powi(2)).exp();
+    (score, mean)
+}
+
+/// Sub-cell refinement of a search's pose (the search moves whole cells and yaw steps, so a
+/// correction under half a cell is never made): the field read bilinearly, per axis the vertex
+/// of the parabola through the score at -h, 0, +h, kept when it scores higher; h from half a
+/// cell (half a yaw step) down, halved for each of three rounds.
+pub fn refine(
+    field: &Field<'_>,
+    points: &[[f64; 2]],
+    found: Pose2,
+    prior: Pose2,
+    window: &SearchWindow,
+) -> SearchResult {
+    let (mut best, mut mean) = smooth_score(field, points, found, prior, window);
+    let mut pose = [found.x, found.y, found.yaw];
+    let (mut hx, mut hyaw) = (0.5 * field.cell_m, 0.5 * window.yaw_step_rad);
+    let at = |p: [f64; 3]| Pose2 {
+        x: p[0],
+        y: p[1],
+        yaw: p[2],
+    };
+    for _ in 0..3 {
+        for (axis, h) in [(0, hx), (1, hx), (2, hyaw)] {
+            let (mut lo, mut hi) = (pose, pose);
+            lo[axis] -= h;
+            hi[axis] += h;
+            let (a, _) = smooth_score(field, points, at(lo), prior, window);
+            let (b, _) = smooth_score(field, points, at(hi), prior, window);
+            let den = a - 2.0 * best + b;
+            if den >= 0.0 || !den.is_finite() {
+                continue;
+            }
+            let mut trial = pose;
+            trial[axis] += (0.5 * (a - b) / den).clamp(-1.0, 1.0) * h;
+            let (sc, m) = smooth_score(field, points, at(trial), prior, window);
+            if sc > best {
+                pose = trial;
+                best = sc;
+                mean = m;
+            }
+        }
+        hx *= 0.5;
+        hyaw *= 0.5;
+    }
+    SearchResult {
+        pose: at(pose),
+        mean,
+        score: best,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -299,6 +397,42 @@ mod tests {
             assert!((r.score - best).abs() < 1e-9, "{} vs {best}", r.score);
             assert!((mean_at(&field, &pts, r.pose) - r.mean).abs() < 1e-9);
         }
+    }
+
+    #[test]
+    fn refinement_finds_a_peak_between_cell_centres() {
+        // a smooth ridge along y at x = 1.0 m, sampled at cell centres (0.025 + 0.05 k); the
+        // scan's points spread over two cells, so their mean reading is smooth in x
+        let (w, h) = (40, 10);
+        let values: Vec<f32> = (0..w * h)
+            .map(|k| {
+                let x = ((k % w) as f64 + 0.5) * 0.05;
+                (-((x - 1.0) / 0.2).powi(2)).exp() as f32
+            })
+            .collect();
+        let field = Field {
+            values: &values,
+            width: w,
+            height: h,
+            origin_m: (0.0, 0.0),
+            cell_m: 0.05,
+        };
+        let win = SearchWindow {
+            xy_steps: 2,
+            yaw_steps: 0,
+            yaw_step_rad: 0.01,
+            prior_xy_m: 1e6,
+            prior_yaw_rad: 1e6,
+        };
+        let pts: Vec<[f64; 2]> = (0..21).map(|k| [-0.05 + 0.005 * k as f64, 0.2]).collect();
+        let prior = Pose2::new(1.013, 0.0, 0.0);
+        let r = search(&field, &pts, prior, &win).unwrap();
+        let refined = refine(&field, &pts, r.pose, prior, &win);
+        assert!((refined.pose.x - 1.0).abs() < 0.003, "{:?}", refined.pose);
+        assert!((r.pose.x - 1.0).abs() > 0.01); // the whole-cell search alone stays off
+                                                // it climbs the bilinear score it refines (the search reads whole cells)
+        let (start, _) = smooth_score(&field, &pts, r.pose, prior, &win);
+        assert!(refined.score >= start);
     }
 
     #[test]

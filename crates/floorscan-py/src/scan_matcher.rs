@@ -1,7 +1,7 @@
 //! Bindings of `floorscan_core::scan_matcher`: the correlative search over a numpy likelihood
 //! field.
 
-use floorscan_core::scan_matcher::{search, Field, SearchWindow};
+use floorscan_core::scan_matcher::{refine, search, Field, SearchWindow};
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
@@ -12,7 +12,8 @@ use crate::errors::{error, guard, to_pyerr};
 /// [m, robot frame] around `prior` (world_from_robot): translations of -xy_steps..=xy_steps
 /// cells of `field` (H, W) float32 (values in [0, 1], row 0 = lowest y, cell (0, 0)'s corner
 /// at `origin_m`, cells `cell_m` wide), yaws of -yaw_steps..=yaw_steps times `yaw_step_rad`;
-/// score = mean field value x exp(-(|t| / prior_xy_m)^2 - (dyaw / prior_yaw_rad)^2).
+/// score = mean field value x exp(-(|t| / prior_xy_m)^2 - (dyaw / prior_yaw_rad)^2); then
+/// refined below a cell on the field read bilinearly (`floorscan_core::scan_matcher::refine`).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 pub fn correlative_search(
@@ -49,8 +50,11 @@ pub fn correlative_search(
             prior_xy_m,
             prior_yaw_rad,
         };
+        let prior = pose(prior);
         let r = py
-            .detach(|| search(&f, &pts, pose(prior), &window))
+            .detach(|| {
+                search(&f, &pts, prior, &window).map(|r| refine(&f, &pts, r.pose, prior, &window))
+            })
             .map_err(to_pyerr)?;
         Ok(((r.pose.x, r.pose.y, r.pose.yaw), r.mean, r.score))
     })

@@ -11,7 +11,8 @@ def correlative_search(field: Incomplete, origin_m: tuple[SupportsFloat | Suppor
     [m, robot frame] around `prior` (world_from_robot): translations of -xy_steps..=xy_steps
     cells of `field` (H, W) float32 (values in [0, 1], row 0 = lowest y, cell (0, 0)'s corner
     at `origin_m`, cells `cell_m` wide), yaws of -yaw_steps..=yaw_steps times `yaw_step_rad`;
-    score = mean field value x exp(-(|t| / prior_xy_m)^2 - (dyaw / prior_yaw_rad)^2).
+    score = mean field value x exp(-(|t| / prior_xy_m)^2 - (dyaw / prior_yaw_rad)^2); then
+    refined below a cell on the field read bilinearly (`floorscan_core::scan_matcher::refine`).
     """
 
 def geodesic_distances(blocked: Incomplete, weight: Incomplete, seed_cells: Incomplete, seed_costs: Incomplete, step_m: SupportsFloat | SupportsIndex) -> Incomplete:
