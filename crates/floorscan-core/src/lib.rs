@@ -32,6 +32,7 @@ pub mod lens;
 pub mod local_map;
 pub mod log_odds;
 pub mod mount;
+pub mod noise_threshold;
 pub mod pose;
 pub mod queries;
 pub mod ranger;

@@ -12,11 +12,14 @@
 //! images use 32-bit sums in plain Rust. Both give the readings of the direct filter of eq. (1)
 //! (the tests check every column of random images against it, for every kernel).
 
-use crate::edge::{direct_response_at, refine_crossing, threshold_to_sum};
+use crate::edge::{
+    direct_response_at, next_response, refine_crossing, sharpest_step, threshold_to_sum, Refinement,
+};
 use crate::error::{Error, Result};
 use crate::ground_table::GroundTable;
 use crate::image::{ImageView, Pixel};
 use crate::lanes::{self, Kernel, LANES, MAX_HALF_WIDTH_I16};
+use crate::noise_threshold::{near_band_rows, robust_sigma};
 use crate::pose::Point2;
 use crate::ranger_options::{ColumnStart, RangerOptions};
 use crate::scan::{ColumnOutcome, ColumnReading, Scan};
@@ -68,6 +71,10 @@ pub struct VisualRanger {
     outcomes: Vec<Option<ColumnOutcome>>,
     /// Per column: the confidence of its outcome (see [`edge_confidence`]).
     confidence: Vec<f32>,
+    /// The near-floor band's responses of one frame (see [`crate::noise_threshold`]), sized
+    /// once; and the threshold the last frame was scanned with.
+    noise_samples: Vec<i32>,
+    frame_threshold: f64,
     /// Floor length [m] one pixel row covers, per sampled column (outer) and image row (inner),
     /// worked out once: a boundary's footprint then costs no table lookup.
     footprints_m: Vec<f32>,
@@ -136,6 +143,20 @@ impl VisualRanger {
         let mut by_hi = scannable;
         by_hi.sort_by_key(|&j| plans[j].window.unwrap().1);
         let n = plans.len();
+        let band = near_band_rows(height, d);
+        let band_samples: usize = plans
+            .iter()
+            .filter_map(|p| p.window)
+            .map(|(lo, hi)| (hi - lo + 1).min(band))
+            .sum();
+        let noise_samples = vec![
+            0;
+            if options.noise_multiple > 0.0 {
+                band_samples
+            } else {
+                0
+            }
+        ];
         let threshold_sum = threshold_to_sum(options.threshold, d);
         // Inside the 8-bit path |S| <= 255 d < i16::MAX, so a clamped threshold tests the same.
         let threshold_sum16 = threshold_sum.clamp(-1, i16::MAX as i32) as i16;
@@ -159,6 +180,8 @@ impl VisualRanger {
             outcomes: vec![None; n],
             confidence: vec![1.0; n],
             footprints_m,
+            noise_samples,
+            frame_threshold: options.threshold,
             table,
             options,
             plans,
@@ -176,6 +199,49 @@ impl VisualRanger {
     /// The sampled image columns, in output order.
     pub fn columns(&self) -> Vec<u32> {
         self.plans.iter().map(|p| p.column).collect()
+    }
+
+    /// The threshold on |R| the last frame was scanned with: `threshold`, or with
+    /// `noise_multiple` > 0 the frame's own (see [`crate::noise_threshold`]).
+    pub fn frame_threshold(&self) -> f64 {
+        self.frame_threshold
+    }
+
+    /// Sets the frame's threshold from its near-floor noise (when `noise_multiple` > 0).
+    fn set_frame_threshold<P: Pixel>(&mut self, image: &ImageView<P>) {
+        if self.options.noise_multiple <= 0.0 {
+            return;
+        }
+        let d = self.options.half_width_px;
+        let height = image.height();
+        let band = near_band_rows(height, d);
+        let mut n = 0;
+        for plan in &self.plans {
+            let Some((lo, hi)) = plan.window else {
+                continue;
+            };
+            let c = plan.column as usize;
+            let px = |k: usize| image.get(c, height - 1 - k).to_i32();
+            let mut s = direct_response_at(image, c, lo, d);
+            for k in lo..=hi.min(lo + band - 1) {
+                if k > lo {
+                    s = next_response(s, px(k - 1 - d), px(k - 1), px(k), px(k + d));
+                }
+                self.noise_samples[n] = s;
+                n += 1;
+            }
+        }
+        let threshold = match robust_sigma(&mut self.noise_samples[..n]) {
+            Some(sigma_s) => self
+                .options
+                .threshold
+                .max(self.options.noise_multiple * sigma_s / (2 * d) as f64),
+            None => self.options.threshold,
+        };
+        self.frame_threshold = threshold;
+        self.threshold_sum = threshold_to_sum(threshold, d);
+        self.threshold_sum16 = self.threshold_sum.clamp(-1, i16::MAX as i32) as i16;
+        self.prefilter = lanes::prefilter_threshold(d, self.threshold_sum);
     }
 
     /// The lane kernel 8-bit images are scanned with (the fastest this CPU has, by default).
@@ -211,6 +277,7 @@ impl VisualRanger {
         out: &mut Scan,
     ) -> Result<()> {
         self.check_size(image)?;
+        self.set_frame_threshold(image);
         self.run_columns(image);
         self.fill_scan(timestamp_s, out);
         Ok(())
@@ -225,18 +292,21 @@ impl VisualRanger {
         out: &mut Scan,
     ) -> Result<()> {
         self.check_size(image)?;
+        self.set_frame_threshold(image);
         let d = self.options.half_width_px;
         for j in 0..self.plans.len() {
             let plan = self.plans[j];
             self.outcomes[j] = Some(match plan.window {
                 None => ColumnOutcome::Invalid { row: None },
                 Some((lo, hi)) => {
-                    let response = |k| direct_response_at(image, plan.column as usize, k, d);
+                    let c = plan.column as usize;
+                    let response = |k| direct_response_at(image, c, k, d);
+                    let pixel = |k: usize| image.get(c, image.height() - 1 - k).to_i32();
                     match (lo..=hi).find(|&k| response(k).abs() > self.threshold_sum) {
                         None => self.no_boundary(j, image.height()),
                         Some(k) => {
                             self.confidence[j] = edge_confidence(response(k), self.threshold_sum);
-                            self.resolve_with(j, k, image.height(), response)
+                            self.resolve_with(j, k, image.height(), response, pixel)
                         }
                     }
                 }
@@ -635,16 +705,23 @@ impl VisualRanger {
         let height = image.height();
         let c = plan.column as usize;
         if k_cross == lo || self.options.refinement == crate::edge::Refinement::FirstCrossing {
-            return self.resolve_with(j, k_cross, height, |_| 0);
+            return self.resolve_with(j, k_cross, height, |_| 0, |_| 0);
         }
-        // The refinement asks for S(k) with k in k_cross - 1 ..= min(k_cross + d + 1, k_max);
-        // those read the pixels base ..= top (k_cross > lo >= d, so base >= 0).
+        // The refinement asks for S(k) with k in k_cross - 1 ..= min(k_cross + d + 1, k_max),
+        // and the step refinement for pixels inside those windows; those read the pixels
+        // base ..= top (k_cross > lo >= d, so base >= 0).
         let k_max = height - 1 - d;
         let base = k_cross - 1 - d;
         let top = (k_cross + d + 1).min(k_max) + d;
         const SEGMENT: usize = 64;
         if top - base + 2 > SEGMENT {
-            return self.resolve_with(j, k_cross, height, |k| direct_response_at(image, c, k, d));
+            return self.resolve_with(
+                j,
+                k_cross,
+                height,
+                |k| direct_response_at(image, c, k, d),
+                |k| image.get(c, height - 1 - k).to_i32(),
+            );
         }
         let mut prefix = [0i32; SEGMENT];
         let mut total = 0;
@@ -653,19 +730,24 @@ impl VisualRanger {
             prefix[t + 1] = total;
         }
         let p = |k: usize| prefix[k - base];
-        self.resolve_with(j, k_cross, height, |k| {
-            (p(k + d + 1) - p(k + 1)) - (p(k) - p(k - d))
-        })
+        self.resolve_with(
+            j,
+            k_cross,
+            height,
+            |k| (p(k + d + 1) - p(k + 1)) - (p(k) - p(k - d)),
+            |k| p(k + 1) - p(k),
+        )
     }
 
     /// The outcome of column j whose response first crossed at k_cross, `response(k)` giving
-    /// S(k) for the refinement.
+    /// S(k) and `pixel(k)` the column's pixel k (from the bottom) for the refinement.
     fn resolve_with(
         &self,
         j: usize,
         k_cross: usize,
         height: usize,
-        response: impl FnMut(usize) -> i32,
+        mut response: impl FnMut(usize) -> i32,
+        pixel: impl FnMut(usize) -> i32,
     ) -> ColumnOutcome {
         let plan = &self.plans[j];
         let (lo, _) = plan.window.unwrap();
@@ -677,8 +759,22 @@ impl VisualRanger {
         // Pixels exist for windows centred up to height - 1 - d; the refinement may look past
         // the column's top limit by up to d rows to find the peak.
         let k_max = height - 1 - d;
-        let peak = refine_crossing(self.options.refinement, k_cross, d, lo, k_max, response);
-        let row = (height - 1) as f64 - peak.k;
+        let k = match self.options.refinement {
+            Refinement::Step => {
+                let sign = if response(k_cross) >= 0 { 1 } else { -1 };
+                let peak = refine_crossing(Refinement::SubPixel, k_cross, d, lo, k_max, response);
+                sharpest_step(
+                    peak.k,
+                    sign,
+                    d as f64 / 2.0,
+                    k_cross - 1 - d,
+                    (k_cross + d + 1).min(k_max) + d,
+                    pixel,
+                )
+            }
+            r => refine_crossing(r, k_cross, d, lo, k_max, response).k,
+        };
+        let row = (height - 1) as f64 - k;
         match self.table.lookup(c as f64, row) {
             Some(point) => {
                 // Floor covered by one pixel row at the boundary: the reading's range resolution.

@@ -43,6 +43,12 @@ pub struct RangerOptions {
     /// more than 20 grey levels between carpet and obstacle; chosen on the evaluation suite:
     /// EVALUATION.md).
     pub threshold: f64,
+    /// Threshold that follows each frame's noise and light: the frame's threshold is
+    /// max(`threshold`, `noise_multiple` x sigma), sigma the robust standard deviation (1.4826 x
+    /// median absolute deviation) of R over the near-floor band (the bottom 12 % of the image
+    /// above each sampled column's start) of that frame; finite and >= 0, 0 for the paper's
+    /// fixed threshold. A change of gain (dim, bright light) scales sigma with the edges.
+    pub noise_multiple: f64,
     /// How the boundary row is placed after the first crossing. Default: sub-pixel peak.
     pub refinement: Refinement,
     /// Sampled columns. Default: 64 evenly spaced.
@@ -62,6 +68,7 @@ impl Default for RangerOptions {
         Self {
             half_width_px: 4,
             threshold: 10.0,
+            noise_multiple: 0.0,
             refinement: Refinement::SubPixel,
             columns: ColumnSelection::Count(64),
             start: ColumnStart::BottomMargin(2),
@@ -104,6 +111,12 @@ impl RangerOptions {
             return Err(invalid_option(
                 "threshold",
                 format!("must be finite and >= 0, got {}", self.threshold),
+            ));
+        }
+        if !(self.noise_multiple.is_finite() && self.noise_multiple >= 0.0) {
+            return Err(invalid_option(
+                "noise_multiple",
+                format!("must be finite and >= 0, got {}", self.noise_multiple),
             ));
         }
         match &self.columns {
@@ -187,6 +200,14 @@ mod tests {
             },
             RangerOptions {
                 threshold: -1.0,
+                ..Default::default()
+            },
+            RangerOptions {
+                noise_multiple: -1.0,
+                ..Default::default()
+            },
+            RangerOptions {
+                noise_multiple: f64::INFINITY,
                 ..Default::default()
             },
             RangerOptions {
