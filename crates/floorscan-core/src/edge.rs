@@ -34,13 +34,13 @@ pub enum Refinement {
     /// The local maximum of |R| within the next d rows (the centre of a plateau of equal maxima).
     Peak,
     /// As `Peak`, then a parabola through the peak and its two neighbours, for a sub-pixel row.
-    #[default]
     SubPixel,
     /// As `SubPixel`, then the sharpest one-pixel step of the edge's sign within d/2 rows of
     /// that peak (a parabola through the step differences for a sub-pixel row). The box
     /// filter's peak is the centre of mass of every change inside its 2d window: a thin strip
     /// above the base (a dark baseboard, a shadow line) pulls it towards the robot; the
     /// sharpest step is where the intensity changes, the obstacle's base.
+    #[default]
     Step,
 }
 

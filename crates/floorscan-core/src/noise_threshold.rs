@@ -10,14 +10,15 @@
 //! edges at the same multiple.
 
 /// Rows of the near-floor band, as a fraction of the image height, counted up from each
-/// column's first tested row (at least 2d + 1 rows). 12 % is the band of the label-free
+/// column's first tested row; at least 4d + 1 rows, so that one edge in the band (a bumper, a
+/// wall at the robot's feet), which moves the response over 2d rows, stays a minority of it. 12 % is the band of the label-free
 /// threshold that `floorscan tune` reports (chosen there on the simulated carpet corridor):
 /// at the simulated camera's tilt, the floor within about 0.5 m of the robot.
 pub const NEAR_BAND_FRACTION: f64 = 0.12;
 
 /// Rows of the near-floor band for an image `height` rows high and half-width `d`.
 pub fn near_band_rows(height: usize, d: usize) -> usize {
-    ((NEAR_BAND_FRACTION * height as f64).round() as usize).max(2 * d + 1)
+    ((NEAR_BAND_FRACTION * height as f64).round() as usize).max(4 * d + 1)
 }
 
 /// 1.4826 x the median absolute deviation of `values` (reordered in place, no allocation);

@@ -41,7 +41,9 @@ struct ColumnPlan {
 pub struct VisualRanger {
     table: GroundTable,
     options: RangerOptions,
-    threshold_sum: i32,
+    /// Each column's threshold on the raw sum for the current frame (the options' one, or the
+    /// frame's own with `noise_multiple` / `contrast`).
+    column_threshold_sum: Vec<i32>,
     plans: Vec<ColumnPlan>,
     /// Indices (into `plans`) of scannable columns, sorted by window start and by window end.
     by_lo: Vec<usize>,
@@ -58,14 +60,15 @@ pub struct VisualRanger {
     /// The 8-bit path's buffers: 16-bit sums and thresholds (i16::MAX: not tested), the crossing
     /// masks of the last row step (one word per LANES columns), and the byte ring.
     kernel: Kernel,
-    threshold_sum16: i16,
     sums16: Vec<i16>,
     active_threshold16: Vec<i16>,
     masks: Vec<u32>,
     ring8: Vec<u8>,
-    /// The prefilter's byte threshold (None: not used) and per-column thresholds (255: column
-    /// not tested) and flags; see [`lanes::prefilter_threshold`].
-    prefilter: Option<u8>,
+    /// Whether this frame's scan uses the prefilter, each column's prefilter byte threshold
+    /// for the frame (see [`lanes::prefilter_threshold`]), and the active per-column byte
+    /// thresholds (255: column not tested) and flags.
+    prefilter: bool,
+    column_prefilter: Vec<u8>,
     thresholds8: Vec<u8>,
     flags: Vec<u8>,
     outcomes: Vec<Option<ColumnOutcome>>,
@@ -74,6 +77,7 @@ pub struct VisualRanger {
     /// The near-floor band's responses of one frame (see [`crate::noise_threshold`]), sized
     /// once; and the threshold the last frame was scanned with.
     noise_samples: Vec<i32>,
+    column_brightness: Vec<f64>,
     frame_threshold: f64,
     /// Floor length [m] one pixel row covers, per sampled column (outer) and image row (inner),
     /// worked out once: a boundary's footprint then costs no table lookup.
@@ -158,21 +162,20 @@ impl VisualRanger {
             }
         ];
         let threshold_sum = threshold_to_sum(options.threshold, d);
-        // Inside the 8-bit path |S| <= 255 d < i16::MAX, so a clamped threshold tests the same.
-        let threshold_sum16 = threshold_sum.clamp(-1, i16::MAX as i32) as i16;
+        let prefilter = lanes::prefilter_threshold(d, threshold_sum);
         let small_d = d <= MAX_HALF_WIDTH_I16;
         Ok(Self {
-            threshold_sum,
+            column_threshold_sum: vec![threshold_sum; n],
             offsets: vec![0; n],
             ring: vec![0; (2 * d + 2) * n],
             max_offset: 0,
             kernel: Kernel::detect(),
-            threshold_sum16,
             sums16: vec![0; if small_d { n } else { 0 }],
             active_threshold16: vec![i16::MAX; n],
             masks: vec![0; n.div_ceil(LANES)],
             ring8: vec![0; if small_d { ring8_rows(d) * n } else { 0 }],
-            prefilter: lanes::prefilter_threshold(d, threshold_sum),
+            prefilter: prefilter.is_some(),
+            column_prefilter: vec![prefilter.unwrap_or(u8::MAX); n],
             thresholds8: vec![u8::MAX; n],
             flags: vec![0; n],
             sums: vec![0; n],
@@ -181,6 +184,7 @@ impl VisualRanger {
             confidence: vec![1.0; n],
             footprints_m,
             noise_samples,
+            column_brightness: vec![0.0; n],
             frame_threshold: options.threshold,
             table,
             options,
@@ -207,41 +211,66 @@ impl VisualRanger {
         self.frame_threshold
     }
 
-    /// Sets the frame's threshold from its near-floor noise (when `noise_multiple` > 0).
+    /// Sets each column's threshold for this frame from its near-floor band (when
+    /// `noise_multiple` or `contrast` is > 0): max(threshold, noise_multiple x sigma of the
+    /// frame, contrast x the column's mean brightness).
     fn set_frame_threshold<P: Pixel>(&mut self, image: &ImageView<P>) {
-        if self.options.noise_multiple <= 0.0 {
+        let (k_noise, contrast) = (self.options.noise_multiple, self.options.contrast);
+        if k_noise <= 0.0 && contrast <= 0.0 {
             return;
         }
         let d = self.options.half_width_px;
         let height = image.height();
         let band = near_band_rows(height, d);
         let mut n = 0;
-        for plan in &self.plans {
+        for (j, plan) in self.plans.iter().enumerate() {
             let Some((lo, hi)) = plan.window else {
                 continue;
             };
             let c = plan.column as usize;
             let px = |k: usize| image.get(c, height - 1 - k).to_i32();
-            let mut s = direct_response_at(image, c, lo, d);
-            for k in lo..=hi.min(lo + band - 1) {
-                if k > lo {
-                    s = next_response(s, px(k - 1 - d), px(k - 1), px(k), px(k + d));
+            let top = hi.min(lo + band - 1);
+            if k_noise > 0.0 {
+                let mut s = direct_response_at(image, c, lo, d);
+                for k in lo..=top {
+                    if k > lo {
+                        s = next_response(s, px(k - 1 - d), px(k - 1), px(k), px(k + d));
+                    }
+                    self.noise_samples[n] = s;
+                    n += 1;
                 }
-                self.noise_samples[n] = s;
-                n += 1;
+            }
+            // The column's mean brightness over the pixels the band's windows read.
+            let mean = if contrast > 0.0 {
+                let sum: i64 = (lo - d..=top + d).map(|k| px(k) as i64).sum();
+                sum as f64 / (top + 2 * d + 1 - lo) as f64
+            } else {
+                0.0
+            };
+            self.column_brightness[j] = mean;
+        }
+        let noise_threshold = match robust_sigma(&mut self.noise_samples[..n]) {
+            Some(sigma_s) => k_noise * sigma_s / (2 * d) as f64,
+            None => 0.0,
+        };
+        let base = self.options.threshold.max(noise_threshold);
+        self.frame_threshold = base;
+        let mut lowest = i32::MAX;
+        let mut memo = (i32::MIN, None);
+        for j in 0..self.plans.len() {
+            let t = base.max(contrast * self.column_brightness[j]);
+            let sum = threshold_to_sum(t, d);
+            if memo.0 != sum {
+                memo = (sum, lanes::prefilter_threshold(d, sum));
+            }
+            self.column_threshold_sum[j] = sum;
+            self.column_prefilter[j] = memo.1.unwrap_or(u8::MAX);
+            if self.plans[j].window.is_some() {
+                lowest = lowest.min(sum);
             }
         }
-        let threshold = match robust_sigma(&mut self.noise_samples[..n]) {
-            Some(sigma_s) => self
-                .options
-                .threshold
-                .max(self.options.noise_multiple * sigma_s / (2 * d) as f64),
-            None => self.options.threshold,
-        };
-        self.frame_threshold = threshold;
-        self.threshold_sum = threshold_to_sum(threshold, d);
-        self.threshold_sum16 = self.threshold_sum.clamp(-1, i16::MAX as i32) as i16;
-        self.prefilter = lanes::prefilter_threshold(d, self.threshold_sum);
+        // The prefilter serves a frame only if it is conservative for every column.
+        self.prefilter = lowest == i32::MAX || lanes::prefilter_threshold(d, lowest).is_some();
     }
 
     /// The lane kernel 8-bit images are scanned with (the fastest this CPU has, by default).
@@ -302,10 +331,11 @@ impl VisualRanger {
                     let c = plan.column as usize;
                     let response = |k| direct_response_at(image, c, k, d);
                     let pixel = |k: usize| image.get(c, image.height() - 1 - k).to_i32();
-                    match (lo..=hi).find(|&k| response(k).abs() > self.threshold_sum) {
+                    let threshold = self.column_threshold_sum[j];
+                    match (lo..=hi).find(|&k| response(k).abs() > threshold) {
                         None => self.no_boundary(j, image.height()),
                         Some(k) => {
-                            self.confidence[j] = edge_confidence(response(k), self.threshold_sum);
+                            self.confidence[j] = edge_confidence(response(k), threshold);
                             self.resolve_with(j, k, image.height(), response, pixel)
                         }
                     }
@@ -373,7 +403,7 @@ impl VisualRanger {
         let contiguous =
             image.col_stride() == 1 && self.offsets.windows(2).all(|w| w[1] == w[0] + 1);
         if let Some(bytes) = image.as_u8() {
-            if self.prefilter.is_some() {
+            if self.prefilter {
                 self.run_columns_prefiltered(&bytes, contiguous);
                 return;
             }
@@ -406,7 +436,8 @@ impl VisualRanger {
             if any_crossing {
                 for j in 0..self.plans.len() {
                     if self.sums[j].abs() > self.active_threshold[j] {
-                        self.confidence[j] = edge_confidence(self.sums[j], self.threshold_sum);
+                        self.confidence[j] =
+                            edge_confidence(self.sums[j], self.column_threshold_sum[j]);
                         self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
                         self.active_threshold[j] = i32::MAX;
                         unresolved -= 1;
@@ -495,7 +526,7 @@ impl VisualRanger {
                         m &= !lanes::lane_bits(lane);
                         let j = chunk * LANES + lane;
                         let s = i32::from(self.sums16[j]);
-                        self.confidence[j] = edge_confidence(s, self.threshold_sum);
+                        self.confidence[j] = edge_confidence(s, self.column_threshold_sum[j]);
                         self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
                         self.active_threshold[j] = i32::MAX;
                         self.active_threshold16[j] = i16::MAX;
@@ -592,8 +623,9 @@ impl VisualRanger {
                         let s: i32 = (1..=d)
                             .map(|t| rows[d + t][j] as i32 - rows[d - t][j] as i32)
                             .sum();
-                        if s.abs() > self.threshold_sum {
-                            self.confidence[j] = edge_confidence(s, self.threshold_sum);
+                        let threshold = self.column_threshold_sum[j];
+                        if s.abs() > threshold {
+                            self.confidence[j] = edge_confidence(s, threshold);
                             self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
                             self.active_threshold[j] = i32::MAX;
                             self.active_threshold16[j] = i16::MAX;
@@ -660,9 +692,12 @@ impl VisualRanger {
         {
             let j = self.by_lo[cursor.lo];
             if self.outcomes[j].is_none() {
-                self.active_threshold[j] = self.threshold_sum;
-                self.active_threshold16[j] = self.threshold_sum16;
-                self.thresholds8[j] = self.prefilter.unwrap_or(u8::MAX);
+                let threshold = self.column_threshold_sum[j];
+                self.active_threshold[j] = threshold;
+                // Inside the 8-bit path |S| <= 255 d < i16::MAX, so a clamped threshold tests
+                // the same.
+                self.active_threshold16[j] = threshold.clamp(-1, i16::MAX as i32) as i16;
+                self.thresholds8[j] = self.column_prefilter[j];
             }
             cursor.lo += 1;
         }

@@ -39,7 +39,7 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
         "--refinement",
         "--refine",
         dest="refinement",
-        help="boundary placement: sub_pixel | peak | first_crossing (the paper's) "
+        help="boundary placement: step | sub_pixel | peak | first_crossing (the paper's) "
         f"{default('refinement')}",
     )
     p.add_argument(
