@@ -785,7 +785,7 @@ impl VisualRanger {
         pixel: impl FnMut(usize) -> i32,
     ) -> ColumnOutcome {
         let plan = &self.plans[j];
-        let (lo, _) = plan.window.unwrap();
+        let (lo, hi) = plan.window.unwrap();
         if k_cross == lo {
             return ColumnOutcome::TooClose;
         }
@@ -809,6 +809,11 @@ impl VisualRanger {
             }
             r => refine_crossing(r, k_cross, d, lo, k_max, response).k,
         };
+        // A refined edge above the column's last scanned row lies past its ground (the table's
+        // or the range limit's): beyond what the column can place, so free up to that row.
+        if k > hi as f64 {
+            return self.no_boundary(j, height);
+        }
         let row = (height - 1) as f64 - k;
         match self.table.lookup(c as f64, row) {
             Some(point) => {

@@ -166,6 +166,9 @@ fn brute_force(
                         }
                         r => refine_crossing(r, k, d, lo, k_max, response).k,
                     };
+                    if peak > hi as f64 {
+                        return (c, ColumnStatus::NoBoundary, (height - 1 - hi) as f64);
+                    }
                     let row = (height - 1) as f64 - peak;
                     return match table.lookup(u, row) {
                         Some(_) => (c, ColumnStatus::Boundary, row),
