@@ -28,7 +28,7 @@ from floorscan.ranging.ground_table import GroundTable
 from floorscan.sim import simulate_run
 
 VARIANTS: Dict[str, Dict[str, object]] = {
-    "fixed T=10, sub_pixel (before)": dict(
+    "fixed T=10, sub_pixel": dict(
         threshold=10.0, noise_multiple=0.0, contrast=0.0, refinement="sub_pixel"
     ),
     "fixed T=10, step": dict(threshold=10.0, noise_multiple=0.0, contrast=0.0),

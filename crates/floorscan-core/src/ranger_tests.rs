@@ -971,3 +971,47 @@ fn an_edge_at_the_robots_feet_in_every_column_stays_too_close_by_default() {
         .iter()
         .all(|r| r.status() == ColumnStatus::TooClose));
 }
+
+#[test]
+fn step_refinement_lands_on_the_base_not_the_start_of_a_soft_contact_shadow() {
+    // Floor 100 below row 70; a contact shadow darkening it by 3 levels a row up to the base
+    // at row 60 (edge line 59.5); a dark obstacle (40) above. The box filter's peak is the
+    // centre of mass of shadow and base together, below the base; the sharpest step is the
+    // base.
+    let (w, h) = (8, 100);
+    let img: Vec<u8> = (0..h)
+        .flat_map(|v| {
+            let value = if v >= 70 {
+                100
+            } else if v >= 60 {
+                100 - 3 * (70 - v as i32)
+            } else {
+                40
+            };
+            std::iter::repeat_n(value as u8, w)
+        })
+        .collect();
+    let row = |refinement| {
+        let mut r = VisualRanger::new(
+            table(w, h, 0.0),
+            options(4, 10.0, refinement, ColumnSelection::Count(1)),
+        )
+        .unwrap();
+        r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0)
+            .unwrap()
+            .readings[0]
+            .row()
+    };
+    // The parabola through the base's step and the shadow's (3 levels) moves it by 0.03 rows.
+    assert!(
+        (row(Refinement::Step) - 59.5).abs() < 0.05,
+        "{}",
+        row(Refinement::Step)
+    );
+    // The box filter's sub-pixel peak: 0.4 rows towards the robot.
+    assert!(
+        row(Refinement::SubPixel) > 59.8,
+        "{}",
+        row(Refinement::SubPixel)
+    );
+}
