@@ -16,6 +16,11 @@
 /// at the simulated camera's tilt, the floor within about 0.5 m of the robot.
 pub const NEAR_BAND_FRACTION: f64 = 0.12;
 
+/// Most columns the noise is pooled over: with more sampled columns, every s-th scannable one
+/// (s = ceil(scannable / 64)), so dense scans cost no more than the default 64 columns here
+/// (64 x ~30 rows is ~2000 samples: the median absolute deviation within a few percent).
+pub const NOISE_COLUMNS: usize = 64;
+
 /// Rows of the near-floor band for an image `height` rows high and half-width `d`.
 pub fn near_band_rows(height: usize, d: usize) -> usize {
     ((NEAR_BAND_FRACTION * height as f64).round() as usize).max(4 * d + 1)

@@ -19,7 +19,7 @@ use crate::error::{Error, Result};
 use crate::ground_table::GroundTable;
 use crate::image::{ImageView, Pixel};
 use crate::lanes::{self, Kernel, LANES, MAX_HALF_WIDTH_I16};
-use crate::noise_threshold::{near_band_rows, robust_sigma};
+use crate::noise_threshold::{near_band_rows, robust_sigma, NOISE_COLUMNS};
 use crate::pose::Point2;
 use crate::ranger_options::{ColumnStart, RangerOptions};
 use crate::scan::{ColumnOutcome, ColumnReading, Scan};
@@ -222,15 +222,19 @@ impl VisualRanger {
         let d = self.options.half_width_px;
         let height = image.height();
         let band = near_band_rows(height, d);
+        // The noise is pooled over at most NOISE_COLUMNS evenly spread scannable columns.
+        let stride = self.by_lo.len().div_ceil(NOISE_COLUMNS).max(1);
         let mut n = 0;
+        let mut scannable = 0;
         for (j, plan) in self.plans.iter().enumerate() {
             let Some((lo, hi)) = plan.window else {
                 continue;
             };
+            scannable += 1;
             let c = plan.column as usize;
             let px = |k: usize| image.get(c, height - 1 - k).to_i32();
             let top = hi.min(lo + band - 1);
-            if k_noise > 0.0 {
+            if k_noise > 0.0 && (scannable - 1) % stride == 0 {
                 let mut s = direct_response_at(image, c, lo, d);
                 for k in lo..=top {
                     if k > lo {

@@ -115,9 +115,12 @@ fn brute_force(
     let band = ((0.12 * height as f64).round() as usize).max(4 * d + 1);
     let mut threshold = o.threshold;
     if o.noise_multiple > 0.0 {
+        let scannable = columns.iter().filter(|(_, _, w)| w.is_some()).count();
+        let stride = scannable.div_ceil(64).max(1);
         let mut s: Vec<i64> = columns
             .iter()
             .filter_map(|(_, col, w)| w.map(|(lo, hi)| (col, lo, hi)))
+            .step_by(stride)
             .flat_map(|(col, lo, hi)| {
                 (lo..=hi.min(lo + band - 1)).map(|k| direct_response(col, k, d) as i64)
             })
