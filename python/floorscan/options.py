@@ -5,7 +5,7 @@ The defaults, the field docs and every check live in the Rust options types
 only reads them through the binding, and turns numpy values into plain ones on the way in.
 
 >>> defaults("ranger")["refinement"]
-'sub_pixel'
+'step'
 >>> sorted(field_docs("inserter"))[:2]
 ['boundary_margin_rows', 'laser']
 """

@@ -156,7 +156,8 @@ def test_scan_reads_the_config_file(tmp_path):
         tmp_path / "f.png", (np.where(v >= 20, 90, 110) * np.ones((1, 64))).astype(np.uint8)
     )
     cfg = tmp_path / "c.toml"
-    cfg.write_text("[ranger]\nthreshold = 50\ncolumns = 4\n")  # the step is 20: no boundary
+    # A fixed threshold (no per-frame terms); the step is 20 (R = 10): no boundary at 50.
+    cfg.write_text("[ranger]\nthreshold = 50\nnoise_multiple = 0\ncontrast = 0\ncolumns = 4\n")
     base = ["scan", "--table", str(tmp_path / "table.json"), str(image), "--config", str(cfg)]
     assert main([*base, "-o", str(tmp_path / "a.csv")]) == 0
     a = read_scans_csv(tmp_path / "a.csv")[0]

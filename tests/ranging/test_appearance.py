@@ -116,7 +116,15 @@ def test_fused_takes_nearby_edges_and_ignores_grout_lines():
     img[60] = (90, 90, 90)
     img[:30] = (30, 60, 160)
     table = image_row_table(W, H)
-    edge = fs.VisualRanger(table, columns=8, max_range_m=None, threshold=5, half_width_px=2)
+    edge = fs.VisualRanger(
+        table,
+        columns=8,
+        max_range_m=None,
+        threshold=5,
+        noise_multiple=0,
+        contrast=0,  # a fixed threshold: the grout line (R = 12.5) is an edge
+        half_width_px=2,
+    )
     app = fs.AppearanceRanger(table, columns=8, max_range_m=None, reference_fraction=0.3)
     e, a = edge.scan(img), app.scan(img)
     assert np.all(e.rows > 55)  # the edge ranger stops at the grout line

@@ -61,6 +61,8 @@ def test_scan_equals_numpy_brute_force(seed, d, threshold, n_columns, margin, ho
         columns=n_columns,
         half_width_px=d,
         threshold=threshold,
+        noise_multiple=0,  # the paper's fixed threshold, as the reference
+        contrast=0,
         refinement="first_crossing",
         start={"bottom_margin": margin},
     )

@@ -34,8 +34,14 @@ pub enum Refinement {
     /// The local maximum of |R| within the next d rows (the centre of a plateau of equal maxima).
     Peak,
     /// As `Peak`, then a parabola through the peak and its two neighbours, for a sub-pixel row.
-    #[default]
     SubPixel,
+    /// As `SubPixel`, then the sharpest one-pixel step of the edge's sign within d/2 rows of
+    /// that peak (a parabola through the step differences for a sub-pixel row). The box
+    /// filter's peak is the centre of mass of every change inside its 2d window: a thin strip
+    /// above the base (a dark baseboard, a shadow line) pulls it towards the robot; the
+    /// sharpest step is where the intensity changes, the obstacle's base.
+    #[default]
+    Step,
 }
 
 /// Raw response S(k) by the direct sum of eq. (1). Needs `d <= k` and `k + d < column.len()`.
@@ -143,6 +149,51 @@ pub fn refine_crossing(
     Peak {
         k: k as f64 + offset,
     }
+}
+
+/// The sharpest step of sign `sign` near the box filter's peak `k_peak`: over the pixel pairs
+/// (j, j + 1) with `j_min <= j < j_max` whose edge line j + 0.5 lies within `radius` rows of
+/// `k_peak`, the largest `sign * (I(j + 1) - I(j))`, placed by a parabola through its two
+/// neighbours. `pixel(j)` is I(j), k counted from the bottom. `k_peak` when no step of that
+/// sign is there.
+pub fn sharpest_step(
+    k_peak: f64,
+    sign: i32,
+    radius: f64,
+    j_min: usize,
+    j_max: usize,
+    mut pixel: impl FnMut(usize) -> i32,
+) -> f64 {
+    let first = (k_peak - radius - 0.5).ceil().max(j_min as f64) as usize;
+    let last = ((k_peak + radius - 0.5).floor() as usize).min(j_max.saturating_sub(1));
+    if j_max == 0 || last < first {
+        return k_peak;
+    }
+    let step = |j: usize, pixel: &mut dyn FnMut(usize) -> i32| sign * (pixel(j + 1) - pixel(j));
+    let (mut best_j, mut best) = (first, i32::MIN);
+    for j in first..=last {
+        let g = step(j, &mut pixel);
+        if g > best {
+            (best_j, best) = (j, g);
+        }
+    }
+    if best <= 0 {
+        return k_peak;
+    }
+    let mut k = best_j as f64 + 0.5;
+    // Neighbouring steps (inside the pixels that exist) for the parabola.
+    if best_j > j_min && best_j + 1 < j_max {
+        let (a, c) = (
+            step(best_j - 1, &mut pixel) as f64,
+            step(best_j + 1, &mut pixel) as f64,
+        );
+        let b = best as f64;
+        let denom = a - 2.0 * b + c;
+        if denom < 0.0 {
+            k += (0.5 * (a - c) / denom).clamp(-0.5, 0.5);
+        }
+    }
+    k
 }
 
 #[cfg(test)]

@@ -35,6 +35,7 @@ pub mod local_map;
 pub mod log_odds;
 pub mod mount;
 pub mod navigation;
+pub mod noise_threshold;
 pub mod pose;
 pub mod queries;
 pub mod ranger;

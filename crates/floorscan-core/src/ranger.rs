@@ -12,11 +12,14 @@
 //! images use 32-bit sums in plain Rust. Both give the readings of the direct filter of eq. (1)
 //! (the tests check every column of random images against it, for every kernel).
 
-use crate::edge::{direct_response_at, refine_crossing, threshold_to_sum};
+use crate::edge::{
+    direct_response_at, next_response, refine_crossing, sharpest_step, threshold_to_sum, Refinement,
+};
 use crate::error::{Error, Result};
 use crate::ground_table::GroundTable;
 use crate::image::{ImageView, Pixel};
 use crate::lanes::{self, Kernel, LANES, MAX_HALF_WIDTH_I16};
+use crate::noise_threshold::{near_band_rows, robust_sigma, NOISE_COLUMNS};
 use crate::pose::Point2;
 use crate::ranger_options::{ColumnStart, RangerOptions};
 use crate::scan::{ColumnOutcome, ColumnReading, Scan};
@@ -38,7 +41,9 @@ struct ColumnPlan {
 pub struct VisualRanger {
     table: GroundTable,
     options: RangerOptions,
-    threshold_sum: i32,
+    /// Each column's threshold on the raw sum for the current frame (the options' one, or the
+    /// frame's own with `noise_multiple` / `contrast`).
+    column_threshold_sum: Vec<i32>,
     plans: Vec<ColumnPlan>,
     /// Indices (into `plans`) of scannable columns, sorted by window start and by window end.
     by_lo: Vec<usize>,
@@ -55,19 +60,25 @@ pub struct VisualRanger {
     /// The 8-bit path's buffers: 16-bit sums and thresholds (i16::MAX: not tested), the crossing
     /// masks of the last row step (one word per LANES columns), and the byte ring.
     kernel: Kernel,
-    threshold_sum16: i16,
     sums16: Vec<i16>,
     active_threshold16: Vec<i16>,
     masks: Vec<u32>,
     ring8: Vec<u8>,
-    /// The prefilter's byte threshold (None: not used) and per-column thresholds (255: column
-    /// not tested) and flags; see [`lanes::prefilter_threshold`].
-    prefilter: Option<u8>,
+    /// Whether this frame's scan uses the prefilter, each column's prefilter byte threshold
+    /// for the frame (see [`lanes::prefilter_threshold`]), and the active per-column byte
+    /// thresholds (255: column not tested) and flags.
+    prefilter: bool,
+    column_prefilter: Vec<u8>,
     thresholds8: Vec<u8>,
     flags: Vec<u8>,
     outcomes: Vec<Option<ColumnOutcome>>,
     /// Per column: the confidence of its outcome (see [`edge_confidence`]).
     confidence: Vec<f32>,
+    /// The near-floor band's responses of one frame (see [`crate::noise_threshold`]), sized
+    /// once; and the threshold the last frame was scanned with.
+    noise_samples: Vec<i32>,
+    column_brightness: Vec<f64>,
+    frame_threshold: f64,
     /// Floor length [m] one pixel row covers, per sampled column (outer) and image row (inner),
     /// worked out once: a boundary's footprint then costs no table lookup.
     footprints_m: Vec<f32>,
@@ -136,22 +147,35 @@ impl VisualRanger {
         let mut by_hi = scannable;
         by_hi.sort_by_key(|&j| plans[j].window.unwrap().1);
         let n = plans.len();
+        let band = near_band_rows(height, d);
+        let band_samples: usize = plans
+            .iter()
+            .filter_map(|p| p.window)
+            .map(|(lo, hi)| (hi - lo + 1).min(band))
+            .sum();
+        let noise_samples = vec![
+            0;
+            if options.noise_multiple > 0.0 {
+                band_samples
+            } else {
+                0
+            }
+        ];
         let threshold_sum = threshold_to_sum(options.threshold, d);
-        // Inside the 8-bit path |S| <= 255 d < i16::MAX, so a clamped threshold tests the same.
-        let threshold_sum16 = threshold_sum.clamp(-1, i16::MAX as i32) as i16;
+        let prefilter = lanes::prefilter_threshold(d, threshold_sum);
         let small_d = d <= MAX_HALF_WIDTH_I16;
         Ok(Self {
-            threshold_sum,
+            column_threshold_sum: vec![threshold_sum; n],
             offsets: vec![0; n],
             ring: vec![0; (2 * d + 2) * n],
             max_offset: 0,
             kernel: Kernel::detect(),
-            threshold_sum16,
             sums16: vec![0; if small_d { n } else { 0 }],
             active_threshold16: vec![i16::MAX; n],
             masks: vec![0; n.div_ceil(LANES)],
             ring8: vec![0; if small_d { ring8_rows(d) * n } else { 0 }],
-            prefilter: lanes::prefilter_threshold(d, threshold_sum),
+            prefilter: prefilter.is_some(),
+            column_prefilter: vec![prefilter.unwrap_or(u8::MAX); n],
             thresholds8: vec![u8::MAX; n],
             flags: vec![0; n],
             sums: vec![0; n],
@@ -159,6 +183,9 @@ impl VisualRanger {
             outcomes: vec![None; n],
             confidence: vec![1.0; n],
             footprints_m,
+            noise_samples,
+            column_brightness: vec![0.0; n],
+            frame_threshold: options.threshold,
             table,
             options,
             plans,
@@ -176,6 +203,78 @@ impl VisualRanger {
     /// The sampled image columns, in output order.
     pub fn columns(&self) -> Vec<u32> {
         self.plans.iter().map(|p| p.column).collect()
+    }
+
+    /// The threshold on |R| the last frame was scanned with: `threshold`, or with
+    /// `noise_multiple` > 0 the frame's own (see [`crate::noise_threshold`]).
+    pub fn frame_threshold(&self) -> f64 {
+        self.frame_threshold
+    }
+
+    /// Sets each column's threshold for this frame from its near-floor band (when
+    /// `noise_multiple` or `contrast` is > 0): max(threshold, noise_multiple x sigma of the
+    /// frame, contrast x the column's mean brightness).
+    fn set_frame_threshold<P: Pixel>(&mut self, image: &ImageView<P>) {
+        let (k_noise, contrast) = (self.options.noise_multiple, self.options.contrast);
+        if k_noise <= 0.0 && contrast <= 0.0 {
+            return;
+        }
+        let d = self.options.half_width_px;
+        let height = image.height();
+        let band = near_band_rows(height, d);
+        // The noise is pooled over at most NOISE_COLUMNS evenly spread scannable columns.
+        let stride = self.by_lo.len().div_ceil(NOISE_COLUMNS).max(1);
+        let mut n = 0;
+        let mut scannable = 0;
+        for (j, plan) in self.plans.iter().enumerate() {
+            let Some((lo, hi)) = plan.window else {
+                continue;
+            };
+            scannable += 1;
+            let c = plan.column as usize;
+            let px = |k: usize| image.get(c, height - 1 - k).to_i32();
+            let top = hi.min(lo + band - 1);
+            if k_noise > 0.0 && (scannable - 1) % stride == 0 {
+                let mut s = direct_response_at(image, c, lo, d);
+                for k in lo..=top {
+                    if k > lo {
+                        s = next_response(s, px(k - 1 - d), px(k - 1), px(k), px(k + d));
+                    }
+                    self.noise_samples[n] = s;
+                    n += 1;
+                }
+            }
+            // The column's mean brightness over the pixels the band's windows read.
+            let mean = if contrast > 0.0 {
+                let sum: i64 = (lo - d..=top + d).map(|k| px(k) as i64).sum();
+                sum as f64 / (top + 2 * d + 1 - lo) as f64
+            } else {
+                0.0
+            };
+            self.column_brightness[j] = mean;
+        }
+        let noise_threshold = match robust_sigma(&mut self.noise_samples[..n]) {
+            Some(sigma_s) => k_noise * sigma_s / (2 * d) as f64,
+            None => 0.0,
+        };
+        let base = self.options.threshold.max(noise_threshold);
+        self.frame_threshold = base;
+        let mut lowest = i32::MAX;
+        let mut memo = (i32::MIN, None);
+        for j in 0..self.plans.len() {
+            let t = base.max(contrast * self.column_brightness[j]);
+            let sum = threshold_to_sum(t, d);
+            if memo.0 != sum {
+                memo = (sum, lanes::prefilter_threshold(d, sum));
+            }
+            self.column_threshold_sum[j] = sum;
+            self.column_prefilter[j] = memo.1.unwrap_or(u8::MAX);
+            if self.plans[j].window.is_some() {
+                lowest = lowest.min(sum);
+            }
+        }
+        // The prefilter serves a frame only if it is conservative for every column.
+        self.prefilter = lowest == i32::MAX || lanes::prefilter_threshold(d, lowest).is_some();
     }
 
     /// The lane kernel 8-bit images are scanned with (the fastest this CPU has, by default).
@@ -211,6 +310,7 @@ impl VisualRanger {
         out: &mut Scan,
     ) -> Result<()> {
         self.check_size(image)?;
+        self.set_frame_threshold(image);
         self.run_columns(image);
         self.fill_scan(timestamp_s, out);
         Ok(())
@@ -225,18 +325,22 @@ impl VisualRanger {
         out: &mut Scan,
     ) -> Result<()> {
         self.check_size(image)?;
+        self.set_frame_threshold(image);
         let d = self.options.half_width_px;
         for j in 0..self.plans.len() {
             let plan = self.plans[j];
             self.outcomes[j] = Some(match plan.window {
                 None => ColumnOutcome::Invalid { row: None },
                 Some((lo, hi)) => {
-                    let response = |k| direct_response_at(image, plan.column as usize, k, d);
-                    match (lo..=hi).find(|&k| response(k).abs() > self.threshold_sum) {
+                    let c = plan.column as usize;
+                    let response = |k| direct_response_at(image, c, k, d);
+                    let pixel = |k: usize| image.get(c, image.height() - 1 - k).to_i32();
+                    let threshold = self.column_threshold_sum[j];
+                    match (lo..=hi).find(|&k| response(k).abs() > threshold) {
                         None => self.no_boundary(j, image.height()),
                         Some(k) => {
-                            self.confidence[j] = edge_confidence(response(k), self.threshold_sum);
-                            self.resolve_with(j, k, image.height(), response)
+                            self.confidence[j] = edge_confidence(response(k), threshold);
+                            self.resolve_with(j, k, image.height(), response, pixel)
                         }
                     }
                 }
@@ -303,7 +407,7 @@ impl VisualRanger {
         let contiguous =
             image.col_stride() == 1 && self.offsets.windows(2).all(|w| w[1] == w[0] + 1);
         if let Some(bytes) = image.as_u8() {
-            if self.prefilter.is_some() {
+            if self.prefilter {
                 self.run_columns_prefiltered(&bytes, contiguous);
                 return;
             }
@@ -336,7 +440,8 @@ impl VisualRanger {
             if any_crossing {
                 for j in 0..self.plans.len() {
                     if self.sums[j].abs() > self.active_threshold[j] {
-                        self.confidence[j] = edge_confidence(self.sums[j], self.threshold_sum);
+                        self.confidence[j] =
+                            edge_confidence(self.sums[j], self.column_threshold_sum[j]);
                         self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
                         self.active_threshold[j] = i32::MAX;
                         unresolved -= 1;
@@ -425,7 +530,7 @@ impl VisualRanger {
                         m &= !lanes::lane_bits(lane);
                         let j = chunk * LANES + lane;
                         let s = i32::from(self.sums16[j]);
-                        self.confidence[j] = edge_confidence(s, self.threshold_sum);
+                        self.confidence[j] = edge_confidence(s, self.column_threshold_sum[j]);
                         self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
                         self.active_threshold[j] = i32::MAX;
                         self.active_threshold16[j] = i16::MAX;
@@ -522,8 +627,9 @@ impl VisualRanger {
                         let s: i32 = (1..=d)
                             .map(|t| rows[d + t][j] as i32 - rows[d - t][j] as i32)
                             .sum();
-                        if s.abs() > self.threshold_sum {
-                            self.confidence[j] = edge_confidence(s, self.threshold_sum);
+                        let threshold = self.column_threshold_sum[j];
+                        if s.abs() > threshold {
+                            self.confidence[j] = edge_confidence(s, threshold);
                             self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
                             self.active_threshold[j] = i32::MAX;
                             self.active_threshold16[j] = i16::MAX;
@@ -590,9 +696,12 @@ impl VisualRanger {
         {
             let j = self.by_lo[cursor.lo];
             if self.outcomes[j].is_none() {
-                self.active_threshold[j] = self.threshold_sum;
-                self.active_threshold16[j] = self.threshold_sum16;
-                self.thresholds8[j] = self.prefilter.unwrap_or(u8::MAX);
+                let threshold = self.column_threshold_sum[j];
+                self.active_threshold[j] = threshold;
+                // Inside the 8-bit path |S| <= 255 d < i16::MAX, so a clamped threshold tests
+                // the same.
+                self.active_threshold16[j] = threshold.clamp(-1, i16::MAX as i32) as i16;
+                self.thresholds8[j] = self.column_prefilter[j];
             }
             cursor.lo += 1;
         }
@@ -635,16 +744,23 @@ impl VisualRanger {
         let height = image.height();
         let c = plan.column as usize;
         if k_cross == lo || self.options.refinement == crate::edge::Refinement::FirstCrossing {
-            return self.resolve_with(j, k_cross, height, |_| 0);
+            return self.resolve_with(j, k_cross, height, |_| 0, |_| 0);
         }
-        // The refinement asks for S(k) with k in k_cross - 1 ..= min(k_cross + d + 1, k_max);
-        // those read the pixels base ..= top (k_cross > lo >= d, so base >= 0).
+        // The refinement asks for S(k) with k in k_cross - 1 ..= min(k_cross + d + 1, k_max),
+        // and the step refinement for pixels inside those windows; those read the pixels
+        // base ..= top (k_cross > lo >= d, so base >= 0).
         let k_max = height - 1 - d;
         let base = k_cross - 1 - d;
         let top = (k_cross + d + 1).min(k_max) + d;
         const SEGMENT: usize = 64;
         if top - base + 2 > SEGMENT {
-            return self.resolve_with(j, k_cross, height, |k| direct_response_at(image, c, k, d));
+            return self.resolve_with(
+                j,
+                k_cross,
+                height,
+                |k| direct_response_at(image, c, k, d),
+                |k| image.get(c, height - 1 - k).to_i32(),
+            );
         }
         let mut prefix = [0i32; SEGMENT];
         let mut total = 0;
@@ -653,22 +769,27 @@ impl VisualRanger {
             prefix[t + 1] = total;
         }
         let p = |k: usize| prefix[k - base];
-        self.resolve_with(j, k_cross, height, |k| {
-            (p(k + d + 1) - p(k + 1)) - (p(k) - p(k - d))
-        })
+        self.resolve_with(
+            j,
+            k_cross,
+            height,
+            |k| (p(k + d + 1) - p(k + 1)) - (p(k) - p(k - d)),
+            |k| p(k + 1) - p(k),
+        )
     }
 
     /// The outcome of column j whose response first crossed at k_cross, `response(k)` giving
-    /// S(k) for the refinement.
+    /// S(k) and `pixel(k)` the column's pixel k (from the bottom) for the refinement.
     fn resolve_with(
         &self,
         j: usize,
         k_cross: usize,
         height: usize,
-        response: impl FnMut(usize) -> i32,
+        mut response: impl FnMut(usize) -> i32,
+        pixel: impl FnMut(usize) -> i32,
     ) -> ColumnOutcome {
         let plan = &self.plans[j];
-        let (lo, _) = plan.window.unwrap();
+        let (lo, hi) = plan.window.unwrap();
         if k_cross == lo {
             return ColumnOutcome::TooClose;
         }
@@ -677,8 +798,27 @@ impl VisualRanger {
         // Pixels exist for windows centred up to height - 1 - d; the refinement may look past
         // the column's top limit by up to d rows to find the peak.
         let k_max = height - 1 - d;
-        let peak = refine_crossing(self.options.refinement, k_cross, d, lo, k_max, response);
-        let row = (height - 1) as f64 - peak.k;
+        let k = match self.options.refinement {
+            Refinement::Step => {
+                let sign = if response(k_cross) >= 0 { 1 } else { -1 };
+                let peak = refine_crossing(Refinement::SubPixel, k_cross, d, lo, k_max, response);
+                sharpest_step(
+                    peak.k,
+                    sign,
+                    d as f64 / 2.0,
+                    k_cross - 1 - d,
+                    (k_cross + d + 1).min(k_max) + d,
+                    pixel,
+                )
+            }
+            r => refine_crossing(r, k_cross, d, lo, k_max, response).k,
+        };
+        // A refined edge above the column's last scanned row lies past its ground (the table's
+        // or the range limit's): beyond what the column can place, so free up to that row.
+        if k > hi as f64 {
+            return self.no_boundary(j, height);
+        }
+        let row = (height - 1) as f64 - k;
         match self.table.lookup(c as f64, row) {
             Some(point) => {
                 // Floor covered by one pixel row at the boundary: the reading's range resolution.

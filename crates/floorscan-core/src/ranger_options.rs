@@ -37,13 +37,29 @@ pub struct RangerOptions {
     /// Half-width d of the box filter [px], >= 1. Default 4: wide enough to average carpet
     /// texture, narrow enough to resolve a boundary a few pixels from the bottom.
     pub half_width_px: usize,
-    /// Edge threshold on |R| of the paper's eq. (1)-(2), R = (sum of the d pixels above - sum
-    /// of the d pixels below) / 2d, i.e. half the difference of the two window means, in the
-    /// image's intensity units (0-255 for 8-bit images), finite and >= 0. Default 10 (a step of
-    /// more than 20 grey levels between carpet and obstacle; chosen on the evaluation suite:
-    /// EVALUATION.md).
+    /// Least edge threshold on |R| of the paper's eq. (1)-(2), R = (sum of the d pixels above -
+    /// sum of the d pixels below) / 2d, i.e. half the difference of the two window means, in the
+    /// image's intensity units (0-255 for 8-bit images), finite and >= 0. Each frame's
+    /// threshold is the largest of this, `noise_multiple` x the frame's noise and `contrast` x
+    /// the floor's brightness; with both of those 0 it is the paper's fixed threshold (10 was
+    /// the fixed default, chosen on the evaluation suite). Default 2: a noise-free, textureless
+    /// frame still needs a step of more than 4 grey levels.
     pub threshold: f64,
-    /// How the boundary row is placed after the first crossing. Default: sub-pixel peak.
+    /// Threshold that follows each frame's noise: at least `noise_multiple` x sigma, sigma the
+    /// robust standard deviation (1.4826 x median absolute deviation) of R over the near-floor
+    /// band (the bottom 12 % of the image above each sampled column's start) of that frame, all
+    /// sampled columns pooled; finite and >= 0, 0 for none. Default 4: Gaussian noise crosses 4
+    /// sigma at 6e-5 of the rows (docs/visual-range-sensor.md gives the figures).
+    pub noise_multiple: f64,
+    /// Threshold relative to the floor's brightness (Weber contrast): each column's threshold
+    /// is at least `contrast` x the mean brightness of its near-floor band in that frame, so an
+    /// edge must change the brightness by more than 2 x `contrast` of the floor's (R is half
+    /// the difference of the window means). Gain and exposure scale both sides alike; finite
+    /// and >= 0, 0 for none. Default 0.12: the old fixed threshold 10 over the simulated
+    /// carpets' grey level 72-99 in normal light (docs/visual-range-sensor.md).
+    pub contrast: f64,
+    /// How the boundary row is placed after the first crossing. Default: `step` (the sharpest
+    /// one-pixel step near the filter's sub-pixel peak).
     pub refinement: Refinement,
     /// Sampled columns. Default: 64 evenly spaced.
     pub columns: ColumnSelection,
@@ -61,8 +77,10 @@ impl Default for RangerOptions {
     fn default() -> Self {
         Self {
             half_width_px: 4,
-            threshold: 10.0,
-            refinement: Refinement::SubPixel,
+            threshold: 2.0,
+            noise_multiple: 4.0,
+            contrast: 0.12,
+            refinement: Refinement::Step,
             columns: ColumnSelection::Count(64),
             start: ColumnStart::BottomMargin(2),
             max_range_m: Some(3.0),
@@ -104,6 +122,18 @@ impl RangerOptions {
             return Err(invalid_option(
                 "threshold",
                 format!("must be finite and >= 0, got {}", self.threshold),
+            ));
+        }
+        if !(self.noise_multiple.is_finite() && self.noise_multiple >= 0.0) {
+            return Err(invalid_option(
+                "noise_multiple",
+                format!("must be finite and >= 0, got {}", self.noise_multiple),
+            ));
+        }
+        if !(self.contrast.is_finite() && self.contrast >= 0.0) {
+            return Err(invalid_option(
+                "contrast",
+                format!("must be finite and >= 0, got {}", self.contrast),
             ));
         }
         match &self.columns {
@@ -187,6 +217,18 @@ mod tests {
             },
             RangerOptions {
                 threshold: -1.0,
+                ..Default::default()
+            },
+            RangerOptions {
+                noise_multiple: -1.0,
+                ..Default::default()
+            },
+            RangerOptions {
+                noise_multiple: f64::INFINITY,
+                ..Default::default()
+            },
+            RangerOptions {
+                contrast: f64::NAN,
                 ..Default::default()
             },
             RangerOptions {

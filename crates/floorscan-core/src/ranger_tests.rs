@@ -3,7 +3,7 @@
 
 use proptest::prelude::*;
 
-use crate::edge::{direct_response, refine_crossing, threshold_to_sum, Refinement};
+use crate::edge::{direct_response, refine_crossing, sharpest_step, threshold_to_sum, Refinement};
 use crate::error::Error;
 use crate::ground_table::GroundTable;
 use crate::image::ImageView;
@@ -55,12 +55,21 @@ fn options(
     RangerOptions {
         half_width_px: d,
         threshold,
+        noise_multiple: 0.0,
+        contrast: 0.0,
         refinement,
         columns,
         start: ColumnStart::BottomMargin(0),
         max_range_m: None,
     }
 }
+
+const REFINEMENTS: [Refinement; 4] = [
+    Refinement::FirstCrossing,
+    Refinement::Peak,
+    Refinement::SubPixel,
+    Refinement::Step,
+];
 
 /// Column-by-column reference: direct sums, first crossing, same refinement, independent plan.
 fn brute_force(
@@ -71,13 +80,15 @@ fn brute_force(
     height: usize,
 ) -> Vec<(u32, ColumnStatus, f64)> {
     let d = o.half_width_px;
-    let thr = threshold_to_sum(o.threshold, d);
     let margin = match o.start {
         ColumnStart::BottomMargin(m) => m,
         _ => unreachable!(),
     };
     let start = height - 1 - margin;
-    o.column_indices(width)
+    // Per column: its pixels (k from the bottom) and its test window, if any.
+    type Column = (u32, Vec<i32>, Option<(usize, usize)>);
+    let columns: Vec<Column> = o
+        .column_indices(width)
         .unwrap()
         .into_iter()
         .map(|c| {
@@ -85,9 +96,9 @@ fn brute_force(
             let column: Vec<i32> = (0..height)
                 .rev()
                 .map(|v| img[v * width + c as usize] as i32)
-                .collect(); // k from bottom
+                .collect();
             if table.lookup(u, start as f64).is_none() {
-                return (c, ColumnStatus::Invalid, f64::NAN);
+                return (c, column, None);
             }
             let mut top = start;
             while top > 0 && table.lookup(u, (top - 1) as f64).is_some() {
@@ -95,18 +106,73 @@ fn brute_force(
             }
             let lo = (height - 1 - start) + d;
             let hi = (height - 1 - top).min(height - 1 - d);
-            if lo > hi {
+            (c, column, (lo <= hi).then_some((lo, hi)))
+        })
+        .collect();
+    // The frame's threshold: the responses of each window's first rows (the near-floor band),
+    // sorted, median absolute deviation; each column's: at least `contrast` x the mean of the
+    // pixels those windows read.
+    let band = ((0.12 * height as f64).round() as usize).max(4 * d + 1);
+    let mut threshold = o.threshold;
+    if o.noise_multiple > 0.0 {
+        let scannable = columns.iter().filter(|(_, _, w)| w.is_some()).count();
+        let stride = scannable.div_ceil(64).max(1);
+        let mut s: Vec<i64> = columns
+            .iter()
+            .filter_map(|(_, col, w)| w.map(|(lo, hi)| (col, lo, hi)))
+            .step_by(stride)
+            .flat_map(|(col, lo, hi)| {
+                (lo..=hi.min(lo + band - 1)).map(|k| direct_response(col, k, d) as i64)
+            })
+            .collect();
+        if !s.is_empty() {
+            s.sort_unstable();
+            let median = s[s.len() / 2];
+            let mut dev: Vec<i64> = s.iter().map(|v| (v - median).abs()).collect();
+            dev.sort_unstable();
+            let sigma = 1.4826 * dev[dev.len() / 2] as f64 / (2 * d) as f64;
+            threshold = threshold.max(o.noise_multiple * sigma);
+        }
+    }
+    let column_threshold = |column: &[i32], lo: usize, hi: usize| {
+        let pixels = &column[lo - d..=hi.min(lo + band - 1) + d];
+        let mean = pixels.iter().map(|&p| p as f64).sum::<f64>() / pixels.len() as f64;
+        let t = if o.contrast > 0.0 {
+            threshold.max(o.contrast * mean)
+        } else {
+            threshold
+        };
+        threshold_to_sum(t, d)
+    };
+    columns
+        .into_iter()
+        .map(|(c, column, window)| {
+            let u = c as f64;
+            let Some((lo, hi)) = window else {
                 return (c, ColumnStatus::Invalid, f64::NAN);
-            }
+            };
+            let thr = column_threshold(&column, lo, hi);
             for k in lo..=hi {
                 if direct_response(&column, k, d).abs() > thr {
                     if k == lo {
                         return (c, ColumnStatus::TooClose, start as f64);
                     }
-                    let p = refine_crossing(o.refinement, k, d, lo, height - 1 - d, |k| {
-                        direct_response(&column, k, d)
-                    });
-                    let row = (height - 1) as f64 - p.k;
+                    let k_max = height - 1 - d;
+                    let response = |k| direct_response(&column, k, d);
+                    let peak = match o.refinement {
+                        Refinement::Step => {
+                            let p =
+                                refine_crossing(Refinement::SubPixel, k, d, lo, k_max, response);
+                            let sign = if response(k) >= 0 { 1 } else { -1 };
+                            let top = (k + d + 1).min(k_max) + d;
+                            sharpest_step(p.k, sign, d as f64 / 2.0, k - 1 - d, top, |j| column[j])
+                        }
+                        r => refine_crossing(r, k, d, lo, k_max, response).k,
+                    };
+                    if peak > hi as f64 {
+                        return (c, ColumnStatus::NoBoundary, (height - 1 - hi) as f64);
+                    }
+                    let row = (height - 1) as f64 - peak;
                     return match table.lookup(u, row) {
                         Some(_) => (c, ColumnStatus::Boundary, row),
                         None => (c, ColumnStatus::Invalid, row),
@@ -124,8 +190,9 @@ proptest! {
     #[test]
     fn scan_equals_brute_force_reference(
         width in 8usize..40, height in 24usize..60, seed in any::<u64>(),
-        d in 1usize..6, threshold in 0.0..60.0f64, refinement_i in 0usize..3, n_cols in 1usize..8,
-        margin in 0usize..4, horizon in 0.0..20.0f64,
+        d in 1usize..6, threshold in 0.0..60.0f64, refinement_i in 0usize..4, n_cols in 1usize..8,
+        margin in 0usize..4, horizon in 0.0..20.0f64, noise_multiple in prop::sample::select(vec![0.0, 0.5, 3.0]),
+        contrast in prop::sample::select(vec![0.0, 0.02, 0.1]),
     ) {
         let mut rng = seed;
         let mut next = || { rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17; rng };
@@ -140,8 +207,8 @@ proptest! {
                 v = v.saturating_sub(run);
             }
         }
-        let refinement = [Refinement::FirstCrossing, Refinement::Peak, Refinement::SubPixel][refinement_i];
-        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), ..options(d, threshold, refinement, ColumnSelection::Count(n_cols.min(width))) };
+        let refinement = REFINEMENTS[refinement_i];
+        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), noise_multiple, contrast, ..options(d, threshold, refinement, ColumnSelection::Count(n_cols.min(width))) };
         let t = table(width, height, horizon);
         let reference = brute_force(&t, &o, &img, width, height);
         match VisualRanger::new(t, o) {
@@ -171,7 +238,7 @@ fn sharp_step_edges_give_exact_rows_for_both_polarities() {
     let floor_from: Vec<usize> = (0..w).map(|u| 40 + u).collect(); // one edge row per column
     for (floor, obstacle) in [(80u8, 170u8), (170, 80)] {
         let img = step_image(w, h, &floor_from, floor, obstacle);
-        for refinement in [Refinement::Peak, Refinement::SubPixel] {
+        for refinement in [Refinement::Peak, Refinement::SubPixel, Refinement::Step] {
             let mut r = VisualRanger::new(
                 table(w, h, 0.0),
                 options(4, 20.0, refinement, ColumnSelection::Count(w)),
@@ -565,12 +632,14 @@ proptest! {
     #[test]
     fn lane_kernels_scan_like_the_direct_filter(
         width in 17usize..100, height in 24usize..80, seed in any::<u64>(), noise in 0u64..6,
-        d in 1usize..8, threshold in 0.0..60.0f64, refinement_i in 0usize..3,
+        d in 1usize..8, threshold in 0.0..60.0f64, refinement_i in 0usize..4,
         mode in 0usize..3, n_cols in 1usize..100, margin in 0usize..4, horizon in 0.0..20.0f64,
+        noise_multiple in prop::sample::select(vec![0.0, 1.0, 5.0]),
+        contrast in prop::sample::select(vec![0.0, 0.01, 0.12]),
     ) {
         prop_assume!(2 * d + 2 <= height);
         let img = blocky_image(width, height, seed, noise);
-        let refinement = [Refinement::FirstCrossing, Refinement::Peak, Refinement::SubPixel][refinement_i];
+        let refinement = REFINEMENTS[refinement_i];
         let columns = match mode {
             0 => ColumnSelection::Count(width),
             1 => ColumnSelection::Count(n_cols.min(width)),
@@ -578,7 +647,7 @@ proptest! {
                 (0..n_cols).map(|i| ((seed >> (i % 40)) as usize + 7 * i) as u32 % width as u32).collect(),
             ),
         };
-        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), ..options(d, threshold, refinement, columns) };
+        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), noise_multiple, contrast, ..options(d, threshold, refinement, columns) };
         check_every_kernel(&table(width, height, horizon), &o, &img, width, height);
     }
 }
@@ -607,7 +676,9 @@ fn every_column_of_a_640x480_frame_every_status_every_kernel() {
         (4, Refinement::SubPixel),
         (4, Refinement::Peak),
         (4, Refinement::FirstCrossing),
+        (4, Refinement::Step),
         (21, Refinement::SubPixel),
+        (21, Refinement::Step),
     ] {
         let o = options(d, 10.0, refinement, ColumnSelection::Count(w));
         let scan = check_every_kernel(&t, &o, &img, w, h);
@@ -619,6 +690,13 @@ fn every_column_of_a_640x480_frame_every_status_every_kernel() {
         }
         let o = options(d, 10.0, refinement, ColumnSelection::Count(64));
         check_every_kernel(&t, &o, &img, w, h);
+        let adaptive = RangerOptions {
+            threshold: 2.0,
+            noise_multiple: 4.0,
+            contrast: 0.12,
+            ..options(d, 10.0, refinement, ColumnSelection::Count(w))
+        };
+        check_every_kernel(&t, &adaptive, &img, w, h);
     }
 }
 
@@ -634,4 +712,309 @@ fn half_widths_past_the_16_bit_sums_scan_like_the_direct_filter() {
         let o = options(d, 2.0, Refinement::SubPixel, ColumnSelection::Count(w));
         check_every_kernel(&table(w, h, 0.0), &o, &img, w, h);
     }
+}
+
+/// Gaussian samples from a fixed stream (Box-Muller over xorshift).
+fn gaussian_stream(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed | 1;
+    move || {
+        let mut uniform = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            ((s >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        let (a, b) = (uniform(), uniform());
+        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+    }
+}
+
+/// A synthetic frame: a floor of mean `floor` with Gaussian texture `sigma` below row
+/// `edge_row`, an obstacle `contrast` brighter above it (same texture), seen through `gain`
+/// and `offset`, rounded to 8 bits.
+struct TexturedStep {
+    w: usize,
+    h: usize,
+    edge_row: usize,
+    floor: f64,
+    contrast: f64,
+    sigma: f64,
+}
+
+impl TexturedStep {
+    fn image(&self, gain: f64, offset: f64, seed: u64) -> Vec<u8> {
+        let mut g = gaussian_stream(seed);
+        (0..self.h * self.w)
+            .map(|i| {
+                let base = if i / self.w < self.edge_row {
+                    self.floor + self.contrast
+                } else {
+                    self.floor
+                };
+                (offset + gain * (base + self.sigma * g()))
+                    .round()
+                    .clamp(0.0, 255.0) as u8
+            })
+            .collect()
+    }
+}
+
+#[test]
+fn noise_threshold_finds_the_same_edge_under_gain_and_offset() {
+    // A step of 40 grey levels over a floor textured with sigma 4 (R's sigma: 4 / sqrt(2d) =
+    // 1.4, the threshold 4 x 1.4 = 5.7); then the light dims to 0.3 (12 levels; a fixed threshold
+    // of 10 misses it) or the camera adds an offset of 60 and a gain of 1.5.
+    let (w, h, edge) = (64, 120, 50);
+    let fixed = options(4, 10.0, Refinement::SubPixel, ColumnSelection::Count(w));
+    let adaptive = RangerOptions {
+        threshold: 0.0,
+        noise_multiple: 4.0,
+        ..fixed.clone()
+    };
+    for (gain, offset) in [(1.0, 0.0), (0.3, 0.0), (1.5, 60.0)] {
+        let scene = TexturedStep {
+            w,
+            h,
+            edge_row: edge,
+            floor: 80.0,
+            contrast: 40.0,
+            sigma: 4.0,
+        };
+        let img = scene.image(gain, offset, 7);
+        let view = ImageView::new(&img, w, h).unwrap();
+        let mut r = VisualRanger::new(table(w, h, 0.0), adaptive.clone()).unwrap();
+        let scan = r.scan(&view, 0.0).unwrap();
+        let expected = 4.0 * 4.0 * gain / 8f64.sqrt();
+        assert!(
+            (r.frame_threshold() / expected - 1.0).abs() < 0.15,
+            "gain {gain}: threshold {} expected {expected}",
+            r.frame_threshold()
+        );
+        let found = scan
+            .readings
+            .iter()
+            .filter(|c| c.status() == ColumnStatus::Boundary && (c.row() - 49.5).abs() <= 1.0)
+            .count();
+        // The texture crosses 4 sigma somewhere in ~0.6 % of the columns (see the noise-only
+        // test below); allowed: 5 %.
+        assert!(
+            found * 20 >= w * 19,
+            "gain {gain} offset {offset}: {found} of {w}"
+        );
+        let mut f = VisualRanger::new(table(w, h, 0.0), fixed.clone()).unwrap();
+        let fixed_found = f
+            .scan(&view, 0.0)
+            .unwrap()
+            .readings
+            .iter()
+            .filter(|c| c.status() == ColumnStatus::Boundary && (c.row() - 49.5).abs() <= 1.0)
+            .count();
+        if gain < 1.0 {
+            assert!(
+                fixed_found < w / 2,
+                "the fixed threshold found {fixed_found}"
+            );
+        }
+    }
+}
+
+#[test]
+fn noise_only_images_give_no_boundary_at_four_sigma() {
+    // Pure Gaussian noise (no edge), the default noise multiple 4 and nothing else: |R| > 4
+    // sigma has probability 6e-5 per row for Gaussian R, at most 0.6 % of the columns of ~100
+    // rows (fewer: neighbouring rows' responses share pixels). Allowed: 1 % of the columns (the
+    // stated rate), at any noise level and brightness.
+    let (w, h) = (64, 120);
+    let o = RangerOptions {
+        threshold: 0.0,
+        noise_multiple: RangerOptions::default().noise_multiple,
+        ..options(4, 0.0, Refinement::Step, ColumnSelection::Count(w))
+    };
+    let mut columns = 0;
+    let mut false_boundaries = 0;
+    for frame in 0..40u64 {
+        let (mean, sigma) = (
+            [40.0, 120.0][frame as usize % 2],
+            [2.0, 6.0, 12.0][frame as usize % 3],
+        );
+        let scene = TexturedStep {
+            w,
+            h,
+            edge_row: 0,
+            floor: mean,
+            contrast: 0.0,
+            sigma,
+        };
+        let img = scene.image(1.0, 0.0, 100 + frame);
+        let mut r = VisualRanger::new(table(w, h, 0.0), o.clone()).unwrap();
+        let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+        columns += scan.readings.len();
+        false_boundaries += scan
+            .readings
+            .iter()
+            .filter(|c| c.status() != ColumnStatus::NoBoundary)
+            .count();
+    }
+    assert!(
+        false_boundaries * 100 <= columns,
+        "{false_boundaries} of {columns} columns"
+    );
+}
+
+#[test]
+fn step_refinement_lands_on_the_base_below_a_thin_dark_strip() {
+    // Carpet (85) below row 60, a 3-row dark baseboard (30), a bright wall (120) above: the
+    // box filter's peak is pulled towards the robot by the bright wall inside its window; the
+    // sharpest step is the carpet-baseboard line at row 59.5.
+    let (w, h) = (8, 100);
+    let img: Vec<u8> = (0..h)
+        .flat_map(|v| {
+            let value = if v >= 60 {
+                85
+            } else if v >= 57 {
+                30
+            } else {
+                120
+            };
+            std::iter::repeat_n(value, w)
+        })
+        .collect();
+    let row = |refinement| {
+        let mut r = VisualRanger::new(
+            table(w, h, 0.0),
+            options(4, 10.0, refinement, ColumnSelection::Count(1)),
+        )
+        .unwrap();
+        r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0)
+            .unwrap()
+            .readings[0]
+            .row()
+    };
+    assert_eq!(row(Refinement::Step), 59.5);
+    assert!(
+        row(Refinement::SubPixel) > 60.0,
+        "{}",
+        row(Refinement::SubPixel)
+    );
+}
+
+#[test]
+fn contrast_threshold_follows_each_columns_floor_brightness() {
+    // Left half: floor 40, obstacle 52 (a 30 % change); right half: floor 160, obstacle 172
+    // (7.5 %). With contrast 0.05 (a change of more than 10 % of the floor's brightness) the
+    // dim half's edge is an edge and the bright half's is not; a fixed threshold of 5 (a step
+    // of 10 levels) takes both.
+    let (w, h) = (32, 100);
+    let img: Vec<u8> = (0..h)
+        .flat_map(|v| {
+            (0..w).map(move |u| {
+                let floor = if u < w / 2 { 40 } else { 160 };
+                if v < 50 {
+                    floor + 12
+                } else {
+                    floor
+                }
+            })
+        })
+        .collect();
+    let view = ImageView::new(&img, w, h).unwrap();
+    let scan = |threshold, contrast| {
+        let o = RangerOptions {
+            contrast,
+            ..options(4, threshold, Refinement::Step, ColumnSelection::Count(w))
+        };
+        VisualRanger::new(table(w, h, 0.0), o)
+            .unwrap()
+            .scan(&view, 0.0)
+            .unwrap()
+    };
+    let relative = scan(0.0, 0.05);
+    for r in &relative.readings {
+        if (r.column as usize) < w / 2 {
+            assert_eq!(r.status(), ColumnStatus::Boundary, "column {}", r.column);
+            assert_eq!(r.row(), 49.5);
+        } else {
+            assert_eq!(r.status(), ColumnStatus::NoBoundary, "column {}", r.column);
+        }
+    }
+    let fixed = scan(5.0, 0.0);
+    assert!(fixed
+        .readings
+        .iter()
+        .all(|r| r.status() == ColumnStatus::Boundary));
+}
+
+#[test]
+fn an_edge_at_the_robots_feet_in_every_column_stays_too_close_by_default() {
+    // A bright bumper in the bottom 8 rows of every column (an edge inside every column's
+    // first window and inside the near-floor band the noise is measured on): the band's
+    // robust spread must not swallow the edge.
+    let (w, h) = (64, 240);
+    let scene = TexturedStep {
+        w,
+        h,
+        edge_row: 0,
+        floor: 90.0,
+        contrast: 0.0,
+        sigma: 3.0,
+    };
+    let mut img = scene.image(1.0, 0.0, 3);
+    img[(h - 8) * w..].fill(250);
+    let o = RangerOptions {
+        start: ColumnStart::BottomMargin(0),
+        ..RangerOptions::default()
+    };
+    let t = table(w, h, 0.0);
+    let scan = VisualRanger::new(t, o)
+        .unwrap()
+        .scan(&ImageView::new(&img, w, h).unwrap(), 0.0)
+        .unwrap();
+    assert!(scan
+        .readings
+        .iter()
+        .all(|r| r.status() == ColumnStatus::TooClose));
+}
+
+#[test]
+fn step_refinement_lands_on_the_base_not_the_start_of_a_soft_contact_shadow() {
+    // Floor 100 below row 70; a contact shadow darkening it by 3 levels a row up to the base
+    // at row 60 (edge line 59.5); a dark obstacle (40) above. The box filter's peak is the
+    // centre of mass of shadow and base together, below the base; the sharpest step is the
+    // base.
+    let (w, h) = (8, 100);
+    let img: Vec<u8> = (0..h)
+        .flat_map(|v| {
+            let value = if v >= 70 {
+                100
+            } else if v >= 60 {
+                100 - 3 * (70 - v as i32)
+            } else {
+                40
+            };
+            std::iter::repeat_n(value as u8, w)
+        })
+        .collect();
+    let row = |refinement| {
+        let mut r = VisualRanger::new(
+            table(w, h, 0.0),
+            options(4, 10.0, refinement, ColumnSelection::Count(1)),
+        )
+        .unwrap();
+        r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0)
+            .unwrap()
+            .readings[0]
+            .row()
+    };
+    // The parabola through the base's step and the shadow's (3 levels) moves it by 0.03 rows.
+    assert!(
+        (row(Refinement::Step) - 59.5).abs() < 0.05,
+        "{}",
+        row(Refinement::Step)
+    );
+    // The box filter's sub-pixel peak: 0.4 rows towards the robot.
+    assert!(
+        row(Refinement::SubPixel) > 59.8,
+        "{}",
+        row(Refinement::SubPixel)
+    );
 }

@@ -33,13 +33,16 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
         help=f"box filter half-width d [px] {default('half_width_px')}",
     )
     p.add_argument(
-        "--threshold", type=float, help=f"edge threshold, intensity units {default('threshold')}"
+        "--threshold",
+        type=float,
+        help="least edge threshold, intensity units (each frame's noise and the floor's "
+        f"brightness raise it: ranger.noise_multiple, ranger.contrast) {default('threshold')}",
     )
     p.add_argument(
         "--refinement",
         "--refine",
         dest="refinement",
-        help="boundary placement: sub_pixel | peak | first_crossing (the paper's) "
+        help="boundary placement: step | sub_pixel | peak | first_crossing (the paper's) "
         f"{default('refinement')}",
     )
     p.add_argument(

@@ -16,6 +16,7 @@ from ..evaluation.case import read_truth_columns
 from ..evaluation.plot import plot_curves
 from ..evaluation.tune import (
     AUTO_K,
+    FIXED_THRESHOLD,
     REFINEMENTS,
     TuneSet,
     auto_threshold,
@@ -132,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
     images = [read_grey(entries[k].path) for k in frames]
     tset = TuneSet(images, status[frames], points[frames], labelled[frames], table)
     half_widths = [int(v) for v in _numbers(args.half_widths, "half-widths")]
-    base = {"start": cfg.ranger.start, "max_range_m": cfg.ranger.max_range_m}
+    base = {"start": cfg.ranger.start, "max_range_m": cfg.ranger.max_range_m, **FIXED_THRESHOLD}
     result = tune(
         tset,
         half_widths=half_widths,
@@ -162,6 +163,8 @@ def run(args: argparse.Namespace) -> int:
             "ranger.half_width_px": result.half_width,
             "ranger.threshold": result.threshold,
             "ranger.refinement": result.refine,
+            # The tuned threshold is a fixed one: the per-frame terms stay off.
+            **{f"ranger.{k}": v for k, v in FIXED_THRESHOLD.items()},
         }
     )
     tuned.save(out)

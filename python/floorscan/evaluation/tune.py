@@ -27,6 +27,9 @@ DEFAULT_HALF_WIDTHS = (1, 2, 3, 4, 6, 8)
 DEFAULT_THRESHOLDS = tuple(float(t) for t in range(2, 41))
 REFINEMENTS = tuple(r.value for r in Refinement)
 """Every ``refinement`` of the core's ``RangerOptions`` (serde names)."""
+FIXED_THRESHOLD = {"noise_multiple": 0.0, "contrast": 0.0}
+"""The ranger options that make ``threshold`` the paper's fixed threshold (the per-frame terms
+off): what ``tune`` searches and what its configuration keeps."""
 
 
 @dataclass
@@ -164,8 +167,9 @@ def tune(
     tie_tolerance: float = 0.0,
 ) -> TuneResult:
     """Grid search; see the module docstring for the choice rule. ``base``: the other ranger
-    options (``start``, ``max_range_m``; unset: the Rust defaults)."""
-    base = dict(base or {})
+    options (``start``, ``max_range_m``; unset: the Rust defaults; the per-frame threshold
+    terms are off unless given, :data:`FIXED_THRESHOLD`)."""
+    base = {**FIXED_THRESHOLD, **dict(base or {})}
     if not half_widths or not thresholds or not refinements:
         raise OptionError("tune needs at least one half-width, threshold and refinement")
     thresholds = sorted(float(t) for t in thresholds)

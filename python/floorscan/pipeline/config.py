@@ -47,7 +47,7 @@ class RangerExtras:
         "edge",
     )
     auto_threshold: bool = doc(
-        "set the threshold from the first frame: auto_threshold_k x the carpet's texture noise near the robot (false: use `threshold`)",
+        "set `threshold` (the least threshold) once from the first frame: auto_threshold_k x the carpet's texture noise near the robot (false: as configured; `noise_multiple` and `contrast` adapt every frame either way)",
         False,
     )
     auto_threshold_k: float = doc("multiple of the texture noise for the automatic threshold", 5.0)

@@ -32,7 +32,7 @@ Refinement.__doc__ = """How the boundary row is placed (floorscan-core's ``Refin
 its schema): the values are the ``refinement`` option's spellings.
 
 >>> [r.value for r in Refinement]
-['first_crossing', 'peak', 'sub_pixel']
+['first_crossing', 'peak', 'sub_pixel', 'step']
 """
 
 
@@ -51,7 +51,9 @@ class VisualRanger:
             their defaults, ``floorscan.options.defaults("ranger")``): ``half_width_px``,
             ``threshold`` (8-bit intensity units; a uint16 image is compared at
             ``threshold * 257``, so one frame saved at either depth gives the same scan),
-            ``refinement`` (``"sub_pixel"``, ``"peak"`` or ``"first_crossing"``, the paper's),
+            ``noise_multiple`` and ``contrast`` (the threshold that follows each frame's noise
+            and light), ``refinement`` (``"step"``, ``"sub_pixel"``, ``"peak"`` or
+            ``"first_crossing"``, the paper's),
             ``columns`` (a count or a list of image columns), ``start``
             (``{"bottom_margin": rows}`` or ``{"per_column": rows}``), ``max_range_m``
             (``inf`` or None: no limit). ``floorscan config --default`` prints each with its

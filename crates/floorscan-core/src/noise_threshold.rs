@@ -1,0 +1,80 @@
+//! The edge threshold that follows each frame's own noise and light (beyond the paper, issue
+//! 13): the paper's region nearest the robot is floor, so the box filter's response there is
+//! what the floor's texture and the camera's noise look like to the filter in this frame. Its
+//! robust spread sets the threshold: `max(threshold, noise_multiple x sigma)`.
+//!
+//! sigma is 1.4826 x the median absolute deviation (the standard deviation for Gaussian noise;
+//! half the samples may be an edge or an obstacle without moving it much) of the raw response
+//! S over the near-floor band of every sampled column, divided by 2d (R = S / 2d). Gain scales
+//! the texture, the edges and sigma alike, so dim and bright frames of one scene get the same
+//! edges at the same multiple.
+
+/// Rows of the near-floor band, as a fraction of the image height, counted up from each
+/// column's first tested row; at least 4d + 1 rows, so that one edge in the band (a bumper, a
+/// wall at the robot's feet), which moves the response over 2d rows, stays a minority of it. 12 % is the band of the label-free
+/// threshold that `floorscan tune` reports (chosen there on the simulated carpet corridor):
+/// at the simulated camera's tilt, the floor within about 0.5 m of the robot.
+pub const NEAR_BAND_FRACTION: f64 = 0.12;
+
+/// Most columns the noise is pooled over: with more sampled columns, every s-th scannable one
+/// (s = ceil(scannable / 64)), so dense scans cost no more than the default 64 columns here
+/// (64 x ~30 rows is ~2000 samples: the median absolute deviation within a few percent).
+pub const NOISE_COLUMNS: usize = 64;
+
+/// Rows of the near-floor band for an image `height` rows high and half-width `d`.
+pub fn near_band_rows(height: usize, d: usize) -> usize {
+    ((NEAR_BAND_FRACTION * height as f64).round() as usize).max(4 * d + 1)
+}
+
+/// 1.4826 x the median absolute deviation of `values` (reordered in place, no allocation);
+/// `None` for no values.
+pub fn robust_sigma(values: &mut [i32]) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mid = values.len() / 2;
+    let median = *values.select_nth_unstable(mid).1;
+    for v in values.iter_mut() {
+        *v = (*v - median).abs();
+    }
+    let mad = *values.select_nth_unstable(mid).1;
+    Some(1.4826 * mad as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn robust_sigma_of_gaussian_samples_is_their_standard_deviation() {
+        // Box-Muller from a fixed xorshift stream; sigma 40 (integers lose little).
+        let mut s = 0x9E37_79B9_7F4A_7C15u64;
+        let mut uniform = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut v: Vec<i32> = (0..20000)
+            .map(|_| {
+                let (a, b) = (uniform().max(1e-12), uniform());
+                let z = (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos();
+                (100.0 + 40.0 * z).round() as i32
+            })
+            .collect();
+        let sigma = robust_sigma(&mut v).unwrap();
+        assert!((sigma - 40.0).abs() < 1.5, "{sigma}");
+    }
+
+    #[test]
+    fn robust_sigma_ignores_a_minority_of_outliers() {
+        let mut v: Vec<i32> = (0..100).map(|i| [-2, -1, 0, 1, 2][i % 5]).collect();
+        let clean = robust_sigma(&mut v.clone()).unwrap();
+        for x in v.iter_mut().take(30) {
+            *x = 500; // an edge inside the band
+        }
+        let dirty = robust_sigma(&mut v).unwrap();
+        assert!(dirty <= 3.0 * clean, "{clean} -> {dirty}");
+        assert_eq!(robust_sigma(&mut []), None);
+    }
+}
