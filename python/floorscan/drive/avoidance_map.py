@@ -254,7 +254,8 @@ class AvoidanceMap:
             e0 = cam + d0 * (r / np.maximum(r0, 1e-9))[:, None]
             e1 = cam + d1 * (r / np.maximum(r1, 1e-9))[:, None]
             quads = np.stack([near_c[k], near_c[k + 1], e1, e0], axis=1)
-            pts = np.round(quads * (1 << _SHIFT)).astype(np.int32)
+            # OpenCV's pixel p is centred on p; cell p spans [p, p + 1): half a cell back
+            pts = np.round((quads - 0.5) * (1 << _SHIFT)).astype(np.int32)
             import cv2
 
             cv2.fillPoly(mask, list(pts), 1, lineType=cv2.LINE_8, shift=_SHIFT)
