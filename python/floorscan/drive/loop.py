@@ -23,6 +23,7 @@ from ..calibration import calibrate
 from ..errors import OptionError
 from ..pipeline.config import Config
 from ..pipeline.mapper import ranger_from_config
+from ..ranging.scan import ColumnStatus
 from ..sim import Camera, Robot, render_calibration, render_image
 from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
 from .costmap import CostmapOptions, inflate, navigation_function
@@ -150,8 +151,7 @@ def _between(a, b):
 def _visual_points(scan, mount) -> np.ndarray:
     """The scan's boundary points (N, 2) [m, robot frame]: the camera's ground frame moved by
     ``mount`` (robot_from_camera)."""
-    status = np.asarray(scan.status_codes)
-    bnd = status == 0
+    bnd = np.asarray(scan.status_codes) == ColumnStatus.BOUNDARY
     x, y = np.asarray(scan.x)[bnd], np.asarray(scan.y)[bnd]
     c, s = math.cos(mount[2]), math.sin(mount[2])
     return np.stack([mount[0] + c * x - s * y, mount[1] + s * x + c * y], 1)
