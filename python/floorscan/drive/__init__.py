@@ -15,6 +15,7 @@ from .costmap import CostmapOptions, inflate, navigation_function
 from .dwa import DwaOptions, choose_velocity
 from .loop import SENSORS, TABLES, DriveOptions, drive, make_table
 from .result import DriveResult
+from .scan_matcher import MatchResult, ScanMatcher, ScanMatcherOptions
 from .sensor_model import VisualSensorModel
 from .solids import Solids
 
@@ -27,6 +28,9 @@ __all__ = [
     "DriveOptions",
     "DriveResult",
     "DwaOptions",
+    "MatchResult",
+    "ScanMatcher",
+    "ScanMatcherOptions",
     "Solids",
     "VisualSensorModel",
     "choose_velocity",
