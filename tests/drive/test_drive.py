@@ -213,3 +213,26 @@ def test_cli_drive_end_to_end(tmp_path):
         cmd[:-2] + ["--speed", "-1", "-o", str(tmp_path / "x")], capture_output=True, text=True
     )
     assert bad.returncode != 0 and "speed" in bad.stderr
+
+
+def test_cli_drive_reads_the_rangers_config_and_refuses_bad_keys(tmp_path):
+    world = tmp_path / "hall.toml"
+    world.write_text(HALL + BOX)
+    base = [sys.executable, "-m", "floorscan", "drive", "--world", str(world), "--seconds", "2"]
+    base += ["--table", "exact", "--no-gif"]
+    good = tmp_path / "good.toml"
+    good.write_text("[ranger]\nthreshold = 12.0\nnoise_multiple = 0.0\n")
+    out = tmp_path / "out"
+    subprocess.run(base + ["--config", str(good), "-o", str(out)], check=True, capture_output=True)
+    assert json.loads((out / "summary.json").read_text())["distance_m"] > 0.1
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[ranger]\nthreshhold = 12.0\n")
+    done = subprocess.run(
+        base + ["--config", str(bad), "-o", str(tmp_path / "x")], capture_output=True, text=True
+    )
+    assert done.returncode != 0 and "threshhold" in done.stderr
+    assert "Traceback" not in done.stderr
+    two = subprocess.run(
+        base + ["--world", "room", "-o", str(tmp_path / "y")], capture_output=True, text=True
+    )
+    assert two.returncode == 2 and "one --world" in two.stderr
