@@ -19,7 +19,9 @@ use crate::error::{Error, Result};
 use crate::ground_table::GroundTable;
 use crate::image::{ImageView, Pixel};
 use crate::lanes::{self, Kernel, LANES, MAX_HALF_WIDTH_I16};
-use crate::noise_threshold::{near_band_rows, robust_sigma, NOISE_COLUMNS};
+use crate::noise_threshold::{
+    near_band_rows, robust_sigma_counted, MAX_HISTOGRAM_SPAN, NOISE_COLUMNS,
+};
 use crate::pose::Point2;
 use crate::ranger_options::{ColumnStart, RangerOptions};
 use crate::scan::{ColumnOutcome, ColumnReading, Scan};
@@ -77,6 +79,8 @@ pub struct VisualRanger {
     /// The near-floor band's responses of one frame (see [`crate::noise_threshold`]), sized
     /// once; and the threshold the last frame was scanned with.
     noise_samples: Vec<i32>,
+    /// Scratch histogram of the noise samples (sized once, [`MAX_HISTOGRAM_SPAN`] counts).
+    noise_histogram: Vec<u32>,
     column_brightness: Vec<f64>,
     frame_threshold: f64,
     /// Floor length [m] one pixel row covers, per sampled column (outer) and image row (inner),
@@ -184,6 +188,7 @@ impl VisualRanger {
             confidence: vec![1.0; n],
             footprints_m,
             noise_samples,
+            noise_histogram: vec![0; MAX_HISTOGRAM_SPAN],
             column_brightness: vec![0.0; n],
             frame_threshold: options.threshold,
             table,
@@ -253,10 +258,11 @@ impl VisualRanger {
             };
             self.column_brightness[j] = mean;
         }
-        let noise_threshold = match robust_sigma(&mut self.noise_samples[..n]) {
-            Some(sigma_s) => k_noise * sigma_s / (2 * d) as f64,
-            None => 0.0,
-        };
+        let noise_threshold =
+            match robust_sigma_counted(&mut self.noise_samples[..n], &mut self.noise_histogram) {
+                Some(sigma_s) => k_noise * sigma_s / (2 * d) as f64,
+                None => 0.0,
+            };
         let base = self.options.threshold.max(noise_threshold);
         self.frame_threshold = base;
         let mut lowest = i32::MAX;
