@@ -209,6 +209,8 @@ def test_drive_natives_refuse_bad_grids_windows_and_poses():
     pts = np.zeros((3, 2))
     with pytest.raises(FloorscanError):  # a window of 10^12 evaluations
         correlative_search(field, (0, 0), 0.1, pts, (0, 0, 0), 200_000, 10, 0.01, 1, 1)
+    with pytest.raises(FloorscanError):  # few evaluations, a padded field of 6 x 10^9 cells
+        correlative_search(field, (0, 0), 0.1, pts[:1], (0, 0, 0), 20_000, 0, 0.01, 1, 1)
     with pytest.raises(FloorscanError):
         correlative_search(field, (0, 0), 0.1, pts, (math.nan, 0, 0), 2, 2, 0.01, 1, 1)
     with pytest.raises(FloorscanError):

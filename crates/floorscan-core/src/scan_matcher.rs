@@ -40,6 +40,10 @@ pub struct SearchResult {
 /// ask for.
 pub const MAX_EVALUATIONS: u64 = 1 << 32;
 
+/// The largest padded copy of the field a search makes [cells] (64 MB of `f32`): the field
+/// plus a border of twice the translation window on each side.
+pub const MAX_PADDED_CELLS: u64 = 1 << 24;
+
 /// A likelihood field: `width` x `height` values, its cell (0, 0)'s lower-left corner at
 /// `origin_m` [m], cells `cell_m` [m] wide.
 #[derive(Debug, Clone, Copy)]
@@ -81,11 +85,24 @@ pub fn search(
         }
     }
     let side = 2 * window.xy_steps as u64 + 1;
-    let work = side * side * (2 * window.yaw_steps as u64 + 1) * points.len() as u64;
+    let work = side
+        .saturating_mul(side)
+        .saturating_mul(2 * window.yaw_steps as u64 + 1)
+        .saturating_mul(points.len() as u64);
     if work > MAX_EVALUATIONS {
         return Err(invalid_option(
             "window",
             format!("{work} evaluations > {MAX_EVALUATIONS}"),
+        ));
+    }
+    let border = 4 * window.xy_steps as u64;
+    let padded = (field.width as u64)
+        .saturating_add(border)
+        .saturating_mul((field.height as u64).saturating_add(border));
+    if padded > MAX_PADDED_CELLS {
+        return Err(invalid_option(
+            "window",
+            format!("field and window need {padded} cells > {MAX_PADDED_CELLS}"),
         ));
     }
     if !(prior.x.is_finite() && prior.y.is_finite() && prior.yaw.is_finite()) {
@@ -456,6 +473,13 @@ mod tests {
         assert!(search(&field, &[], Pose2::IDENTITY, &w).is_err());
         w = window();
         w.xy_steps = 100_000;
+        assert!(search(&field, &[[0.0, 0.0]], Pose2::IDENTITY, &w).is_err());
+        // few evaluations but a padded field of 4 x 10^8 cells: refused, not allocated
+        w = window();
+        w.xy_steps = 5_000;
+        w.yaw_steps = 0;
+        assert!(search(&field, &[[0.0, 0.0]], Pose2::IDENTITY, &w).is_err());
+        w.xy_steps = u32::MAX;
         assert!(search(&field, &[[0.0, 0.0]], Pose2::IDENTITY, &w).is_err());
         assert!(search(&field, &[], Pose2::new(f64::NAN, 0.0, 0.0), &window()).is_err());
     }
