@@ -119,18 +119,11 @@ def choose_velocity(
         y0 + V[:, None] * t * math.sin(th0),
         y0 - (V / Wsafe)[:, None] * (np.cos(th) - math.cos(th0)),
     )
-    h, w = cost.shape
-    ci = np.floor((xs - origin_m[0]) / cell_size_m).astype(np.int64)
-    cj = np.floor((ys - origin_m[1]) / cell_size_m).astype(np.int64)
-    inside = (ci >= 0) & (ci < w) & (cj >= 0) & (cj < h)
-    c = np.zeros(xs.shape, np.float64)
-    c[inside] = cost[cj[inside], ci[inside]]
-    worst = c.max(axis=1)
+    worst = _cost_at(cost, origin_m, cell_size_m, xs, ys).max(axis=1)
     ok = worst < INSCRIBED
     if unknown is not None:
         beyond = np.hypot(xs - x0, ys - y0) > o.blind_radius_m
-        unseen = np.zeros(xs.shape, bool)
-        unseen[inside] = unknown[cj[inside], ci[inside]]
+        unseen = _cost_at(unknown, origin_m, cell_size_m, xs, ys) > 0
         ok &= ~(unseen & beyond).any(axis=1)
     ex, ey, eth = xs[:, -1], ys[:, -1], th[:, -1]
     fx = ex + o.forward_point_distance_m * np.cos(eth)
@@ -166,7 +159,8 @@ ESCAPE_SPEED_M_S = 0.15
 
 
 def _cost_at(cost: np.ndarray, origin_m, cell_size_m: float, x, y) -> np.ndarray:
-    """Costs at world points [m]; 0 outside the window (unknown, as the costmap's)."""
+    """Values of a grid (costs, or a mask) at world points [m]; 0 outside the window
+    (unknown, as the costmap's)."""
     h, w = cost.shape
     ci = np.floor((np.asarray(x) - origin_m[0]) / cell_size_m).astype(np.int64)
     cj = np.floor((np.asarray(y) - origin_m[1]) / cell_size_m).astype(np.int64)

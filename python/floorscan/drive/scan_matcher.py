@@ -38,6 +38,16 @@ STAMP_SIGMAS = 3.0
 """The field is 0 beyond this many sigmas from every hit (exp(-4.5) = 0.011)."""
 
 
+def _disc(r: int, cell_m: float, radius_m: float):
+    """Cell offsets (di, dj) within ``radius_m`` [m] of the centre cell, and their distances
+    [m], for a square of half-side ``r`` cells."""
+    d = np.arange(-r, r + 1)
+    di, dj = (a.ravel() for a in np.meshgrid(d, d))
+    dist = np.hypot(di, dj) * cell_m
+    keep = dist <= radius_m + 1e-12
+    return di[keep], dj[keep], dist[keep]
+
+
 @dataclass(frozen=True)
 class ScanMatcherOptions:
     """- ``size_m``: side of the persistent map [m], centred on the start, in [4, 400].
@@ -128,6 +138,14 @@ class ScanMatcher:
         )
         self.hits = np.zeros((self.n, self.n), np.uint8)
         self.frames = 0
+        # cell offsets (di, dj) of the field's Gaussian stamp and their values; of the
+        # novelty disc: fixed by the options, made once
+        r = int(math.floor(STAMP_SIGMAS * options.sigma_m / self.cell))
+        di, dj, dist = _disc(r, self.cell, STAMP_SIGMAS * options.sigma_m)
+        self._stamp_offsets = (di, dj)
+        self._stamp_values = np.exp(-0.5 * (dist / options.sigma_m) ** 2).astype(np.float32)
+        r = int(math.floor(options.novelty_m / self.cell))
+        self._novelty_offsets = _disc(r, self.cell, r * self.cell)[:2] if r > 0 else None
         # the last likelihood field (field, i0, j0), reused while the robot stays within it;
         # newly stored hits are stamped into it
         self._cache: Optional[Tuple[np.ndarray, int, int]] = None
@@ -137,15 +155,30 @@ class ScanMatcher:
         j = np.floor((np.asarray(y) - self.origin_m[1]) / self.cell).astype(np.int64)
         return i, j
 
+    def _window(self, x0: float, y0: float, half_m: float) -> Tuple[int, int, int, int]:
+        """Cells (i0, j0, i1, j1), end exclusive, of the square of half-side ``half_m``
+        [m] around (x0, y0), cut to the map."""
+        ci, cj = self._cells(x0, y0)
+        r = int(math.ceil(half_m / self.cell))
+        return (
+            max(0, int(ci) - r),
+            max(0, int(cj) - r),
+            min(self.n, int(ci) + r + 1),
+            min(self.n, int(cj) + r + 1),
+        )
+
+    def _usable(self, points_robot: np.ndarray) -> np.ndarray:
+        """The finite points (N, 2) within ``range_max_m``."""
+        pts = np.asarray(points_robot, np.float64).reshape(-1, 2)
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        return pts[np.hypot(pts[:, 0], pts[:, 1]) <= self.options.range_max_m]
+
     def _field(self, x0: float, y0: float, half_m: float):
         """The likelihood field over a square of half-side ``half_m`` around (x0, y0):
         (field (h, w) float32, i0, j0) with i0, j0 the crop's first cell."""
         import cv2
 
-        ci, cj = self._cells(x0, y0)
-        r = int(math.ceil(half_m / self.cell))
-        i0, j0 = max(0, int(ci) - r), max(0, int(cj) - r)
-        i1, j1 = min(self.n, int(ci) + r + 1), min(self.n, int(cj) + r + 1)
+        i0, j0, i1, j1 = self._window(x0, y0, half_m)
         if i1 <= i0 or j1 <= j0:
             return np.zeros((0, 0), np.float32), i0, j0
         crop = self.hits[j0:j1, i0:i1]
@@ -166,14 +199,8 @@ class ScanMatcher:
             return
         field, i0, j0 = self._cache
         h, w = field.shape
-        s = self.options.sigma_m
-        r = int(math.floor(STAMP_SIGMAS * s / self.cell))
-        d = np.arange(-r, r + 1)
-        di, dj = (a.ravel() for a in np.meshgrid(d, d))
-        dist = np.hypot(di, dj) * self.cell
-        keep = dist <= STAMP_SIGMAS * s
-        di, dj = di[keep], dj[keep]
-        val = np.exp(-0.5 * (dist[keep] / s) ** 2).astype(np.float32)
+        di, dj = self._stamp_offsets
+        val = self._stamp_values
         ii = (i - i0)[:, None] + di[None, :]
         jj = (j - j0)[:, None] + dj[None, :]
         inside = (ii >= 0) & (ii < w) & (jj >= 0) & (jj < h)
@@ -189,13 +216,10 @@ class ScanMatcher:
     def _cached_field(self, x0: float, y0: float, half_m: float):
         """The field over at least ``half_m`` around (x0, y0): the cached one when it covers
         that square, else a new one ``CACHE_MARGIN_M`` larger."""
-        ci, cj = self._cells(x0, y0)
-        r = int(math.ceil(half_m / self.cell))
         if self._cache is not None:
             field, i0, j0 = self._cache
             h, w = field.shape
-            lo_i, lo_j = max(0, int(ci) - r), max(0, int(cj) - r)
-            hi_i, hi_j = min(self.n, int(ci) + r + 1), min(self.n, int(cj) + r + 1)
+            lo_i, lo_j, hi_i, hi_j = self._window(x0, y0, half_m)
             if i0 <= lo_i and j0 <= lo_j and hi_i <= i0 + w and hi_j <= j0 + h:
                 return self._cache
         self._cache = self._field(x0, y0, half_m + CACHE_MARGIN_M)
@@ -206,9 +230,7 @@ class ScanMatcher:
         (world_from_robot); does not change the map."""
         o = self.options
         prior = tuple(float(v) for v in prior)
-        pts = np.asarray(points_robot, np.float64).reshape(-1, 2)
-        pts = pts[np.all(np.isfinite(pts), axis=1)]
-        pts = pts[np.hypot(pts[:, 0], pts[:, 1]) <= o.range_max_m]
+        pts = self._usable(points_robot)
         if len(pts) < o.min_points or self.frames == 0:
             return MatchResult(prior, 0.0, False, len(pts))
         if len(pts) > o.max_points:
@@ -239,22 +261,15 @@ class ScanMatcher:
         """Adds the points [m, robot frame] seen from ``pose`` to the map (counts saturate
         at 255); ``novel_only``: only those without a stored hit within ``novelty_m``.
         Returns how many were stored."""
-        o = self.options
-        pts = np.asarray(points_robot, np.float64).reshape(-1, 2)
-        pts = pts[np.all(np.isfinite(pts), axis=1)]
-        pts = pts[np.hypot(pts[:, 0], pts[:, 1]) <= o.range_max_m]
+        pts = self._usable(points_robot)
         c, s = math.cos(pose[2]), math.sin(pose[2])
         i, j = self._cells(
             pose[0] + c * pts[:, 0] - s * pts[:, 1], pose[1] + s * pts[:, 0] + c * pts[:, 1]
         )
         ok = (i >= 0) & (i < self.n) & (j >= 0) & (j < self.n)
         i, j = i[ok], j[ok]
-        r = int(math.floor(o.novelty_m / self.cell))
-        if novel_only and self.frames > 0 and r > 0 and len(i):
-            d = np.arange(-r, r + 1)
-            di, dj = (a.ravel() for a in np.meshgrid(d, d))
-            disc = di * di + dj * dj <= r * r
-            di, dj = di[disc], dj[disc]
+        if novel_only and self.frames > 0 and self._novelty_offsets is not None and len(i):
+            di, dj = self._novelty_offsets
             ni = np.clip(i[:, None] + di[None, :], 0, self.n - 1)
             nj = np.clip(j[:, None] + dj[None, :], 0, self.n - 1)
             new = ~(self.hits[nj, ni] > 0).any(axis=1)
