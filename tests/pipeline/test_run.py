@@ -56,7 +56,9 @@ def test_run_writes_every_output_and_the_map_matches_the_room(dataset, tmp_path)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["counts"]["frames_mapped"] == 30
     scans = read_scans_csv(out / "scans.csv")
-    assert len(scans) == 30 and all(len(s) == 64 for s in scans)
+    # the default columns: placed on this camera's table (no 3 cm obstacle at 1 m between two)
+    columns = floorscan.VisualRanger(floorscan.GroundTable.load(dataset / "table.json")).columns
+    assert len(scans) == 30 and all(np.array_equal(s.columns, columns) for s in scans)
     # The bag's LaserScans are the CSV scans binned.
     from rosbags.highlevel import AnyReader
 

@@ -144,7 +144,7 @@ def test_fused_takes_nearby_edges_and_ignores_grout_lines():
 @pytest.mark.parametrize("kind", ["edge", "appearance", "fused"])
 def test_config_kind_builds_that_ranger(kind):
     cfg = Config().with_overrides({"ranger.kind": kind, "appearance.min_run": 4})
-    r = ranger_from_config(image_row_table(W, H), cfg, max_range_m=None)
+    r = ranger_from_config(image_row_table(W, H), cfg, max_range_m=None, columns=64)
     expected = {"edge": fs.VisualRanger, "appearance": fs.AppearanceRanger, "fused": FusedRanger}
     assert isinstance(r, expected[kind])
     assert len(r.scan(textured_scene(0))) == 64

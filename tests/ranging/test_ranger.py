@@ -181,3 +181,46 @@ def test_non_finite_timestamp_is_rejected():
 def test_table_must_be_a_ground_table():
     with pytest.raises(TypeError):
         VisualRanger("table.json")
+
+
+@pytest.mark.parametrize("width_m,range_m", [(0.03, 1.0), (0.08, 2.0)])
+def test_spaced_columns_leave_no_gap_wider_than_the_obstacle(width_m, range_m):
+    """Columns placed by floor distance (the default): between two consecutive columns no
+    obstacle of the width at the range fits, checked by brute force on the simulator camera's
+    table (fisheye, so the spacing in pixels varies across the image)."""
+    from floorscan.sim import Camera
+
+    table = Camera().ground_table(spacing_px=4)
+    cols = VisualRanger(table, columns={"obstacle_width_m": width_m, "range_m": range_m}).columns
+    H = table.image_height
+    u = np.arange(table.image_width, dtype=float)[:, None]
+    v = np.arange(H, dtype=float)[None, :]
+    x, y = table.lookup(np.broadcast_to(u, (len(u), H)), np.broadcast_to(v, (len(u), H)))
+    gap = np.abs(np.hypot(x, y) - range_m)
+    best = np.nanargmin(np.where(np.isfinite(gap), gap, np.inf), axis=1)
+    px, py = x[np.arange(len(u)), best], y[np.arange(len(u)), best]
+    a, b = cols[:-1], cols[1:]
+    split = b > a + 1  # adjacent pixel columns cannot be split further
+    d = np.hypot(px[b] - px[a], py[b] - py[a])[split]
+    assert d.max() <= width_m + 1e-9
+    # and not needlessly dense: skipping every other column would leave some gap too wide
+    assert np.hypot(np.diff(px[cols[::2]]), np.diff(py[cols[::2]])).max() > width_m
+    # the default is this rule for a 3 cm leg at 1 m
+    default = VisualRanger(table).columns
+    spaced = VisualRanger(table, columns={"obstacle_width_m": 0.03, "range_m": 1.0}).columns
+    assert np.array_equal(default, spaced)
+
+
+def test_spaced_columns_from_a_config_file(tmp_path):
+    from floorscan.pipeline.config import Config
+    from floorscan.pipeline.mapper import ranger_from_config
+    from floorscan.sim import Camera
+
+    p = tmp_path / "c.toml"
+    p.write_text("[ranger]\ncolumns = { obstacle_width_m = 0.1, range_m = 1.0 }\n")
+    table = Camera().ground_table(spacing_px=4)
+    r = ranger_from_config(table, Config.load(p))
+    assert 8 < len(r.columns) < len(VisualRanger(table).columns)
+    p.write_text("[ranger]\ncolumns = { obstacle_width_m = -0.1, range_m = 1.0 }\n")
+    with pytest.raises(floorscan.FloorscanError, match="obstacle_width_m"):
+        ranger_from_config(table, Config.load(p))

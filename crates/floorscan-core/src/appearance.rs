@@ -155,7 +155,7 @@ impl AppearanceRanger {
             .collect();
         let w = options.patch_half_width_px;
         let plans: Vec<Plan> = options
-            .column_indices(width)?
+            .column_indices(&table)?
             .into_iter()
             .map(|c| {
                 let u = c as usize;

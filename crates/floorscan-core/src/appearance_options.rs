@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{invalid_option, Result};
 use crate::floor_model::INTENSITY_BINS;
+use crate::ground_table::GroundTable;
 use crate::ranger_options::{ColumnSelection, ColumnStart, RangerOptions};
 
 /// Which appearance statistics a pixel must match to look like floor.
@@ -137,13 +138,13 @@ impl AppearanceOptions {
         .validate()
     }
 
-    /// The sampled image columns for an image `width` pixels wide.
-    pub fn column_indices(&self, width: usize) -> Result<Vec<u32>> {
+    /// The sampled image columns for the camera of `table` (the edge ranger's rule).
+    pub fn column_indices(&self, table: &GroundTable) -> Result<Vec<u32>> {
         RangerOptions {
             columns: self.columns.clone(),
             ..Default::default()
         }
-        .column_indices(width)
+        .column_indices(table)
     }
 }
 

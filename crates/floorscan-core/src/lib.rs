@@ -18,6 +18,7 @@ pub mod appearance;
 pub mod appearance_options;
 pub mod branchless;
 pub mod colour_image;
+pub mod column_spacing;
 pub mod edge;
 pub mod error;
 pub mod evidence;

@@ -102,7 +102,7 @@ impl VisualRanger {
                 ),
             ));
         }
-        let columns = options.column_indices(width)?;
+        let columns = options.column_indices(&table)?;
         let starts: Vec<usize> = match &options.start {
             ColumnStart::BottomMargin(m) => {
                 if *m >= height {

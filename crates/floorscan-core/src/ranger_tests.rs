@@ -88,7 +88,7 @@ fn brute_force(
     // Per column: its pixels (k from the bottom) and its test window, if any.
     type Column = (u32, Vec<i32>, Option<(usize, usize)>);
     let columns: Vec<Column> = o
-        .column_indices(width)
+        .column_indices(table)
         .unwrap()
         .into_iter()
         .map(|c| {

@@ -27,6 +27,7 @@ from ..evaluation.tune import (
 from ..formats.dataset import read_images_txt
 from ..formats.image_io import read_grey
 from ..pipeline.config import LEGACY_KEYS, Config
+from ..ranging.ranger import VisualRanger
 
 REFINE_SPELLING = LEGACY_KEYS["ranger.refine"][1]
 """Reads ``--refine`` in either spelling (``subpixel`` or ``sub_pixel``, ``none`` or
@@ -122,9 +123,7 @@ def run(args: argparse.Namespace) -> int:
         ts = [e.timestamp for e in entries]
         status, points, _ = read_truth_columns(truth / "columns.csv", ts, table.image_width)
         labelled = np.zeros(status.shape, bool)
-        labelled[
-            :, np.linspace(0, table.image_width - 1, cfg.ranger.columns).round().astype(int)
-        ] = True
+        labelled[:, VisualRanger(table, columns=cfg.ranger.columns).columns] = True
     frames = np.nonzero(labelled.any(axis=1))[0]
     if frames.size == 0:
         raise OptionError("no labelled frames")

@@ -32,14 +32,27 @@ CV_GRIDS: Dict[str, Dict[str, Sequence[object]]] = {
 CV_GRIDS["fused"] = dict(CV_GRIDS["appearance"])
 
 
+FLOOR_COLUMNS = 64
+"""Columns scanned per frame of a floor-mask folder (evenly spaced)."""
+
+
 def floor_ranger_factory(cfg: Config, kind: str):
     """(image_width, image_height) -> a ranger of ``kind`` with ``cfg``'s options, scanning
-    from the bottom row (the truth's) as far up as the image goes (no geometry)."""
+    from the bottom row (the truth's) as far up as the image goes (no geometry), on
+    ``FLOOR_COLUMNS`` evenly spaced columns unless ``cfg`` gives a count or a list (placing
+    columns by floor distance needs the camera's geometry, which such frames lack)."""
     kcfg = cfg.with_overrides({"ranger.kind": kind})
+    columns = cfg.ranger.columns
+    if isinstance(columns, dict):
+        columns = FLOOR_COLUMNS
 
     def make(width: int, height: int):
         return ranger_from_config(
-            image_row_table(width, height), kcfg, start={"bottom_margin": 0}, max_range_m=None
+            image_row_table(width, height),
+            kcfg,
+            start={"bottom_margin": 0},
+            max_range_m=None,
+            columns=columns,
         )
 
     return make

@@ -54,7 +54,9 @@ class VisualRanger:
             ``noise_multiple`` and ``contrast`` (the threshold that follows each frame's noise
             and light), ``refinement`` (``"step"``, ``"sub_pixel"``, ``"peak"`` or
             ``"first_crossing"``, the paper's),
-            ``columns`` (a count or a list of image columns), ``start``
+            ``columns`` (a count, a list of image columns, or ``{"obstacle_width_m": w,
+            "range_m": r}``: columns placed from the table so that no obstacle w wide at
+            range r stands between two), ``start``
             (``{"bottom_margin": rows}`` or ``{"per_column": rows}``), ``max_range_m``
             (``inf`` or None: no limit). ``floorscan config --default`` prints each with its
             doc and default; a bad one raises OptionError naming it.
