@@ -2,7 +2,13 @@
 the avoidance map's reliability diagram, its frames to a reliable view (floorscan eval's
 definition) and the fused map's log loss, beside OctoMap's constant +0.85 / -0.4 evidence.
 
-    .venv/bin/python bench/drive_sensor_model.py [--seconds 30] [--out sensor_model.json]
+    .venv/bin/python bench/drive_sensor_model.py [--seconds 30] [--views 16]
+        [--out sensor_model.json]
+
+Frames to a reliable view are reported over all views and over the views where the ranger is
+right (issue 15: "reliable within <= 2 frames for views where the ranger is right"): at most
+``RIGHT_WRONG_SHARE`` of the first frame's columns wrong (status, or > 10 cm: floorscan
+eval's column score).
 """
 
 from __future__ import annotations
@@ -65,6 +71,33 @@ appearance = "metal"
 """
 
 
+RIGHT_WRONG_SHARE = 0.05
+"""A view's ranger is right when at most this share of its first frame's columns is wrong."""
+
+
+def ranger_wrong_share(run, table, starts):
+    """Per view start: the share of the first frame's columns the ranger gets wrong."""
+    from floorscan.evaluation.scoring import score_columns
+    from floorscan.ranging.ranger import VisualRanger
+
+    ranger = VisualRanger(table, columns=160)
+    out = []
+    for k in starts:
+        scan = ranger.scan(run.images[k], timestamp=float(run.timestamps[k]))
+        out.append(
+            float(score_columns(scan, run.truth.status[k], run.truth.points[k]).wrong.mean())
+        )
+    return out
+
+
+def median_frames(frames):
+    """Median, a view never reliable counting as infinitely many frames (None if that)."""
+    if not frames:
+        return None
+    m = float(np.median([f if f is not None else np.inf for f in frames]))
+    return m if np.isfinite(m) else None
+
+
 def frames_to_reliable_view(run, table, model, starts, max_frames=10, cell=0.05, map_options=None):
     from floorscan.drive.avoidance_map import AvoidanceMap, _compose
     from floorscan.evaluation.map_metrics import RELIABLE_AGREEMENT, agreement_at, view_cells
@@ -113,6 +146,7 @@ def frames_to_reliable_view(run, table, model, starts, max_frames=10, cell=0.05,
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--seconds", type=float, default=30.0)
+    ap.add_argument("--views", type=int, default=16)
     ap.add_argument("--out", default="sensor_model.json")
     args = ap.parse_args()
     camera = Camera()
@@ -133,8 +167,15 @@ def main() -> None:
         fusion_weight=1.0,
         margin_sigmas=0.5,
     )
-    starts = np.linspace(0, len(test.timestamps) - 11, 8).astype(int).tolist()
-    report = {"fitted_model": fitted.as_dict(), "fit_counts": counts}
+    starts = np.linspace(0, len(test.timestamps) - 11, args.views).astype(int).tolist()
+    wrong = ranger_wrong_share(test, table, starts)
+    right = [w <= RIGHT_WRONG_SHARE for w in wrong]
+    report = {
+        "fitted_model": fitted.as_dict(),
+        "fit_counts": counts,
+        "view_starts": starts,
+        "view_ranger_wrong_share": wrong,
+    }
     cases = (
         ("default_raw", VisualSensorModel(), False),
         ("default", VisualSensorModel(), True),
@@ -156,7 +197,6 @@ def main() -> None:
         )
         fm = fused_map(test, table, m, map_options=mo)
         frames = frames_to_reliable_view(test, table, m, starts, map_options=mo)
-        finite = sorted(f if f is not None else 99 for f in frames)
         rel = reliability(fm, raster)
         report[name] = {
             "model": m.as_dict(),
@@ -167,7 +207,9 @@ def main() -> None:
             "max_gap_points": max(100 * abs(r["predicted"] - r["observed"]) for r in rel),
             "log_loss": log_loss(fm, raster),
             "frames_to_reliable": frames,
-            "median_frames": float(np.median(finite)),
+            "median_frames": median_frames(frames),
+            "median_frames_ranger_right": median_frames([f for f, r in zip(frames, right) if r]),
+            "views_ranger_right": int(sum(right)),
         }
     print(json.dumps(report, indent=1))
     with open(args.out, "w") as f:
