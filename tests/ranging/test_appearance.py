@@ -141,6 +141,40 @@ def test_fused_takes_nearby_edges_and_ignores_grout_lines():
         FusedRanger(edge, fs.AppearanceRanger(table, columns=4), snap_rows=1)
 
 
+@pytest.mark.parametrize("fraction", [-0.1, 1.5, float("nan")])
+def test_fused_snap_fraction_out_of_range_is_an_option_error(fraction):
+    table = image_row_table(W, H)
+    edge = fs.VisualRanger(table, columns=8, max_range_m=None)
+    app = fs.AppearanceRanger(table, columns=8, max_range_m=None)
+    with pytest.raises(fs.OptionError, match="snap_fraction"):
+        FusedRanger(edge, app, snap_fraction=fraction)
+
+
+def test_fused_snap_scales_with_the_image_height():
+    """An edge 8 rows below the appearance boundary (a wall's grey skirting the colour model
+    takes for floor): taken when 8 rows lie within snap_fraction x the height, else the
+    appearance boundary stands. The same scene at twice the size needs the same fraction."""
+    for scale in (1, 2):
+        h, w = H * scale, W * scale
+        img = np.zeros((h, w, 3), np.uint8)
+        img[:] = (150, 140, 120)
+        img[: 30 * scale] = (30, 60, 160)  # blue wall
+        # skirting: the floor's colour 12 levels brighter (one intensity bin: floor to the
+        # appearance model; a step of 12 to the edge ranger)
+        img[30 * scale : 38 * scale] = (162, 152, 132)
+        table = image_row_table(w, h)
+        opts = dict(columns=8, max_range_m=None)
+        edge = fs.VisualRanger(table, threshold=5, noise_multiple=0, contrast=0, **opts)
+        app = fs.AppearanceRanger(table, reference_fraction=0.3, min_floor_share=0.003, **opts)
+        e, a = edge.scan(img), app.scan(img)
+        gap = float(np.median(e.rows - a.rows))
+        assert gap > 3 * scale  # the edge lies below the appearance boundary
+        near = FusedRanger(edge, app, snap_rows=0, snap_fraction=1.2 * gap / h).scan(img)
+        far = FusedRanger(edge, app, snap_rows=0, snap_fraction=0.8 * gap / h).scan(img)
+        np.testing.assert_array_equal(near.rows, e.rows)
+        np.testing.assert_array_equal(far.rows, a.rows)
+
+
 @pytest.mark.parametrize("kind", ["edge", "appearance", "fused"])
 def test_config_kind_builds_that_ranger(kind):
     cfg = Config().with_overrides({"ranger.kind": kind, "appearance.min_run": 4})

@@ -30,6 +30,7 @@ from ..calibration.options import CalibrationOptions
 from ..errors import ConfigError, OptionError
 from ..formats.toml_file import dumps_toml, load_toml, loads_toml
 from ..options import check, field_docs
+from ..ranging.fused import SNAP_FRACTION, SNAP_ROWS
 
 _CAL = CalibrationOptions()
 
@@ -59,7 +60,11 @@ class AppearanceExtras:
 
     snap_rows: float = doc(
         "fused ranger: largest distance [rows] at which an edge replaces the appearance boundary",
-        3.0,
+        SNAP_ROWS,
+    )
+    snap_fraction: float = doc(
+        "fused ranger: the same distance as a share of the image height, in [0, 1]; the larger of the two applies",
+        SNAP_FRACTION,
     )
 
 
