@@ -87,7 +87,9 @@ def test_every_printed_default_is_the_rust_default(capsys):
     printed = tomllib.loads(capsys.readouterr().out)
     ranger = {k: v for k, v in printed["ranger"].items() if k not in RANGER_EXTRAS}
     assert ranger == defaults("ranger")
-    appearance = {k: v for k, v in printed["appearance"].items() if k not in ("snap_rows", "snap_fraction")}
+    appearance = {
+        k: v for k, v in printed["appearance"].items() if k not in ("snap_rows", "snap_fraction")
+    }
     expected = {k: v for k, v in defaults("appearance").items() if k not in SHARED_WITH_RANGER}
     assert appearance == expected
     grid = {k: v for k, v in defaults("grid").items() if v is not None}  # TOML has no null

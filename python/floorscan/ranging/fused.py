@@ -18,7 +18,6 @@ from .appearance import AppearanceRanger
 from .ranger import VisualRanger
 from .scan import Scan
 
-
 SNAP_ROWS = 3.0
 """Default ``snap_rows``."""
 SNAP_FRACTION = 0.08
