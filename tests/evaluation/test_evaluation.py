@@ -74,7 +74,8 @@ def test_worst_frame_pictures_are_written(quick_report):
 
 def test_eval_of_a_dataset_with_truth_matches_direct_scoring(tmp_path):
     from floorscan.evaluation.scoring import score_columns, summarise_columns
-    from floorscan.ranging.ranger import VisualRanger
+    from floorscan.pipeline.config import Config
+    from floorscan.pipeline.mapper import ranger_from_config
     from floorscan.sim import World, simulate_run
 
     run = simulate_run(World.builtin("room"), seconds=1.0, seed=4, threads=2)
@@ -89,7 +90,7 @@ def test_eval_of_a_dataset_with_truth_matches_direct_scoring(tmp_path):
     assert rc == 0
     doc = json.loads((out / "report.json").read_text())
     m = doc["scenarios"][0]["metrics"]
-    ranger = VisualRanger(table)
+    ranger = ranger_from_config(table, Config())  # the default range sensor, built directly
     expected = summarise_columns(
         [
             score_columns(ranger.scan(run.images[k]), run.truth.status[k], run.truth.points[k])

@@ -237,7 +237,8 @@ def test_automatic_threshold_follows_the_texture_noise(dataset, tmp_path):
     noise = texture_noise([first], half_width=4, columns=mapper.ranger.columns, bottom_margin=2)
     assert mapper.texture_noise == pytest.approx(noise)
     assert mapper.threshold == pytest.approx(max(4.0 * noise, 2.0))
-    assert mapper.ranger.options["threshold"] == pytest.approx(mapper.threshold)
+    edge_options = mapper.ranger.options.get("edge", mapper.ranger.options)  # fused or edge
+    assert edge_options["threshold"] == pytest.approx(mapper.threshold)
     # White noise of sigma 2 per pixel: R = (sum of 4 - sum of 4) / 8 has sigma 2 * sqrt(8) / 8.
     assert noise == pytest.approx(2.0 * np.sqrt(8) / 8, rel=0.25)
 

@@ -288,10 +288,11 @@ impl AppearanceRanger {
     }
 
     /// Whether the patches overlap enough that classifying each pixel of a row once, shared
-    /// by the patches that cover it, beats classifying each patch's pixels on their own.
+    /// by the patches that cover it, beats classifying each patch's pixels on their own: the
+    /// row scan classifies about `width` pixels a row, the column scan `columns x (2w + 1)`.
     fn row_major_pays(&self, width: usize) -> bool {
         let w = 2 * self.options.patch_half_width_px + 1;
-        self.plans.len() * w >= 2 * width
+        self.plans.len() * w >= width
     }
 
     /// Column by column: each row's patch classified on its own.

@@ -44,8 +44,8 @@ class RangerExtras:
     """The pipeline's own keys of ``[ranger]`` (beside the Rust ``RangerOptions``)."""
 
     kind: str = doc(
-        "range sensor: edge (the paper's box filter) | appearance (floor colour and texture model) | fused (appearance boundaries placed by nearby edges)",
-        "edge",
+        "range sensor: edge (the paper's box filter; fastest, for plain floors) | appearance (floor colour and texture model) | fused (appearance boundaries placed by nearby edges; the default: the fewest wrong columns over the simulated suite and the real floor set together, EVALUATION.md)",
+        "fused",
     )
     auto_threshold: bool = doc(
         "set `threshold` (the least threshold) once from the first frame: auto_threshold_k x the carpet's texture noise near the robot (false: as configured; `noise_multiple` and `contrast` adapt every frame either way)",
