@@ -3,8 +3,8 @@
 //! API is the Python package `floorscan`, which wraps these classes.
 //!
 //! One submodule per stage of the Python package (`floorscan._native.ranging`, `.mapping`,
-//! `.sim`), registered in `sys.modules` so that `from floorscan._native.sim import SimWorld`
-//! works; one binding file per core module with a Python face. The type stubs
+//! `.drive`, `.formats`, `.sim`), registered in `sys.modules` so that
+//! `from floorscan._native.sim import SimWorld` works; one binding file per core module with a Python face. The type stubs
 //! (`python/floorscan/_native/*.pyi`) are generated from these declarations
 //! (`make stubs`, crates/floorscan-stubgen) and checked for drift by `make test`.
 
@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 mod appearance;
 mod appearance_options;
 mod arrays;
+mod png;
 mod errors;
 mod evidence;
 mod grid;
@@ -145,6 +146,20 @@ mod _native {
         #[pymodule_init]
         fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
             register_submodule(m, "drive")
+        }
+    }
+
+    /// Formats: image files decoded in Rust (PNG), the GIL released while decoding.
+    #[pymodule]
+    mod formats {
+        use super::*;
+
+        #[pymodule_export]
+        use crate::png::{png_to_array, png_to_grey};
+
+        #[pymodule_init]
+        fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+            register_submodule(m, "formats")
         }
     }
 

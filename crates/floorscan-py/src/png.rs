@@ -1,0 +1,64 @@
+//! Bindings of `floorscan_decode` (PNG bytes to numpy pixels), with the GIL released while
+//! decoding; the crate's error variants map to `floorscan.errors` classes here.
+
+use floorscan_decode::{DecodedImage, Error, Samples};
+use numpy::{IntoPyArray, PyArrayMethods};
+use pyo3::prelude::*;
+
+use crate::errors::{error, guard};
+
+/// The Python class of a decode error variant.
+fn class_name(e: &Error) -> &'static str {
+    match e {
+        Error::TooLarge { .. } => "ImageTooLargeError",
+        Error::Malformed { .. } => "ImageError",
+    }
+}
+
+fn to_pyerr(e: Error) -> PyErr {
+    error(class_name(&e), e.to_string())
+}
+
+/// A decoded image as a numpy array: (H, W) for one channel, (H, W, C) otherwise.
+fn to_numpy<'py>(py: Python<'py>, img: DecodedImage) -> PyResult<Bound<'py, PyAny>> {
+    let shape: Vec<usize> = if img.channels == 1 {
+        vec![img.height, img.width]
+    } else {
+        vec![img.height, img.width, img.channels]
+    };
+    Ok(match img.samples {
+        Samples::U8(v) => v.into_pyarray(py).reshape(shape)?.into_any(),
+        Samples::U16(v) => v.into_pyarray(py).reshape(shape)?.into_any(),
+    })
+}
+
+fn decode(py: Python<'_>, data: &[u8], max_pixels: u64, grey: bool) -> Result<DecodedImage, Error> {
+    py.detach(|| {
+        let img = floorscan_decode::decode_png(data, max_pixels)?;
+        Ok(if grey { img.into_grey() } else { img })
+    })
+}
+
+/// PNG file bytes to pixels: uint8, or uint16 for 16-bit grey; (H, W) grey, (H, W, 2) grey +
+/// alpha, (H, W, 3) RGB or (H, W, 4) RGBA (palettes expanded, other 16-bit types to their
+/// high byte, as Pillow reads them). `max_pixels` bounds width x height, checked on the header.
+#[pyfunction]
+pub fn png_to_array<'py>(
+    py: Python<'py>,
+    data: &[u8],
+    max_pixels: u64,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| to_numpy(py, decode(py, data, max_pixels, false).map_err(to_pyerr)?))
+}
+
+/// PNG file bytes to one grey channel (H, W): uint8, or uint16 for 16-bit grey files; colour
+/// becomes BT.601 luma exactly as Pillow's `convert("L")`, alpha is dropped. `max_pixels`
+/// bounds width x height, checked on the header.
+#[pyfunction]
+pub fn png_to_grey<'py>(
+    py: Python<'py>,
+    data: &[u8],
+    max_pixels: u64,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| to_numpy(py, decode(py, data, max_pixels, true).map_err(to_pyerr)?))
+}
