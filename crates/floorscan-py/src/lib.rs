@@ -13,9 +13,9 @@ use pyo3::prelude::*;
 mod appearance;
 mod appearance_options;
 mod arrays;
-mod png;
 mod errors;
 mod evidence;
+mod gif;
 mod grid;
 mod grid_options;
 mod grid_views;
@@ -26,6 +26,7 @@ mod local_map;
 mod log_odds;
 mod navigation;
 mod options;
+mod png;
 mod ranger;
 mod ranger_options;
 mod scan;
@@ -149,11 +150,13 @@ mod _native {
         }
     }
 
-    /// Formats: image files decoded in Rust (PNG), the GIL released while decoding.
+    /// Formats: image files in Rust, the GIL released: PNG decoding, the overlay's GIF stream.
     #[pymodule]
     mod formats {
         use super::*;
 
+        #[pymodule_export]
+        use crate::gif::PyGifStream;
         #[pymodule_export]
         use crate::png::{png_to_array, png_to_grey};
 

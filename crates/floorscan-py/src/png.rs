@@ -1,23 +1,11 @@
-//! Bindings of `floorscan_decode` (PNG bytes to numpy pixels), with the GIL released while
-//! decoding; the crate's error variants map to `floorscan.errors` classes here.
+//! Bindings of `floorscan_codec`'s PNG decoder (bytes to numpy pixels), with the GIL released
+//! while decoding.
 
-use floorscan_decode::{DecodedImage, Error, Samples};
+use floorscan_codec::{DecodedImage, Error, Samples};
 use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 
-use crate::errors::{error, guard};
-
-/// The Python class of a decode error variant.
-fn class_name(e: &Error) -> &'static str {
-    match e {
-        Error::TooLarge { .. } => "ImageTooLargeError",
-        Error::Malformed { .. } => "ImageError",
-    }
-}
-
-fn to_pyerr(e: Error) -> PyErr {
-    error(class_name(&e), e.to_string())
-}
+use crate::errors::{codec_to_pyerr as to_pyerr, guard};
 
 /// A decoded image as a numpy array: (H, W) for one channel, (H, W, C) otherwise.
 fn to_numpy<'py>(py: Python<'py>, img: DecodedImage) -> PyResult<Bound<'py, PyAny>> {
@@ -34,7 +22,7 @@ fn to_numpy<'py>(py: Python<'py>, img: DecodedImage) -> PyResult<Bound<'py, PyAn
 
 fn decode(py: Python<'_>, data: &[u8], max_pixels: u64, grey: bool) -> Result<DecodedImage, Error> {
     py.detach(|| {
-        let img = floorscan_decode::decode_png(data, max_pixels)?;
+        let img = floorscan_codec::decode_png(data, max_pixels)?;
         Ok(if grey { img.into_grey() } else { img })
     })
 }

@@ -1,9 +1,33 @@
 """
-Formats: image files decoded in Rust (PNG), the GIL released while decoding.
+Formats: image files in Rust, the GIL released: PNG decoding, the overlay's GIF stream.
 """
 
 from _typeshed import Incomplete
-from typing import Any, SupportsIndex
+from os import PathLike
+from typing import Any, SupportsIndex, final
+
+@final
+class GifStream:
+    """
+    An animated GIF being written to `path` (created or truncated) by a background thread: a
+    `width` x `height` animation with one global `palette` (bytes r, g, b, ... of 1 to 256
+    colours), each frame shown for `delay_cs` centiseconds, looping forever. The file is
+    complete (trailer written, synced) when `finish` returns.
+    """
+    def __new__(cls, /, path: str | PathLike[str], width: SupportsIndex, height: SupportsIndex, palette: bytes, delay_cs: SupportsIndex) -> GifStream: ...
+    def abort(self, /) -> None:
+        """
+        Stops the encoder and closes the file, whatever it holds (the caller removes it).
+        """
+    def finish(self, /) -> None:
+        """
+        Waits for every queued frame, writes the trailer and syncs the file.
+        """
+    def push(self, /, indices: Incomplete) -> None:
+        """
+        Queues one (height, width) uint8 frame of palette indices (blocks while the encoder is
+        8 frames behind).
+        """
 
 def png_to_array(data: bytes, max_pixels: SupportsIndex) -> Any:
     """

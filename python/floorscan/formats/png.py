@@ -1,4 +1,4 @@
-"""PNG files decoded in Rust (crates/floorscan-decode, the GIL released while decoding): the
+"""PNG files decoded in Rust (crates/floorscan-codec, the GIL released while decoding): the
 same pixels as Pillow, about three times faster, with the decoded size bounded on the header.
 
 Pillow stays the reader of every other format (:func:`floorscan.formats.image_io.read_grey`

@@ -1,7 +1,7 @@
-//! The one error type of the decode crate; every variant maps to a Python exception class
-//! (`crates/floorscan-py/src/decode.rs`). Messages are one line.
+//! The one error type of the codec crate; every variant maps to a Python exception class
+//! (`class_name` in `crates/floorscan-py/src/png.rs`). Messages are one line.
 
-/// Errors returned by floorscan-decode. Decoding never panics on the bytes it is given.
+/// Errors returned by floorscan-codec. Never panics on the bytes it is given.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum Error {
     /// The header declares more pixels than the caller's limit (checked before decoding).
@@ -18,9 +18,18 @@ pub enum Error {
         format: &'static str,
         reason: String,
     },
+    /// A frame or palette handed to an encoder has the wrong size.
+    #[error("invalid frame: {0}")]
+    InvalidFrame(String),
+    /// Writing an encoded file failed (the writer's error: a full disk, a closed file).
+    #[error("cannot write {format}: {reason}")]
+    Encode {
+        format: &'static str,
+        reason: String,
+    },
 }
 
-/// Result alias of the decode crate.
+/// Result alias of the codec crate.
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// One line of a library's error text (its messages never need more).

@@ -1,0 +1,211 @@
+//! An animated GIF written frame by frame on a thread of its own (the `gif` crate's LZW), so
+//! the producer only copies each frame's palette indices into a bounded queue.
+//!
+//! Every frame shares one global palette of up to 256 RGB colours (no per-frame quantisation:
+//! the caller draws in palette indices), loops forever and shows for `delay_cs` centiseconds.
+
+use std::io::Write;
+use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
+use std::thread::JoinHandle;
+
+use gif::{Encoder, Frame, Repeat};
+
+use crate::error::{one_line, Error, Result};
+
+/// Frames queued for the encoder thread at most (memory: this many frames).
+pub const GIF_QUEUE_FRAMES: usize = 8;
+
+fn encode_error(e: impl std::fmt::Display) -> Error {
+    Error::Encode {
+        format: "GIF",
+        reason: one_line(e),
+    }
+}
+
+/// An animated GIF being written to `W` by a background thread.
+pub struct GifStream<W: Write + Send + 'static> {
+    width: u16,
+    height: u16,
+    queue: Option<SyncSender<Vec<u8>>>,
+    worker: Option<JoinHandle<Result<W>>>,
+}
+
+impl<W: Write + Send + 'static> GifStream<W> {
+    /// Writes the header and the global `palette` (`[r, g, b, ...]`, 1 to 256 colours) of a
+    /// `width` x `height` animation and starts the encoder thread.
+    pub fn new(out: W, width: usize, height: usize, palette: &[u8], delay_cs: u16) -> Result<Self> {
+        let size = |n: usize, what: &str| {
+            u16::try_from(n).ok().filter(|&v| v > 0).ok_or_else(|| {
+                Error::InvalidFrame(format!("GIF {what} must be 1..=65535, got {n}"))
+            })
+        };
+        let (w, h) = (size(width, "width")?, size(height, "height")?);
+        if palette.is_empty() || palette.len() % 3 != 0 || palette.len() > 768 {
+            return Err(Error::InvalidFrame(format!(
+                "GIF palette must hold 1..=256 RGB colours (3 bytes each), got {} bytes",
+                palette.len()
+            )));
+        }
+        let mut encoder = Encoder::new(out, w, h, palette).map_err(encode_error)?;
+        encoder.set_repeat(Repeat::Infinite).map_err(encode_error)?;
+        let (tx, rx) = sync_channel(GIF_QUEUE_FRAMES);
+        let worker = std::thread::Builder::new()
+            .name("floorscan-gif".into())
+            .spawn(move || encode_frames(encoder, rx, w, h, delay_cs))
+            .map_err(encode_error)?;
+        Ok(Self {
+            width: w,
+            height: h,
+            queue: Some(tx),
+            worker: Some(worker),
+        })
+    }
+
+    /// Queues one frame of `width x height` palette indices, row-major (blocks while
+    /// [`GIF_QUEUE_FRAMES`] are waiting). An error of the encoder thread is returned here or
+    /// by [`GifStream::finish`].
+    pub fn push(&mut self, indices: Vec<u8>) -> Result<()> {
+        let expected = self.width as usize * self.height as usize;
+        if indices.len() != expected {
+            return Err(Error::InvalidFrame(format!(
+                "GIF frame must have {} x {} = {expected} indices, got {}",
+                self.width,
+                self.height,
+                indices.len()
+            )));
+        }
+        let sent = self.queue.as_ref().map(|q| q.send(indices).is_ok());
+        if sent == Some(true) {
+            return Ok(());
+        }
+        // The encoder thread stopped: its error says why.
+        self.finish_inner()
+            .and(Err(encode_error("the encoder stopped")))
+    }
+
+    /// Writes the trailer and returns the writer once every queued frame is encoded.
+    pub fn finish(mut self) -> Result<W> {
+        self.finish_inner()
+    }
+
+    fn finish_inner(&mut self) -> Result<W> {
+        self.queue = None; // the worker ends once the queue is drained
+        let worker = self
+            .worker
+            .take()
+            .ok_or_else(|| encode_error("already finished"))?;
+        worker
+            .join()
+            .map_err(|_| encode_error("the encoder thread panicked"))?
+    }
+}
+
+impl<W: Write + Send + 'static> Drop for GifStream<W> {
+    fn drop(&mut self) {
+        self.queue = None;
+        if let Some(worker) = self.worker.take() {
+            let _ = worker.join();
+        }
+    }
+}
+
+fn encode_frames<W: Write>(
+    mut encoder: Encoder<W>,
+    frames: Receiver<Vec<u8>>,
+    width: u16,
+    height: u16,
+    delay_cs: u16,
+) -> Result<W> {
+    for indices in frames {
+        let frame = Frame {
+            width,
+            height,
+            delay: delay_cs,
+            buffer: indices.into(),
+            ..Frame::default()
+        };
+        encoder.write_frame(&frame).map_err(encode_error)?;
+    }
+    encoder.into_inner().map_err(encode_error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn decode(bytes: &[u8]) -> (Vec<Vec<u8>>, Vec<u8>, u16) {
+        let mut opts = gif::DecodeOptions::new();
+        opts.set_color_output(gif::ColorOutput::Indexed);
+        let mut d = opts.read_info(bytes).unwrap();
+        let palette = d.global_palette().unwrap().to_vec();
+        let mut frames = Vec::new();
+        let mut delay = 0;
+        while let Some(f) = d.read_next_frame().unwrap() {
+            delay = f.delay;
+            frames.push(f.buffer.to_vec());
+        }
+        (frames, palette, delay)
+    }
+
+    #[test]
+    fn frames_round_trip_through_a_gif_decoder() {
+        let palette: Vec<u8> = (0..=255u8).flat_map(|g| [g, g, g]).collect();
+        let mut s = GifStream::new(Vec::new(), 5, 3, &palette, 10).unwrap();
+        let a: Vec<u8> = (0..15).collect();
+        let b: Vec<u8> = (0..15).map(|i| 255 - i).collect();
+        s.push(a.clone()).unwrap();
+        s.push(b.clone()).unwrap();
+        let bytes = s.finish().unwrap();
+        assert!(bytes.starts_with(b"GIF89a") && bytes.ends_with(b";"));
+        let (frames, pal, delay) = decode(&bytes);
+        assert_eq!(frames, vec![a, b]);
+        assert_eq!(pal, palette);
+        assert_eq!(delay, 10);
+    }
+
+    #[test]
+    fn wrong_sizes_and_palettes_are_refused() {
+        let grey = [0u8, 0, 0, 255, 255, 255];
+        assert!(GifStream::new(Vec::new(), 0, 3, &grey, 10).is_err());
+        assert!(GifStream::new(Vec::new(), 70000, 3, &grey, 10).is_err());
+        assert!(GifStream::new(Vec::new(), 2, 2, &[0, 0], 10).is_err());
+        assert!(GifStream::new(Vec::new(), 2, 2, &[0; 771], 10).is_err());
+        let mut s = GifStream::new(Vec::new(), 2, 2, &grey, 10).unwrap();
+        assert!(matches!(s.push(vec![0; 3]), Err(Error::InvalidFrame(_))));
+        s.push(vec![0; 4]).unwrap();
+        assert!(s.finish().is_ok());
+    }
+
+    /// A writer that fails after `left` bytes.
+    struct Failing {
+        left: usize,
+    }
+
+    impl Write for Failing {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.left < buf.len() {
+                return Err(std::io::Error::other("disk full"));
+            }
+            self.left -= buf.len();
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_failing_writer_is_an_encode_error_not_a_panic() {
+        let grey = [0u8, 0, 0, 255, 255, 255];
+        let mut s = GifStream::new(Failing { left: 100 }, 64, 64, &grey, 10).unwrap();
+        let mut failed = false;
+        for _ in 0..50 {
+            if s.push(vec![1; 64 * 64]).is_err() {
+                failed = true;
+                break;
+            }
+        }
+        let err = if failed { None } else { Some(s.finish().err()) };
+        assert!(failed || matches!(err, Some(Some(Error::Encode { .. }))));
+    }
+}
