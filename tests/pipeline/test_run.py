@@ -286,6 +286,7 @@ def test_rust_png_decoding_gives_the_outputs_of_pillow_decoding_byte_for_byte(
     palette-indexed overlays of the kept frames."""
     from floorscan.formats import image_io
     from floorscan.pipeline import sources
+    from floorscan.pipeline.outputs import OVERLAY_MAX_WIDTH
     from floorscan.ranging.overlay import OVERLAY_PALETTE, draw_scan_overlay_indexed
     from PIL import Image, ImageSequence
     from rosbags.highlevel import AnyReader
@@ -309,5 +310,6 @@ def test_rust_png_decoding_gives_the_outputs_of_pillow_decoding_byte_for_byte(
         got = [np.asarray(f.convert("RGB")) for f in ImageSequence.Iterator(gif)]
     assert len(got) == len(scans)  # 30 frames, fewer than overlay_max_frames: all kept
     for k in (0, 17, 29):
-        want = draw_scan_overlay_indexed(image_io._read_grey_pillow(images[k]), scans[k])
+        grey = image_io._read_grey_pillow(images[k])
+        want = draw_scan_overlay_indexed(grey, scans[k], max_width=OVERLAY_MAX_WIDTH)
         np.testing.assert_array_equal(got[k], OVERLAY_PALETTE[want])

@@ -40,3 +40,25 @@ def test_palette_holds_the_greys_then_the_status_colours():
     assert tuple(OVERLAY_PALETTE[0]) == (0, 0, 0) and tuple(OVERLAY_PALETTE[251]) == (255,) * 3
     assert np.all(np.diff(OVERLAY_PALETTE[:252, 0].astype(int)) > 0)
     assert [tuple(c) for c in OVERLAY_PALETTE[252:]] == list(STATUS_COLOURS.values())
+
+
+def test_a_wide_image_is_halved_before_the_marks_are_drawn(tmp_path):
+    from floorscan import VisualRanger
+    from floorscan.formats.image_io import read_grey
+
+    make_dataset(tmp_path / "room", n=2)
+    image = read_grey(sorted((tmp_path / "room" / "images").iterdir())[0])
+    scan = VisualRanger(camera_table(), threshold=20).scan(image, timestamp=0.0)
+    h, w = image.shape
+    small = draw_scan_overlay_indexed(image, scan, max_width=w - 1)
+    assert small.shape == image[::2, ::2].shape
+    full = draw_scan_overlay_indexed(image, scan)
+    plain = (small < 252) & (full[::2, ::2] < 252)
+    np.testing.assert_array_equal(small[plain], full[::2, ::2][plain])  # the same greys
+    # Each boundary mark sits at half the column and row of the full-size one.
+    boundary = np.asarray(scan.status) == "boundary"
+    for u, v in zip(scan.columns[boundary], scan.rows[boundary]):
+        r, c = int(round(v / 2)), int(u) // 2
+        near = small[max(r - 4, 0) : r + 5, max(c - 4, 0) : c + 5]
+        assert (near == 252).any()
+    assert np.array_equal(draw_scan_overlay_indexed(image, scan, max_width=w), full)

@@ -3,6 +3,12 @@
 //!
 //! Every frame shares one global palette of up to 256 RGB colours (no per-frame quantisation:
 //! the caller draws in palette indices), loops forever and shows for `delay_cs` centiseconds.
+//!
+//! Frames are stored with *literal* LZW codes (every index its own 9-bit code, a clear code
+//! every 254 codes, so the code width never grows): a valid GIF that every decoder reads, about
+//! 20 times cheaper to write than LZW compression (0.1 ms instead of 1.5-2.7 ms for 320 x 240
+//! here), for files about 1.1 x the pixel count in bytes. Camera frames barely compress with
+//! LZW anyway (Pillow's GIFs of the same overlays: 0.8 x).
 
 use std::io::Write;
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
@@ -116,17 +122,59 @@ fn encode_frames<W: Write>(
     height: u16,
     delay_cs: u16,
 ) -> Result<W> {
+    let mut lzw = Vec::new();
     for indices in frames {
+        literal_lzw(&indices, &mut lzw);
         let frame = Frame {
             width,
             height,
             delay: delay_cs,
-            buffer: indices.into(),
+            buffer: lzw.as_slice().into(),
             ..Frame::default()
         };
-        encoder.write_frame(&frame).map_err(encode_error)?;
+        encoder
+            .write_lzw_pre_encoded_frame(&frame)
+            .map_err(encode_error)?;
     }
     encoder.into_inner().map_err(encode_error)
+}
+
+/// LZW minimum code size of the literal encoding: 8 (any byte is a literal code).
+const MIN_CODE_SIZE: u8 = 8;
+/// Codes between clear codes: a decoder's table then reaches 258 + 253 = 511 entries, below
+/// the 512 at which the code width would grow to 10 bits.
+const CODES_PER_CLEAR: usize = (1 << MIN_CODE_SIZE) - 2;
+
+/// `indices` as GIF image data of literal 9-bit codes (LSB first): the minimum code size byte,
+/// then a clear code before every [`CODES_PER_CLEAR`] indices and an end code. Into `out`
+/// (cleared first).
+fn literal_lzw(indices: &[u8], out: &mut Vec<u8>) {
+    const CLEAR: u64 = 1 << MIN_CODE_SIZE;
+    const END: u64 = CLEAR + 1;
+    const WIDTH: u32 = MIN_CODE_SIZE as u32 + 1;
+    out.clear();
+    out.reserve(2 + (indices.len() + indices.len() / CODES_PER_CLEAR + 2) * 9 / 8);
+    out.push(MIN_CODE_SIZE);
+    let (mut bits, mut count) = (0u64, 0u32);
+    let mut put = |code: u64, out: &mut Vec<u8>| {
+        bits |= code << count;
+        count += WIDTH;
+        while count >= 8 {
+            out.push(bits as u8);
+            bits >>= 8;
+            count -= 8;
+        }
+    };
+    for run in indices.chunks(CODES_PER_CLEAR) {
+        put(CLEAR, out);
+        for &i in run {
+            put(i as u64, out);
+        }
+    }
+    put(END, out);
+    if count > 0 {
+        out.push(bits as u8); // the last partial byte; decoders ignore its padding bits
+    }
 }
 
 #[cfg(test)]
@@ -161,6 +209,25 @@ mod tests {
         assert_eq!(frames, vec![a, b]);
         assert_eq!(pal, palette);
         assert_eq!(delay, 10);
+    }
+
+    #[test]
+    fn literal_codes_decode_to_every_index_over_many_clear_codes() {
+        // 97 x 53 = 5141 pixels: 21 clear codes; every byte value, in a scrambled order.
+        let (w, h) = (97, 53);
+        let frame: Vec<u8> = (0..w * h).map(|i| (i * 7919 % 256) as u8).collect();
+        let palette: Vec<u8> = (0..=255u8).flat_map(|g| [g, 255 - g, g / 2]).collect();
+        let mut s = GifStream::new(Vec::new(), w, h, &palette, 5).unwrap();
+        for _ in 0..3 {
+            s.push(frame.clone()).unwrap();
+        }
+        let bytes = s.finish().unwrap();
+        let (frames, _, delay) = decode(&bytes);
+        assert_eq!(frames, vec![frame.clone(), frame.clone(), frame]);
+        assert_eq!(delay, 5);
+        // 9 bits per code: the pixels, a clear code per 254, the end code (+ headers).
+        let codes = w * h + (w * h).div_ceil(CODES_PER_CLEAR) + 1;
+        assert!(bytes.len() < 3 * (codes * 9 / 8 + 64) + 1000);
     }
 
     #[test]

@@ -53,6 +53,8 @@ def peak_resident_mb() -> Optional[float]:
 
 OVERLAY_FORMATS = ("gif", "mp4", "none")
 BAG_STORAGES = ("mcap", "sqlite3")
+OVERLAY_MAX_WIDTH = 480
+"""Overlay frames wider than this [px] are halved (until they are not)."""
 MIN_LASER_INCREMENT_RAD = 1e-4
 """Finest LaserScan bin (at most 62 832 bins over a full turn)."""
 
@@ -156,7 +158,9 @@ class RunOutputs:
             and self._overlay_n < self._overlay_cap
         ):
             if o.overlay == "gif":
-                self._stream_overlay(draw_scan_overlay_indexed(frame.image, scan))
+                self._stream_overlay(
+                    draw_scan_overlay_indexed(frame.image, scan, max_width=OVERLAY_MAX_WIDTH)
+                )
             else:
                 self._keep_overlay(draw_scan_overlay(frame.image, scan))
         if self._frame_count % 600 == 0:
@@ -182,7 +186,7 @@ class RunOutputs:
             self._overlay_every = max(1, self._expected_frames // self._overlay_cap)
 
     def _keep_overlay(self, rgb: np.ndarray) -> None:
-        while rgb.shape[1] > 480:
+        while rgb.shape[1] > OVERLAY_MAX_WIDTH:
             rgb = rgb[::2, ::2]
         if self._overlay is None:
             self._overlay_frames(rgb.nbytes)
@@ -191,9 +195,6 @@ class RunOutputs:
         self._overlay_n += 1
 
     def _stream_overlay(self, indices: np.ndarray) -> None:
-        while indices.shape[1] > 480:
-            indices = indices[::2, ::2]
-        indices = np.ascontiguousarray(indices)
         if self._gif is None:
             self._overlay_frames(3 * indices.nbytes)
             h, w = indices.shape

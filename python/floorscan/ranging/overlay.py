@@ -67,14 +67,21 @@ def draw_scan_overlay(
     return np.asarray(canvas)
 
 
-def draw_scan_overlay_indexed(image: np.ndarray, scan: Scan) -> np.ndarray:
+def draw_scan_overlay_indexed(
+    image: np.ndarray, scan: Scan, *, max_width: Optional[int] = None
+) -> np.ndarray:
     """:func:`draw_scan_overlay` as (H, W) uint8 indices into :data:`OVERLAY_PALETTE` (grey
     rounded to its 252 levels, the marks in the same places and colours): frames for an
-    animation that shares one palette."""
+    animation that shares one palette. With ``max_width``, the image is halved (every other
+    row and column) while wider than it, and the marks are drawn on the smaller picture."""
     from PIL import Image, ImageDraw
 
-    canvas = Image.fromarray(_GREY_INDEX[_grey8(image)])
-    _draw_marks(ImageDraw.Draw(canvas), scan, canvas.size[::-1], STATUS_INDEX)
+    grey = _grey8(image)
+    scale = 1.0
+    while max_width is not None and grey.shape[1] > max_width:
+        grey, scale = grey[::2, ::2], scale / 2
+    canvas = Image.fromarray(np.take(_GREY_INDEX, grey))
+    _draw_marks(ImageDraw.Draw(canvas), scan, grey.shape, STATUS_INDEX, scale)
     return np.asarray(canvas)
 
 
@@ -82,13 +89,16 @@ def _radius(shape) -> int:
     return max(2, round(min(shape) / 80))
 
 
-def _draw_marks(draw, scan: Scan, shape, colours) -> None:
-    """Each column's mark, in ``colours[status name]`` (RGB tuples or palette indices)."""
+def _draw_marks(draw, scan: Scan, shape, colours, scale: float = 1.0) -> None:
+    """Each column's mark, in ``colours[status name]`` (RGB tuples or palette indices), on a
+    picture of ``shape`` (H, W) that is the image scaled by ``scale``."""
     h, w = shape
     radius = _radius(shape)
-    for u, v, name, start in zip(scan.columns, scan.rows, scan.status, scan._native.start_rows):
+    rows = scan.rows * scale
+    starts = scan._native.start_rows * scale
+    for u, v, name, start in zip(scan.columns, rows, scan.status, starts):
         colour = colours[name]
-        u = float(u)
+        u = float(u) * scale
         if name == "boundary":
             draw.ellipse(
                 [u - radius, v - radius, u + radius, v + radius],
