@@ -21,6 +21,9 @@ pub enum Error {
     /// A frame or palette handed to an encoder has the wrong size.
     #[error("invalid frame: {0}")]
     InvalidFrame(String),
+    /// Files could not be read ahead (a decoding thread could not start).
+    #[error("cannot read ahead: {reason}")]
+    Read { reason: String },
     /// Writing an encoded file failed (the writer's error: a full disk, a closed file).
     #[error("cannot write {format}: {reason}")]
     Encode {

@@ -153,16 +153,17 @@ fn literal_lzw(indices: &[u8], out: &mut Vec<u8>) {
     const END: u64 = CLEAR + 1;
     const WIDTH: u32 = MIN_CODE_SIZE as u32 + 1;
     out.clear();
-    out.reserve(2 + (indices.len() + indices.len() / CODES_PER_CLEAR + 2) * 9 / 8);
+    out.reserve(8 + (indices.len() + indices.len() / CODES_PER_CLEAR + 2) * 9 / 8);
     out.push(MIN_CODE_SIZE);
+    // Codes gather in a 64-bit register and leave it 32 bits at a time.
     let (mut bits, mut count) = (0u64, 0u32);
     let mut put = |code: u64, out: &mut Vec<u8>| {
         bits |= code << count;
         count += WIDTH;
-        while count >= 8 {
-            out.push(bits as u8);
-            bits >>= 8;
-            count -= 8;
+        if count >= 32 {
+            out.extend_from_slice(&(bits as u32).to_le_bytes());
+            bits >>= 32;
+            count -= 32;
         }
     };
     for run in indices.chunks(CODES_PER_CLEAR) {
@@ -172,9 +173,8 @@ fn literal_lzw(indices: &[u8], out: &mut Vec<u8>) {
         }
     }
     put(END, out);
-    if count > 0 {
-        out.push(bits as u8); // the last partial byte; decoders ignore its padding bits
-    }
+    let tail = count.div_ceil(8) as usize; // the last partial byte's padding bits are ignored
+    out.extend_from_slice(&bits.to_le_bytes()[..tail]);
 }
 
 #[cfg(test)]
@@ -228,6 +228,20 @@ mod tests {
         // 9 bits per code: the pixels, a clear code per 254, the end code (+ headers).
         let codes = w * h + (w * h).div_ceil(CODES_PER_CLEAR) + 1;
         assert!(bytes.len() < 3 * (codes * 9 / 8 + 64) + 1000);
+    }
+
+    #[test]
+    fn literal_codes_are_nine_bits_lsb_first() {
+        // min code size 8; clear (256), 1, 2, end (257), each 9 bits, LSB first.
+        let mut out = Vec::new();
+        literal_lzw(&[1, 2], &mut out);
+        let mut bits: u64 = 0;
+        for (k, code) in [256u64, 1, 2, 257].iter().enumerate() {
+            bits |= code << (9 * k);
+        }
+        let want: Vec<u8> = bits.to_le_bytes()[..5].to_vec(); // 36 bits -> 5 bytes
+        assert_eq!(out[0], 8);
+        assert_eq!(&out[1..], &want[..]);
     }
 
     #[test]

@@ -26,6 +26,7 @@ fn codec_class_name(e: &floorscan_codec::Error) -> &'static str {
         E::TooLarge { .. } => "ImageTooLargeError",
         E::Malformed { .. } => "ImageError",
         E::InvalidFrame(_) => "ImageError",
+        E::Read { .. } => "DatasetError",
         E::Encode { .. } => "OutputError",
     }
 }

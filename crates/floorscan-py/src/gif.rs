@@ -42,8 +42,9 @@ impl PyGifStream {
     ) -> PyResult<Self> {
         guard(|| {
             let file = File::create(&path).map_err(|e| write_error(&path, e))?;
-            let stream = GifStream::new(BufWriter::new(file), width, height, palette, delay_cs)
-                .map_err(codec_to_pyerr)?;
+            let out = BufWriter::with_capacity(1 << 18, file);
+            let stream =
+                GifStream::new(out, width, height, palette, delay_cs).map_err(codec_to_pyerr)?;
             Ok(Self {
                 stream: Some(stream),
                 path,

@@ -29,6 +29,7 @@ mod options;
 mod png;
 mod ranger;
 mod ranger_options;
+mod read_ahead;
 mod scan;
 mod scan_matcher;
 mod sim;
@@ -150,7 +151,8 @@ mod _native {
         }
     }
 
-    /// Formats: image files in Rust, the GIL released: PNG decoding, the overlay's GIF stream.
+    /// Formats: image files in Rust, the GIL released: PNG decoding (and reading ahead), the
+    /// overlay's GIF stream.
     #[pymodule]
     mod formats {
         use super::*;
@@ -158,7 +160,9 @@ mod _native {
         #[pymodule_export]
         use crate::gif::PyGifStream;
         #[pymodule_export]
-        use crate::png::{png_to_array, png_to_grey};
+        use crate::png::{max_png_file_bytes, png_to_array, png_to_grey};
+        #[pymodule_export]
+        use crate::read_ahead::PyPngReadAhead;
 
         #[pymodule_init]
         fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use crate::errors::{codec_to_pyerr as to_pyerr, guard};
 
 /// A decoded image as a numpy array: (H, W) for one channel, (H, W, C) otherwise.
-fn to_numpy<'py>(py: Python<'py>, img: DecodedImage) -> PyResult<Bound<'py, PyAny>> {
+pub fn to_numpy<'py>(py: Python<'py>, img: DecodedImage) -> PyResult<Bound<'py, PyAny>> {
     let shape: Vec<usize> = if img.channels == 1 {
         vec![img.height, img.width]
     } else {
@@ -49,4 +49,11 @@ pub fn png_to_grey<'py>(
     max_pixels: u64,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| to_numpy(py, decode(py, data, max_pixels, true).map_err(to_pyerr)?))
+}
+
+/// Most bytes a PNG file of `max_pixels` pixels is read into memory for (larger files go to
+/// Pillow, which reads lazily and checks the header first).
+#[pyfunction]
+pub fn max_png_file_bytes(max_pixels: u64) -> u64 {
+    floorscan_codec::max_png_file_bytes(max_pixels)
 }

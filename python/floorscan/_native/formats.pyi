@@ -1,8 +1,9 @@
 """
-Formats: image files in Rust, the GIL released: PNG decoding, the overlay's GIF stream.
+Formats: image files in Rust, the GIL released: PNG decoding (and reading ahead), the
+overlay's GIF stream.
 """
 
-from _typeshed import Incomplete
+from _typeshed import Incomplete, SupportsGetItem
 from os import PathLike
 from typing import Any, SupportsIndex, final
 
@@ -28,6 +29,28 @@ class GifStream:
         Queues one (height, width) uint8 frame of palette indices (blocks while the encoder is
         8 frames behind).
         """
+
+@final
+class PngReadAhead:
+    """
+    Grey images of PNG `paths`, in order, decoded ahead by `threads` Rust threads with at most
+    `depth` decoded frames waiting. Iterating gives each file's (H, W) uint8/uint16 image, or
+    None for a file it did not decode (not a PNG, unreadable, damaged, over `max_pixels`): read
+    that one with the general reader, which reports the error.
+    """
+    def __iter__(self, /) -> PngReadAhead: ...
+    def __new__(cls, /, paths: SupportsGetItem[int, str | PathLike[str]], max_pixels: SupportsIndex, depth: SupportsIndex, threads: SupportsIndex) -> PngReadAhead: ...
+    def __next__(self, /) -> Any: ...
+    def close(self, /) -> None:
+        """
+        Stops the decoding threads (and waits for them); iterating then ends.
+        """
+
+def max_png_file_bytes(max_pixels: SupportsIndex) -> int:
+    """
+    Most bytes a PNG file of `max_pixels` pixels is read into memory for (larger files go to
+    Pillow, which reads lazily and checks the header first).
+    """
 
 def png_to_array(data: bytes, max_pixels: SupportsIndex) -> Any:
     """

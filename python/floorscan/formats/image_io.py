@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import warnings
 from pathlib import Path
 
@@ -9,7 +10,7 @@ import numpy as np
 
 from .._atomic import PathLike, deferred_signals, temp_path_for
 from ..errors import ImageError, ImageTooLargeError, ImageTypeError, OptionError
-from .png import is_png, png_to_grey
+from .png import is_png, max_png_file_bytes, png_to_grey
 
 
 def as_grey(image) -> np.ndarray:
@@ -119,6 +120,8 @@ def read_grey(path: PathLike) -> np.ndarray:
     decoded in Rust (:mod:`floorscan.formats.png`, the same pixels), the rest by Pillow."""
     try:
         with open(path, "rb") as f:
+            if os.fstat(f.fileno()).st_size > max_png_file_bytes(_max_image_pixels):
+                return _read_grey_pillow(path)  # reads the header first, the rest lazily
             data = f.read()
     except FileNotFoundError:
         raise ImageError(f"image file not found: {path}") from None

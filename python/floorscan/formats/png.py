@@ -28,6 +28,13 @@ def is_png(data: bytes) -> bool:
     return data[:8] == PNG_SIGNATURE
 
 
+def max_png_file_bytes(max_pixels: int) -> int:
+    """Most bytes a PNG file of ``max_pixels`` pixels is read into memory for: its samples
+    stored uncompressed twice over plus 64 MiB of other chunks (larger files are left to
+    Pillow, which reads lazily and refuses an oversized header first)."""
+    return _native.max_png_file_bytes(int(max_pixels))
+
+
 def png_to_grey(data: bytes, *, max_pixels: int) -> np.ndarray:
     """PNG file bytes to a (H, W) grey image: uint8, or uint16 for 16-bit grey files. Colour
     becomes ITU-R BT.601 luma exactly as Pillow's ``convert("L")`` computes it, alpha is
