@@ -18,8 +18,9 @@ use gif::{Encoder, Frame, Repeat};
 
 use crate::error::{one_line, Error, Result};
 
-/// Frames queued for the encoder thread at most (memory: this many frames).
-pub const GIF_QUEUE_FRAMES: usize = 8;
+/// Frames queued for the encoder thread at most (memory: this many frames; enough that a
+/// starved encoder thread catches up while the producer waits for input, not the reverse).
+pub const GIF_QUEUE_FRAMES: usize = 32;
 
 fn encode_error(e: impl std::fmt::Display) -> Error {
     Error::Encode {

@@ -53,7 +53,7 @@ impl PyGifStream {
     }
 
     /// Queues one (height, width) uint8 frame of palette indices (blocks while the encoder is
-    /// 8 frames behind).
+    /// 32 frames behind).
     fn push(&mut self, py: Python<'_>, indices: PyReadonlyArray2<'_, u8>) -> PyResult<()> {
         guard(|| {
             let stream = self

@@ -27,7 +27,7 @@ class GifStream:
     def push(self, /, indices: Incomplete) -> None:
         """
         Queues one (height, width) uint8 frame of palette indices (blocks while the encoder is
-        8 frames behind).
+        32 frames behind).
         """
 
 @final

@@ -54,7 +54,7 @@ class GifWriter:
 
     def add(self, indices: np.ndarray) -> None:
         """Appends a (height, width) uint8 frame of palette indices (blocks while the encoder
-        thread is 8 frames behind)."""
+        thread is 32 frames behind)."""
         if not (
             isinstance(indices, np.ndarray)
             and indices.dtype == np.uint8
