@@ -84,7 +84,15 @@ def test_pixels_as_stored_equal_pillows(name):
     np.testing.assert_array_equal(png_to_array(data, max_pixels=LIMIT), want)
 
 
-ADAM7 = [(0, 0, 8, 8), (4, 0, 8, 8), (0, 4, 4, 8), (2, 0, 4, 4), (0, 2, 2, 4), (1, 0, 2, 2), (0, 1, 1, 2)]
+ADAM7 = [
+    (0, 0, 8, 8),
+    (4, 0, 8, 8),
+    (0, 4, 4, 8),
+    (2, 0, 4, 4),
+    (0, 2, 2, 4),
+    (1, 0, 2, 2),
+    (0, 1, 1, 2),
+]
 """The seven passes of Adam7 interlacing: (x0, y0, dx, dy)."""
 
 

@@ -47,7 +47,7 @@ impl<W: Write + Send + 'static> GifStream<W> {
             })
         };
         let (w, h) = (size(width, "width")?, size(height, "height")?);
-        if palette.is_empty() || palette.len() % 3 != 0 || palette.len() > 768 {
+        if palette.is_empty() || !palette.len().is_multiple_of(3) || palette.len() > 768 {
             return Err(Error::InvalidFrame(format!(
                 "GIF palette must hold 1..=256 RGB colours (3 bytes each), got {} bytes",
                 palette.len()
