@@ -9,8 +9,11 @@ appears at its path only when :meth:`GifWriter.close` has written all of it (ato
 >>> path = pathlib.Path(tempfile.mkdtemp()) / "a.gif"
 >>> gif = GifWriter(path, width=3, height=2, palette=palette, frame_s=0.1)
 >>> gif.add(np.array([[0, 1, 0], [1, 0, 1]], dtype=np.uint8))
->>> gif.close() == path, np.asarray(Image.open(path)).tolist()
-(True, [[0, 1, 0], [1, 0, 1]])
+>>> gif.close() == path
+True
+>>> with Image.open(path) as im:
+...     np.asarray(im).tolist()
+[[0, 1, 0], [1, 0, 1]]
 """
 
 from __future__ import annotations
