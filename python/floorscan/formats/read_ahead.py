@@ -23,8 +23,12 @@ READ_AHEAD_FRAMES = 8
 
 
 def decode_threads() -> int:
-    """Decoding threads: one per core beyond the frame loop's, at least one, at most four."""
-    return max(1, min(4, (os.cpu_count() or 2) - 1))
+    """Decoding threads: one per core beyond the frame loop's, two to four. Two even on two
+    cores: the threads sleep once they are ``depth`` frames ahead, so the second costs no CPU,
+    and it keeps decoding while the first is descheduled (measured in BENCHMARKS.md: the frame
+    loop waits 0.3-0.6 ms a frame for its images with two threads, 0.9-1.5 ms with one, on
+    this 2-core machine)."""
+    return max(2, min(4, (os.cpu_count() or 2) - 1))
 
 
 def read_grey_ahead(
