@@ -1,5 +1,6 @@
 """PNG files decoded in Rust (crates/floorscan-codec, the GIL released while decoding): the
-same pixels as Pillow, about three times faster, with the decoded size bounded on the header.
+same pixels as Pillow, about five times faster here (BENCHMARKS.md), with the decoded size
+bounded on the header.
 
 Pillow stays the reader of every other format (:func:`floorscan.formats.image_io.read_grey`
 uses these functions for PNG files and Pillow for the rest).
