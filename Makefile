@@ -43,12 +43,12 @@ test: dev
 	$(CARGO) test --workspace -q
 	$(PY) -m pytest -q
 
-# Fuzzing (issue 12), bounded in time: proptest targets of the Rust parsers and FFI entry points
-# with FUZZ_CASES random cases each, then hypothesis on the Python readers (the "fuzz" profile).
+# Fuzzing (issues 12, 14), bounded in time: proptest targets of the Rust parsers (the PNG decoder
+# too) and FFI entry points with FUZZ_CASES random cases each, then hypothesis on the Python readers (the "fuzz" profile).
 # Each stage stops after FUZZ_SECONDS. `make test` runs the short deterministic corpus of both.
 fuzz: dev
 	FLOORSCAN_FUZZ=1 PROPTEST_CASES=$(FUZZ_CASES) timeout $(FUZZ_SECONDS) \
-	    $(CARGO) test --release -q -p floorscan-core -p floorscan-sim --test fuzz
+	    $(CARGO) test --release -q -p floorscan-core -p floorscan-sim -p floorscan-codec --test fuzz
 	FLOORSCAN_HYPOTHESIS_PROFILE=fuzz timeout $(FUZZ_SECONDS) \
 	    $(PY) -m pytest -q -p no:cacheprovider tests/test_fuzz_readers.py
 

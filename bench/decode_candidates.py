@@ -1,5 +1,6 @@
 """Per-frame decode time of a 640x480 8-bit grey PNG, as `floorscan run` reads recorded frames,
-side by side in one run, one thread: Pillow (what `formats.image_io.read_grey` uses today),
+side by side in one run, one thread: floorscan's Rust decoder (`formats.image_io.read_grey`,
+and `formats.png.png_to_grey` on bytes already read), Pillow (what `read_grey` used before),
 OpenCV's `cv2.imread` and `cv2.imdecode` (from bytes already read) with IMREAD_UNCHANGED, and
 the file read alone (the disk / page-cache floor). The frame is a simulated corridor frame
 written the way datasets are (Pillow's default PNG settings). Each decoder's output is checked
@@ -16,6 +17,8 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+from floorscan.formats.image_io import read_grey
+from floorscan.formats.png import png_to_grey
 from floorscan.sim import Camera, World, simulate_run
 from PIL import Image
 
@@ -59,11 +62,19 @@ def main() -> None:
             buf = np.frombuffer(path.read_bytes(), np.uint8)
             return cv2.imdecode(buf, cv2.IMREAD_UNCHANGED)
 
-        for fn in (pillow, cv_imread, cv_imdecode):
+        def rust_read_grey():
+            return read_grey(path)
+
+        def rust_png_to_grey():
+            return png_to_grey(path.read_bytes(), max_pixels=1 << 26)
+
+        for fn in (pillow, cv_imread, cv_imdecode, rust_read_grey, rust_png_to_grey):
             assert np.array_equal(fn(), img), fn.__name__
         rows = [
             ("file read only (path.read_bytes)", per_frame_ms(path.read_bytes, 500)),
-            ("Pillow open + load + asarray (today)", per_frame_ms(pillow)),
+            ("Pillow open + load + asarray (before)", per_frame_ms(pillow)),
+            ("floorscan read_grey (Rust `png` crate, GIL released)", per_frame_ms(rust_read_grey)),
+            ("read_bytes + floorscan png_to_grey", per_frame_ms(rust_png_to_grey)),
             ("OpenCV cv2.imread IMREAD_UNCHANGED", per_frame_ms(cv_imread)),
             ("OpenCV read_bytes + cv2.imdecode IMREAD_UNCHANGED", per_frame_ms(cv_imdecode)),
         ]

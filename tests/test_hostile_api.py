@@ -131,6 +131,34 @@ def test_decompression_bombs_are_image_and_format_errors(tmp_path):
         OccupancyGrid.load(tmp_path / "map.yaml")
 
 
+def test_hostile_pngs_through_the_rust_decoder_are_one_line_image_errors(tmp_path):
+    """Issue 14: truncated data, a header claiming 2^31 x 2^31 pixels (no allocation), an
+    impossible bit depth, and a file too big to read whole (left to Pillow's lazy reader)."""
+    good = png_claiming(8, 1)
+    cases = {
+        "truncated.png": good[: len(good) - 20],
+        "huge.png": png_claiming(0x7FFFFFFF, 0x7FFFFFFF),
+        "depth.png": good[:24] + b"\x03" + good[25:],  # grey with 3 bits: no such PNG
+    }
+    for name, data in cases.items():
+        (tmp_path / name).write_bytes(data)
+        with pytest.raises(floorscan.ImageError) as e:
+            read_grey(tmp_path / name)
+        assert "\n" not in str(e.value) and name in str(e.value)
+    from floorscan.formats import image_io
+
+    try:
+        image_io.set_max_image_pixels(4)  # files over 64 MiB + 64 bytes go to Pillow unread
+        big = tmp_path / "big.png"
+        with open(big, "wb") as f:
+            f.write(png_claiming(8, 1))
+            f.truncate((64 << 20) + 1000)  # sparse: no disk used
+        with pytest.raises(floorscan.ImageTooLargeError, match="8 x 1"):
+            read_grey(big)
+    finally:
+        image_io.set_max_image_pixels(image_io.DEFAULT_MAX_IMAGE_PIXELS)
+
+
 @pytest.mark.parametrize("scale", [1.0, 3.0, 0.01])
 def test_quaternions_are_normalised(scale):
     yaw = math.pi / 2

@@ -15,6 +15,11 @@ class ImageError(FloorscanError, ValueError):
     """An image has the wrong dtype, shape or size, is empty, or cannot be read."""
 
 
+class ImageTooLargeError(ImageError):
+    """An image's header declares more pixels than ``[limits] max_image_pixels`` allows (refused
+    before any pixel is decoded)."""
+
+
 class ImageTypeError(ImageError, TypeError):
     """An image is not a numpy array of a supported dtype."""
 

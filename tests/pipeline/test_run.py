@@ -279,3 +279,40 @@ def test_video_with_an_odometry_file_is_mapped(dataset, tmp_path):
     counts = json.loads((out / "summary.json").read_text())["counts"]
     assert counts["frames_in"] == 12 and counts["frames_mapped"] == 12
     assert (OccupancyGrid.load(out / "map.yaml").occupancy_classes() == 2).sum() > 0
+
+
+def test_rust_png_decoding_gives_the_outputs_of_pillow_decoding_byte_for_byte(
+    dataset, tmp_path, monkeypatch
+):
+    """The decoder changed (Rust instead of Pillow): every output is byte-identical to the old
+    path's (scans CSV, the bag's messages, the maps), and the streamed overlay GIF holds the
+    palette-indexed overlays of the kept frames."""
+    from floorscan.formats import image_io
+    from floorscan.pipeline import sources
+    from floorscan.pipeline.outputs import OVERLAY_MAX_WIDTH
+    from floorscan.ranging.overlay import OVERLAY_PALETTE, draw_scan_overlay_indexed
+    from PIL import Image, ImageSequence
+    from rosbags.highlevel import AnyReader
+
+    args = ["run", str(dataset / "room"), "--table", str(dataset / "table.json")]
+    args += ["--threshold", "20", "-o"]
+    assert main([*args, str(tmp_path / "rust")]) == 0
+    monkeypatch.setattr(sources, "read_grey", image_io._read_grey_pillow)
+    assert main([*args, str(tmp_path / "pillow")]) == 0
+    for name in ("scans.csv", "map.pgm", "map.yaml", "map.png", "overlay.gif"):
+        assert (tmp_path / "rust" / name).read_bytes() == (tmp_path / "pillow" / name).read_bytes()
+
+    def messages(out):
+        with AnyReader([out / "bag"]) as reader:
+            return [(c.topic, t, bytes(raw)) for c, t, raw in reader.messages()]
+
+    assert messages(tmp_path / "rust") == messages(tmp_path / "pillow")
+    scans = read_scans_csv(tmp_path / "rust" / "scans.csv")
+    images = sorted((dataset / "room" / "images").iterdir())
+    with Image.open(tmp_path / "rust" / "overlay.gif") as gif:
+        got = [np.asarray(f.convert("RGB")) for f in ImageSequence.Iterator(gif)]
+    assert len(got) == len(scans)  # 30 frames, fewer than overlay_max_frames: all kept
+    for k in (0, 17, 29):
+        grey = image_io._read_grey_pillow(images[k])
+        want = draw_scan_overlay_indexed(grey, scans[k], max_width=OVERLAY_MAX_WIDTH)
+        np.testing.assert_array_equal(got[k], OVERLAY_PALETTE[want])

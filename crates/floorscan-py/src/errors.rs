@@ -19,6 +19,23 @@ fn class_name(e: &Error) -> &'static str {
     }
 }
 
+/// The Python class name for a codec (image file) error variant.
+fn codec_class_name(e: &floorscan_codec::Error) -> &'static str {
+    use floorscan_codec::Error as E;
+    match e {
+        E::TooLarge { .. } => "ImageTooLargeError",
+        E::Malformed { .. } => "ImageError",
+        E::InvalidFrame(_) => "ImageError",
+        E::Read { .. } => "DatasetError",
+        E::Encode { .. } => "OutputError",
+    }
+}
+
+/// Converts a codec error into the matching Python exception.
+pub fn codec_to_pyerr(e: floorscan_codec::Error) -> PyErr {
+    error(codec_class_name(&e), e.to_string())
+}
+
 /// Converts a core error into the matching Python exception.
 pub fn to_pyerr(e: Error) -> PyErr {
     Python::attach(|py| {

@@ -3,8 +3,8 @@
 //! API is the Python package `floorscan`, which wraps these classes.
 //!
 //! One submodule per stage of the Python package (`floorscan._native.ranging`, `.mapping`,
-//! `.sim`), registered in `sys.modules` so that `from floorscan._native.sim import SimWorld`
-//! works; one binding file per core module with a Python face. The type stubs
+//! `.drive`, `.formats`, `.sim`), registered in `sys.modules` so that
+//! `from floorscan._native.sim import SimWorld` works; one binding file per core module with a Python face. The type stubs
 //! (`python/floorscan/_native/*.pyi`) are generated from these declarations
 //! (`make stubs`, crates/floorscan-stubgen) and checked for drift by `make test`.
 
@@ -15,6 +15,7 @@ mod appearance_options;
 mod arrays;
 mod errors;
 mod evidence;
+mod gif;
 mod grid;
 mod grid_options;
 mod grid_views;
@@ -25,8 +26,10 @@ mod local_map;
 mod log_odds;
 mod navigation;
 mod options;
+mod png;
 mod ranger;
 mod ranger_options;
+mod read_ahead;
 mod scan;
 mod scan_matcher;
 mod sim;
@@ -145,6 +148,25 @@ mod _native {
         #[pymodule_init]
         fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
             register_submodule(m, "drive")
+        }
+    }
+
+    /// Formats: image files in Rust, the GIL released: PNG decoding (and reading ahead), the
+    /// overlay's GIF stream.
+    #[pymodule]
+    mod formats {
+        use super::*;
+
+        #[pymodule_export]
+        use crate::gif::PyGifStream;
+        #[pymodule_export]
+        use crate::png::{max_png_file_bytes, png_to_array, png_to_grey};
+        #[pymodule_export]
+        use crate::read_ahead::PyPngReadAhead;
+
+        #[pymodule_init]
+        fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+            register_submodule(m, "formats")
         }
     }
 

@@ -1,7 +1,7 @@
-from . import drive as drive, mapping as mapping, ranging as ranging, sim as sim
+from . import drive as drive, formats as formats, mapping as mapping, ranging as ranging, sim as sim
 from typing import Final
 
-__all__ = ["__version__", "_panic_for_tests", "drive", "mapping", "ranging", "sim"]
+__all__ = ["__version__", "_panic_for_tests", "drive", "formats", "mapping", "ranging", "sim"]
 
 __version__: Final[str]
 """

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import os
 import warnings
 from pathlib import Path
 
 import numpy as np
 
 from .._atomic import PathLike, deferred_signals, temp_path_for
-from ..errors import ImageError, ImageTypeError, OptionError
+from ..errors import ImageError, ImageTooLargeError, ImageTypeError, OptionError
+from .png import is_png, max_png_file_bytes, png_to_grey
 
 
 def as_grey(image) -> np.ndarray:
@@ -65,10 +67,10 @@ def max_image_pixels() -> int:
 
 
 def check_image_size(width: int, height: int, what: str) -> None:
-    """ImageError if a ``width`` x ``height`` image is larger than the limit (checked on the
+    """ImageTooLargeError if a ``width`` x ``height`` image is larger than the limit (checked on the
     header, before any pixel is decoded)."""
     if width < 0 or height < 0 or width * height > _max_image_pixels:
-        raise ImageError(
+        raise ImageTooLargeError(
             f"{what} is {width} x {height} = {width * height} pixels, more than the limit of "
             f"{_max_image_pixels} ([limits] max_image_pixels)"
         )
@@ -114,7 +116,29 @@ def _decoded(im, what: str):
 
 def read_grey(path: PathLike) -> np.ndarray:
     """Reads an image file (PNG, JPEG, ... 8 or 16 bit) as a (H, W) uint8 or uint16 array.
-    Images larger than ``max_image_pixels`` are refused unread (ImageError)."""
+    Images larger than ``max_image_pixels`` are refused unread (ImageError). PNG files are
+    decoded in Rust (:mod:`floorscan.formats.png`, the same pixels), the rest by Pillow."""
+    try:
+        with open(path, "rb") as f:
+            if os.fstat(f.fileno()).st_size > max_png_file_bytes(_max_image_pixels):
+                return _read_grey_pillow(path)  # reads the header first, the rest lazily
+            data = f.read()
+    except FileNotFoundError:
+        raise ImageError(f"image file not found: {path}") from None
+    except OSError as e:
+        raise ImageError(f"cannot read image {path}: {e.strerror or e}") from None
+    if not is_png(data):
+        return _read_grey_pillow(path)
+    try:
+        return png_to_grey(data, max_pixels=_max_image_pixels)
+    except ImageTooLargeError as e:
+        raise ImageTooLargeError(f"{path}: {e} ([limits] max_image_pixels)") from None
+    except ImageError as e:
+        raise ImageError(f"cannot read image {path}: {e}") from None
+
+
+def _read_grey_pillow(path: PathLike) -> np.ndarray:
+    """:func:`read_grey` through Pillow (every format Pillow reads)."""
     from PIL import UnidentifiedImageError
 
     try:

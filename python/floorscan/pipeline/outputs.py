@@ -24,8 +24,9 @@ import numpy as np
 
 from .._atomic import _make_readable, write_atomic
 from ..errors import OptionError, OutputError
+from ..formats.gif import GifWriter
 from ..formats.rosbag import Ros2BagWriter
-from ..ranging.overlay import draw_scan_overlay
+from ..ranging.overlay import OVERLAY_PALETTE, draw_scan_overlay, draw_scan_overlay_indexed
 from ..ranging.scan import SCAN_CSV_HEADER, Scan
 from .config import Config
 
@@ -52,6 +53,8 @@ def peak_resident_mb() -> Optional[float]:
 
 OVERLAY_FORMATS = ("gif", "mp4", "none")
 BAG_STORAGES = ("mcap", "sqlite3")
+OVERLAY_MAX_WIDTH = 480
+"""Overlay frames wider than this [px] are halved (until they are not)."""
 MIN_LASER_INCREMENT_RAD = 1e-4
 """Finest LaserScan bin (at most 62 832 bins over a full turn)."""
 
@@ -93,6 +96,7 @@ class RunOutputs:
         self.cfg = cfg
         self.finishing = False
         self._bag = None
+        self._gif: Optional[GifWriter] = None
         self._csv = None
         self._csv_tmp: Optional[str] = None
         try:
@@ -107,8 +111,10 @@ class RunOutputs:
         o = cfg.outputs
         _make_readable(self._csv_tmp)
         self._csv.write(SCAN_CSV_HEADER + "\n")
-        # Overlay frames live in one buffer allocated (and touched) at the first frame, so memory
-        # stays flat over a run however long; frames wider than 480 px are halved.
+        # A GIF overlay is streamed: each kept frame is drawn in the indices of one palette and
+        # encoded on a Rust thread as the run goes (formats/gif.py). MP4 frames live in one
+        # buffer allocated (and touched) at the first frame, so memory stays flat over a run
+        # however long. Frames wider than 480 px are halved.
         self._overlay: Optional[np.ndarray] = None
         self._overlay_n = 0
         self._overlay_cap = o.overlay_max_frames
@@ -151,7 +157,12 @@ class RunOutputs:
             and self._frame_count % self._overlay_every == 0
             and self._overlay_n < self._overlay_cap
         ):
-            self._keep_overlay(draw_scan_overlay(frame.image, scan))
+            if o.overlay == "gif":
+                self._stream_overlay(
+                    draw_scan_overlay_indexed(frame.image, scan, max_width=OVERLAY_MAX_WIDTH)
+                )
+            else:
+                self._keep_overlay(draw_scan_overlay(frame.image, scan))
         if self._frame_count % 600 == 0:
             self.memory_samples.append((self._frame_count, resident_mb()))
         self._frame_count += 1
@@ -165,18 +176,32 @@ class RunOutputs:
                     1, math.floor((scan.timestamp - self._next_snapshot) / period) + 1
                 )
 
+    def _overlay_frames(self, rgb_nbytes: int) -> None:
+        """At the first kept frame: how many frames the overlay keeps, and how often. Bounded
+        by overlay_max_mb of RGB frames: fewer frames, spread over the run, when they are big."""
+        o = self.cfg.outputs
+        fit = max(1, (o.overlay_max_mb << 20) // max(rgb_nbytes, 1))
+        self._overlay_cap = min(o.overlay_max_frames, fit)
+        if self._expected_frames:
+            self._overlay_every = max(1, self._expected_frames // self._overlay_cap)
+
     def _keep_overlay(self, rgb: np.ndarray) -> None:
-        while rgb.shape[1] > 480:
+        while rgb.shape[1] > OVERLAY_MAX_WIDTH:
             rgb = rgb[::2, ::2]
         if self._overlay is None:
-            # Bounded by overlay_max_mb: fewer frames, spread over the run, when they are big.
-            o = self.cfg.outputs
-            fit = max(1, (o.overlay_max_mb << 20) // max(rgb.nbytes, 1))
-            self._overlay_cap = min(o.overlay_max_frames, fit)
-            if self._expected_frames:
-                self._overlay_every = max(1, self._expected_frames // self._overlay_cap)
+            self._overlay_frames(rgb.nbytes)
             self._overlay = np.full((self._overlay_cap,) + rgb.shape, 0, dtype=np.uint8)
         self._overlay[self._overlay_n] = rgb
+        self._overlay_n += 1
+
+    def _stream_overlay(self, indices: np.ndarray) -> None:
+        if self._gif is None:
+            self._overlay_frames(3 * indices.nbytes)
+            h, w = indices.shape
+            self._gif = GifWriter(
+                self.out / "overlay.gif", width=w, height=h, palette=OVERLAY_PALETTE, frame_s=0.1
+            )
+        self._gif.add(indices)
         self._overlay_n += 1
 
     def snapshot_local(self, mapper, t: float) -> Path:
@@ -254,33 +279,29 @@ class RunOutputs:
                 bag.abort()
             except Exception:  # the temporary bag folder is removed either way
                 pass
-        for name in (".overlay.tmp.gif", ".overlay.tmp.mp4"):
-            (self.out / name).unlink(missing_ok=True)
+        if self._gif is not None:
+            gif, self._gif = self._gif, None
+            gif.abort()
+        (self.out / ".overlay.tmp.mp4").unlink(missing_ok=True)
 
     def _write_overlay(self) -> None:
         o = self.cfg.outputs
+        if self._gif is not None:
+            gif, self._gif = self._gif, None
+            gif.close()
+            return
         if o.overlay == "none" or self._overlay is None or self._overlay_n == 0:
             return
-        kept = self._overlay[: self._overlay_n]
-        if o.overlay == "mp4":
-            import cv2
+        kept = self._overlay[: self._overlay_n]  # MP4: the GIF was streamed (_stream_overlay)
+        import cv2
 
-            h, w = kept[0].shape[:2]
-            tmp = self.out / ".overlay.tmp.mp4"
-            vw = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), 10.0, (w, h))
-            for f in kept:
-                vw.write(np.ascontiguousarray(f[..., ::-1]))
-            vw.release()
-            os.replace(tmp, self.out / "overlay.mp4")
-            return
-        from PIL import Image
-
-        frames = [Image.fromarray(f) for f in kept]
-        tmp = self.out / ".overlay.tmp.gif"
-        frames[0].save(
-            tmp, save_all=True, append_images=frames[1:], duration=100, loop=0, optimize=False
-        )
-        os.replace(tmp, self.out / "overlay.gif")
+        h, w = kept[0].shape[:2]
+        tmp = self.out / ".overlay.tmp.mp4"
+        vw = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), 10.0, (w, h))
+        for f in kept:
+            vw.write(np.ascontiguousarray(f[..., ::-1]))
+        vw.release()
+        os.replace(tmp, self.out / "overlay.mp4")
 
     def _write_summary(self, mapper, stats) -> None:
         t = mapper.times

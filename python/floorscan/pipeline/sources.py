@@ -19,6 +19,7 @@ from .._atomic import PathLike
 from ..errors import DatasetError, FloorscanError, ImageError
 from ..formats.dataset import read_images_txt
 from ..formats.image_io import as_grey, check_image_size, read_grey
+from ..formats.read_ahead import read_grey_ahead
 from ..formats.rig import Rig, read_rig
 from ..formats.rosbag import iter_bag_images, read_bag_odometry
 from ..formats.trajectory import Trajectory, read_tum
@@ -67,74 +68,38 @@ class DatasetSource(FrameSource):
         self.groundtruth = read_tum(gt) if gt.is_file() else None
         rig = self.folder / "rig.toml"
         self.rig = read_rig(rig) if rig.is_file() else None
+        self._images: Optional[Iterator] = None
+
+    def close(self) -> None:
+        """Stops the read-ahead of an iteration that did not reach the end."""
+        if self._images is not None:
+            self._images.close()
+            self._images = None
 
     def __len__(self) -> int:
         return len(self.entries)
 
     def __iter__(self) -> Iterator[Frame]:
-        """Frames in order, decoded on a second thread up to ``PREFETCH_FRAMES`` ahead (the
-        decoders release the GIL, so decoding overlaps ranging and mapping)."""
-        return _prefetched(self._frames(), PREFETCH_FRAMES)
+        """Frames in order, decoded ahead of the frame loop: PNG files by Rust threads
+        (:mod:`floorscan.formats.read_ahead`), other formats in their turn by Pillow."""
+        self.close()
+        self._images = images = read_grey_ahead([e.path for e in self.entries])
+        try:
+            for i, (e, image) in enumerate(zip(self.entries, images)):
+                if isinstance(image, FloorscanError):
+                    yield Frame(i, e.timestamp, None, str(image))
+                else:
+                    yield Frame(i, e.timestamp, image)
+        finally:
+            self.close()
 
     def _frames(self) -> Iterator[Frame]:
+        """Frames in order, each decoded in its turn (no read-ahead)."""
         for i, e in enumerate(self.entries):
             try:
                 yield Frame(i, e.timestamp, read_grey(e.path))
             except FloorscanError as err:
                 yield Frame(i, e.timestamp, None, str(err))
-
-
-PREFETCH_FRAMES = 4
-"""Frames a dataset source decodes ahead of the pipeline (bounded memory: 4 decoded frames)."""
-
-_END = object()
-
-
-class _Failed:
-    def __init__(self, exc: BaseException) -> None:
-        self.exc = exc
-
-
-def _prefetched(frames: Iterator[Frame], depth: int) -> Iterator[Frame]:
-    """Runs ``frames`` on a worker thread through a queue of ``depth``; the worker's exceptions
-    are raised here, and closing the iterator stops the worker."""
-    import queue
-
-    q: queue.Queue = queue.Queue(maxsize=depth)
-    stop = threading.Event()
-
-    def put(item) -> None:
-        while not stop.is_set():
-            try:
-                q.put(item, timeout=0.05)
-                return
-            except queue.Full:
-                continue
-
-    def work() -> None:
-        try:
-            for frame in frames:
-                if stop.is_set():
-                    return
-                put(frame)
-        except BaseException as exc:  # handed to the consumer, raised there
-            put(_Failed(exc))
-        finally:
-            put(_END)
-
-    worker = threading.Thread(target=work, name="floorscan-decode", daemon=True)
-    worker.start()
-    try:
-        while True:
-            item = q.get()
-            if item is _END:
-                return
-            if isinstance(item, _Failed):
-                raise item.exc
-            yield item
-    finally:
-        stop.set()
-        worker.join()
 
 
 class VideoSource(FrameSource):
