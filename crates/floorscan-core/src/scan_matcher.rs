@@ -40,8 +40,9 @@ pub struct SearchResult {
 /// ask for.
 pub const MAX_EVALUATIONS: u64 = 1 << 32;
 
-/// The largest padded copy of the field a search makes [cells] (64 MB of `f32`): the field
-/// plus a border of twice the translation window on each side.
+/// The largest field plus a border of twice the translation window on each side [cells] a
+/// search runs over (16 M): with [`MAX_EVALUATIONS`], bounds the window (and its sums) an
+/// argument can ask for.
 pub const MAX_PADDED_CELLS: u64 = 1 << 24;
 
 /// A likelihood field: `width` x `height` values, its cell (0, 0)'s lower-left corner at
@@ -118,43 +119,56 @@ pub fn search(
         return Ok(best);
     }
     let s = window.xy_steps as i64;
+    let side = (2 * s + 1) as usize;
     let (w, h) = (field.width as i64, field.height as i64);
-    // the field inside a border of 2s zero cells: a point within s cells of the field reads
-    // inside the padded field at every shift (no bounds check, no wrap to the next row); a
-    // point farther out reads 0 at every shift and is left out of the sums (not of the mean)
-    let pad = 2 * s;
-    let pw = w + 2 * pad;
-    let mut padded = vec![0.0f32; (pw * (h + 2 * pad)) as usize];
-    for j in 0..h {
-        let src = &field.values[(j * w) as usize..((j + 1) * w) as usize];
-        let at = ((j + pad) * pw + pad) as usize;
-        padded[at..at + w as usize].copy_from_slice(src);
-    }
+    // the sums of every shift of one yaw, filled point by point (each shift's sum still adds
+    // the points in their order, so the sums are those of a loop over shifts); a shift that
+    // moves a point off the field reads 0 there, a point that no shift brings onto the
+    // field is left out of the sums (not of the mean)
+    let mut sums = vec![0.0f64; side * side];
     let inv_n = 1.0 / points.len() as f64;
-    let mut bases: Vec<i64> = Vec::with_capacity(points.len());
     for ky in -(window.yaw_steps as i64)..=(window.yaw_steps as i64) {
         let dyaw = ky as f64 * window.yaw_step_rad;
         let yaw = prior.yaw + dyaw;
         let (sn, cs) = yaw.sin_cos();
-        bases.clear();
+        sums.fill(0.0);
         for p in points {
             let wx = prior.x + cs * p[0] - sn * p[1];
             let wy = prior.y + sn * p[0] + cs * p[1];
             let fi = ((wx - field.origin_m.0) / field.cell_m).floor();
             let fj = ((wy - field.origin_m.1) / field.cell_m).floor();
             let reach = |f: f64, n: i64| f >= -(s as f64) && f < (n + s) as f64;
-            if reach(fi, w) && reach(fj, h) {
-                bases.push((fj as i64 + pad) * pw + fi as i64 + pad);
+            if !(reach(fi, w) && reach(fj, h)) {
+                continue;
+            }
+            let (i, j) = (fi as i64, fj as i64);
+            if i - s >= 0 && j - s >= 0 && i + s < w && j + s < h {
+                // every shift reads inside the field: whole rows of the window at once
+                for (row, acc) in sums.chunks_exact_mut(side).enumerate() {
+                    let at = ((j - s + row as i64) * w + i - s) as usize;
+                    for (a, v) in acc.iter_mut().zip(&field.values[at..at + side]) {
+                        *a += *v as f64;
+                    }
+                }
+            } else {
+                for (row, acc) in sums.chunks_exact_mut(side).enumerate() {
+                    let jj = j - s + row as i64;
+                    if jj < 0 || jj >= h {
+                        continue;
+                    }
+                    for (col, a) in acc.iter_mut().enumerate() {
+                        let ii = i - s + col as i64;
+                        if ii >= 0 && ii < w {
+                            *a += field.values[(jj * w + ii) as usize] as f64;
+                        }
+                    }
+                }
             }
         }
         let yaw_prior = (-(dyaw / window.prior_yaw_rad).powi(2)).exp();
         for ty in -s..=s {
             for tx in -s..=s {
-                let shift = ty * pw + tx;
-                let sum: f64 = bases
-                    .iter()
-                    .map(|&b| padded[(b + shift) as usize] as f64)
-                    .sum();
+                let sum = sums[(ty + s) as usize * side + (tx + s) as usize];
                 let mean = sum * inv_n;
                 let t = ((tx * tx + ty * ty) as f64).sqrt() * field.cell_m;
                 let score = mean * (-(t / window.prior_xy_m).powi(2)).exp() * yaw_prior;
@@ -413,6 +427,112 @@ mod tests {
             }
             assert!((r.score - best).abs() < 1e-9, "{} vs {best}", r.score);
             assert!((mean_at(&field, &pts, r.pose) - r.mean).abs() < 1e-9);
+        }
+    }
+
+    /// The search as first written (a padded copy of the field, one gather per point and
+    /// shift): the reference the row-wise sums must equal bit for bit.
+    fn padded_search(
+        field: &Field<'_>,
+        points: &[[f64; 2]],
+        prior: Pose2,
+        window: &SearchWindow,
+    ) -> SearchResult {
+        let mut best = SearchResult {
+            pose: prior,
+            mean: 0.0,
+            score: -1.0,
+        };
+        let s = window.xy_steps as i64;
+        let (w, h) = (field.width as i64, field.height as i64);
+        let pad = 2 * s;
+        let pw = w + 2 * pad;
+        let mut padded = vec![0.0f32; (pw * (h + 2 * pad)) as usize];
+        for j in 0..h {
+            let src = &field.values[(j * w) as usize..((j + 1) * w) as usize];
+            let at = ((j + pad) * pw + pad) as usize;
+            padded[at..at + w as usize].copy_from_slice(src);
+        }
+        let inv_n = 1.0 / points.len() as f64;
+        let mut bases: Vec<i64> = Vec::new();
+        for ky in -(window.yaw_steps as i64)..=(window.yaw_steps as i64) {
+            let dyaw = ky as f64 * window.yaw_step_rad;
+            let yaw = prior.yaw + dyaw;
+            let (sn, cs) = yaw.sin_cos();
+            bases.clear();
+            for p in points {
+                let wx = prior.x + cs * p[0] - sn * p[1];
+                let wy = prior.y + sn * p[0] + cs * p[1];
+                let fi = ((wx - field.origin_m.0) / field.cell_m).floor();
+                let fj = ((wy - field.origin_m.1) / field.cell_m).floor();
+                let reach = |f: f64, n: i64| f >= -(s as f64) && f < (n + s) as f64;
+                if reach(fi, w) && reach(fj, h) {
+                    bases.push((fj as i64 + pad) * pw + fi as i64 + pad);
+                }
+            }
+            let yaw_prior = (-(dyaw / window.prior_yaw_rad).powi(2)).exp();
+            for ty in -s..=s {
+                for tx in -s..=s {
+                    let shift = ty * pw + tx;
+                    let mut sum = 0.0f64;
+                    for &b in &bases {
+                        sum += padded[(b + shift) as usize] as f64;
+                    }
+                    let mean = sum * inv_n;
+                    let t = ((tx * tx + ty * ty) as f64).sqrt() * field.cell_m;
+                    let score = mean * (-(t / window.prior_xy_m).powi(2)).exp() * yaw_prior;
+                    if score > best.score {
+                        best = SearchResult {
+                            pose: Pose2::new(
+                                prior.x + tx as f64 * field.cell_m,
+                                prior.y + ty as f64 * field.cell_m,
+                                yaw,
+                            ),
+                            mean,
+                            score,
+                        };
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn the_row_wise_sums_equal_the_padded_gathers_bit_for_bit() {
+        let mut state = 7u64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % 1_000_000) as f64 / 1_000_000.0
+        };
+        for _ in 0..20 {
+            let (w, h) = (31, 19);
+            let values: Vec<f32> = (0..w * h).map(|_| rnd() as f32).collect();
+            let field = Field {
+                values: &values,
+                width: w,
+                height: h,
+                origin_m: (-0.3, 0.2),
+                cell_m: 0.1,
+            };
+            let pts: Vec<[f64; 2]> = (0..40)
+                .map(|_| [rnd() * 4.4 - 1.4, rnd() * 3.0 - 1.4])
+                .collect();
+            let prior = Pose2::new(0.3, 0.8, -0.1);
+            let win = SearchWindow {
+                xy_steps: 4,
+                yaw_steps: 3,
+                yaw_step_rad: 0.02,
+                prior_xy_m: 0.5,
+                prior_yaw_rad: 0.5,
+            };
+            let fast = search(&field, &pts, prior, &win).unwrap();
+            let slow = padded_search(&field, &pts, prior, &win);
+            assert_eq!(fast.pose, slow.pose);
+            assert_eq!(fast.mean.to_bits(), slow.mean.to_bits());
+            assert_eq!(fast.score.to_bits(), slow.score.to_bits());
         }
     }
 

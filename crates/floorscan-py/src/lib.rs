@@ -13,12 +13,14 @@ use pyo3::prelude::*;
 mod appearance;
 mod appearance_options;
 mod arrays;
+mod avoidance_map;
 mod errors;
 mod evidence;
 mod grid;
 mod grid_options;
 mod grid_views;
 mod ground_table;
+mod hit_map;
 mod image;
 mod inserter;
 mod local_map;
@@ -132,10 +134,16 @@ mod _native {
         }
     }
 
-    /// Driving: the planner's navigation function and the scan matcher's search.
+    /// Driving: the avoidance map's updates, the planner's navigation function, the scan
+    /// matcher's search and hit map.
     #[pymodule]
     mod drive {
         use super::*;
+
+        #[pymodule_export]
+        use crate::avoidance_map::{decay, PyAvoidanceMap};
+        #[pymodule_export]
+        use crate::hit_map::PyHitMap;
 
         #[pymodule_export]
         use crate::navigation::geodesic_distances;
