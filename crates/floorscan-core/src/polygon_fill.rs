@@ -114,6 +114,7 @@ fn line<T: Copy>(canvas: &mut Canvas<'_, T>, a: [i64; 2], b: [i64; 2], value: T)
     let mut err = dx - 2 * dy;
     let (mut x, mut y) = (p1[0], p1[1]);
     for _ in 0..=dx {
+        // the clipped ends lie on the canvas but for rounding at a corner: checked
         canvas.set(x, y, value);
         let minor = err < 0;
         err += -2 * dy + if minor { 2 * dx } else { 0 };
@@ -150,6 +151,8 @@ struct Edge {
 pub struct PolygonFill {
     edges: Vec<Edge>,
     active: Vec<(i64, usize)>,
+    starting: Vec<(i64, usize)>,
+    merged: Vec<(i64, usize)>,
 }
 
 impl PolygonFill {
@@ -226,19 +229,40 @@ impl PolygonFill {
         let mut next = 0;
         self.active.clear();
         while y < y_hi {
-            self.active
-                .retain(|&(_, k)| y < self_edges_y1(&self.edges, k));
-            while next < self.edges.len() && self.edges[next].y0 <= y {
-                if self.edges[next].y1 > y {
-                    self.active.push((0, next));
+            let edges = &self.edges;
+            self.active.retain(|&(_, k)| y < edges[k].y1);
+            for a in self.active.iter_mut() {
+                let e = &edges[a.1];
+                a.0 = e.x + (y - e.y0) * e.dx;
+            }
+            // the active edges stay nearly sorted from row to row; the edges starting on this
+            // row are sorted apart and merged in
+            insertion_sort(&mut self.active);
+            self.starting.clear();
+            while next < edges.len() && edges[next].y0 <= y {
+                let e = &edges[next];
+                if e.y1 > y {
+                    self.starting.push((e.x + (y - e.y0) * e.dx, next));
                 }
                 next += 1;
             }
-            for a in self.active.iter_mut() {
-                let e = &self.edges[a.1];
-                a.0 = e.x + (y - e.y0) * e.dx;
+            if !self.starting.is_empty() {
+                self.starting.sort_unstable();
+                self.merged.clear();
+                let (mut a, mut b) = (0, 0);
+                while a < self.active.len() || b < self.starting.len() {
+                    let take_a = b == self.starting.len()
+                        || (a < self.active.len() && self.active[a].0 < self.starting[b].0);
+                    if take_a {
+                        self.merged.push(self.active[a]);
+                        a += 1;
+                    } else {
+                        self.merged.push(self.starting[b]);
+                        b += 1;
+                    }
+                }
+                std::mem::swap(&mut self.active, &mut self.merged);
             }
-            insertion_sort(&mut self.active);
             for pair in self.active.chunks_exact(2) {
                 // the cells whose centres lie between the two crossings
                 canvas.span(
@@ -259,10 +283,6 @@ impl PolygonFill {
             }
         }
     }
-}
-
-fn self_edges_y1(edges: &[Edge], k: usize) -> i64 {
-    edges[k].y1
 }
 
 /// Sorts by x (stable), fast on the nearly sorted lists consecutive rows give.

@@ -146,7 +146,7 @@ mod _native {
         use crate::hit_map::PyHitMap;
 
         #[pymodule_export]
-        use crate::navigation::geodesic_distances;
+        use crate::navigation::{coarse_grid, geodesic_distances};
         #[pymodule_export]
         use crate::scan_matcher::correlative_search;
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._native.drive import geodesic_distances
+from .._native.drive import coarse_grid, geodesic_distances
 from ..errors import OptionError
 
 LETHAL = 254
@@ -94,18 +94,19 @@ def navigation_function(
     lethal 253, rounded). A goal outside the window (or blocked) is reached through the
     window's border: each border cell starts at its straight-line distance to the goal."""
     f = max(1, int(round(options.plan_cell_m / cell_size_m)))
-    h, w = cost.shape[0] // f, cost.shape[1] // f
-    blocks = cost[: h * f, : w * f].reshape(h, f, w, f).astype(np.float64)
     step = f * cell_size_m
     # optimistic: a coarse cell is passable when any of its cells is (the dynamic window
-    # checks every trajectory on the fine costmap); it costs its cells' mean
-    blocked = blocks.min(axis=(1, 3)) >= INSCRIBED
-    weight = 1.0 + np.minimum(blocks.mean(axis=(1, 3)), INSCRIBED) / 64.0
-    if known is not None:
-        # unknown space costs more to plan through than floor seen free (navfn's
-        # allow_unknown with a penalty): detours through unseen rooms lose to known floor
-        k = known[: h * f, : w * f].reshape(h, f, w, f).mean(axis=(1, 3))
-        weight = weight + options.unknown_cost * (1.0 - k)
+    # checks every trajectory on the fine costmap); it costs its cells' mean, and unknown
+    # space costs more to plan through than floor seen free (navfn's allow_unknown with a
+    # penalty): detours through unseen rooms lose to known floor (in the Rust core)
+    blocked, weight = coarse_grid(
+        np.ascontiguousarray(cost, np.uint8),
+        f,
+        INSCRIBED,
+        float(options.unknown_cost),
+        None if known is None else np.ascontiguousarray(known, bool),
+    )
+    h, w = blocked.shape
     ox, oy = origin_m
     gx, gy = goal_xy
     gi, gj = int((gx - ox) // step), int((gy - oy) // step)
