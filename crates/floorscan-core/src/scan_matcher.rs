@@ -126,52 +126,41 @@ pub fn search(
     // moves a point off the field reads 0 there, a point that no shift brings onto the
     // field is left out of the sums (not of the mean)
     let mut sums = vec![0.0f64; side * side];
+    // the translation prior of every shift, the same for every yaw
+    let mut xy_prior = Vec::with_capacity(side * side);
+    for ty in -s..=s {
+        for tx in -s..=s {
+            let t = ((tx * tx + ty * ty) as f64).sqrt() * field.cell_m;
+            xy_prior.push((-(t / window.prior_xy_m).powi(2)).exp());
+        }
+    }
+    // per point of one yaw: its cell, and whether every shift's chunk reads inside the field
+    let mut cells: Vec<(i64, i64, bool)> = Vec::with_capacity(points.len());
     let inv_n = 1.0 / points.len() as f64;
     for ky in -(window.yaw_steps as i64)..=(window.yaw_steps as i64) {
         let dyaw = ky as f64 * window.yaw_step_rad;
         let yaw = prior.yaw + dyaw;
         let (sn, cs) = yaw.sin_cos();
-        sums.fill(0.0);
+        cells.clear();
         for p in points {
             let wx = prior.x + cs * p[0] - sn * p[1];
             let wy = prior.y + sn * p[0] + cs * p[1];
-            let fi = ((wx - field.origin_m.0) / field.cell_m).floor();
-            let fj = ((wy - field.origin_m.1) / field.cell_m).floor();
+            let fi = floor((wx - field.origin_m.0) / field.cell_m);
+            let fj = floor((wy - field.origin_m.1) / field.cell_m);
             let reach = |f: f64, n: i64| f >= -(s as f64) && f < (n + s) as f64;
-            if !(reach(fi, w) && reach(fj, h)) {
-                continue;
-            }
-            let (i, j) = (fi as i64, fj as i64);
-            if i - s >= 0 && j - s >= 0 && i + s < w && j + s < h {
-                // every shift reads inside the field: whole rows of the window at once
-                for (row, acc) in sums.chunks_exact_mut(side).enumerate() {
-                    let at = ((j - s + row as i64) * w + i - s) as usize;
-                    for (a, v) in acc.iter_mut().zip(&field.values[at..at + side]) {
-                        *a += *v as f64;
-                    }
-                }
-            } else {
-                for (row, acc) in sums.chunks_exact_mut(side).enumerate() {
-                    let jj = j - s + row as i64;
-                    if jj < 0 || jj >= h {
-                        continue;
-                    }
-                    for (col, a) in acc.iter_mut().enumerate() {
-                        let ii = i - s + col as i64;
-                        if ii >= 0 && ii < w {
-                            *a += field.values[(jj * w + ii) as usize] as f64;
-                        }
-                    }
-                }
+            if reach(fi, w) && reach(fj, h) {
+                let (i, j) = (fi as i64, fj as i64);
+                let inside = i - s >= 0 && j - s >= 0 && i + s + CHUNK as i64 <= w && j + s < h;
+                cells.push((i, j, inside));
             }
         }
+        window_sums(field, &cells, s, &mut sums);
         let yaw_prior = (-(dyaw / window.prior_yaw_rad).powi(2)).exp();
         for ty in -s..=s {
             for tx in -s..=s {
-                let sum = sums[(ty + s) as usize * side + (tx + s) as usize];
-                let mean = sum * inv_n;
-                let t = ((tx * tx + ty * ty) as f64).sqrt() * field.cell_m;
-                let score = mean * (-(t / window.prior_xy_m).powi(2)).exp() * yaw_prior;
+                let k = (ty + s) as usize * side + (tx + s) as usize;
+                let mean = sums[k] * inv_n;
+                let score = mean * xy_prior[k] * yaw_prior;
                 if score > best.score {
                     best = SearchResult {
                         pose: Pose2::new(
@@ -189,6 +178,65 @@ pub fn search(
     Ok(best)
 }
 
+/// `x.floor()` without a call into libm (the baseline x86-64 target has no rounding
+/// instruction): the same value for every finite `x` below 2^52 in magnitude, `floor` beyond.
+#[inline]
+fn floor(x: f64) -> f64 {
+    if x.abs() < 4.0e15 {
+        let t = x as i64 as f64;
+        if t > x {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
+        x.floor()
+    }
+}
+
+/// Shifts summed at once per point (kept in registers).
+const CHUNK: usize = 16;
+
+/// The sums of the field at every shift of the window (rows of `2 s + 1` shifts, row major) for
+/// the points in `cells` (their cells; `inside`: every chunk of shifts reads inside the field),
+/// each sum adding the points in their order; a shift that moves a point off the field reads
+/// 0 there (and adds it).
+fn window_sums(field: &Field<'_>, cells: &[(i64, i64, bool)], s: i64, sums: &mut [f64]) {
+    let side = (2 * s + 1) as usize;
+    let (w, h) = (field.width as i64, field.height as i64);
+    for row in 0..side {
+        let dj = row as i64 - s;
+        for col0 in (0..side).step_by(CHUNK) {
+            let di0 = col0 as i64 - s;
+            let mut acc = [0.0f64; CHUNK];
+            for &(i, j, inside) in cells {
+                let at = (j + dj) * w + i + di0;
+                let values: [f32; CHUNK] = if inside {
+                    field.values[at as usize..at as usize + CHUNK]
+                        .try_into()
+                        .unwrap_or([0.0; CHUNK])
+                } else {
+                    // off the field reads 0 (as the zero border the search once padded with)
+                    let jj = j + dj;
+                    std::array::from_fn(|k| {
+                        let ii = i + di0 + k as i64;
+                        if jj >= 0 && jj < h && ii >= 0 && ii < w {
+                            field.values[(jj * w + ii) as usize]
+                        } else {
+                            0.0
+                        }
+                    })
+                };
+                for (a, v) in acc.iter_mut().zip(values) {
+                    *a += v as f64;
+                }
+            }
+            let len = CHUNK.min(side - col0);
+            sums[row * side + col0..row * side + col0 + len].copy_from_slice(&acc[..len]);
+        }
+    }
+}
+
 /// The field read bilinearly between cell centres at world point (x, y) [m]; 0 off the field.
 fn bilinear(field: &Field<'_>, x: f64, y: f64) -> f64 {
     let fx = (x - field.origin_m.0) / field.cell_m - 0.5;
@@ -196,7 +244,7 @@ fn bilinear(field: &Field<'_>, x: f64, y: f64) -> f64 {
     if !(fx.is_finite() && fy.is_finite()) || fx.abs() > 1e12 || fy.abs() > 1e12 {
         return 0.0;
     }
-    let (i0, j0) = (fx.floor() as i64, fy.floor() as i64);
+    let (i0, j0) = (floor(fx) as i64, floor(fy) as i64);
     let (ax, ay) = (fx - i0 as f64, fy - j0 as f64);
     let at = |i: i64, j: i64| -> f64 {
         if i >= 0 && j >= 0 && i < field.width as i64 && j < field.height as i64 {
@@ -602,5 +650,27 @@ mod tests {
         w.xy_steps = u32::MAX;
         assert!(search(&field, &[[0.0, 0.0]], Pose2::IDENTITY, &w).is_err());
         assert!(search(&field, &[], Pose2::new(f64::NAN, 0.0, 0.0), &window()).is_err());
+    }
+
+    #[test]
+    fn the_inline_floor_is_floor() {
+        for x in [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.999,
+            -2.999,
+            1e15 + 0.5,
+            -1e15 - 0.5,
+            4.5e15,
+            -7e300,
+        ] {
+            assert_eq!(floor(x), x.floor(), "{x}");
+        }
+        assert!(floor(f64::NAN).is_nan());
+        assert_eq!(floor(f64::NEG_INFINITY), f64::NEG_INFINITY);
     }
 }
