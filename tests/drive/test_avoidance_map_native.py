@@ -110,7 +110,7 @@ def test_laser_scans_give_the_same_map():
     rng = np.random.default_rng(5)
     ours, ref = _pair(center=(0.0, 0.0), probability_scale=1.0, probability_offset=0.0)
     angles = np.linspace(-3 * np.pi / 4, 3 * np.pi / 4, 271)
-    for k in range(10):
+    for _ in range(10):
         r = rng.uniform(0.1, 6.0, angles.size)
         r[rng.uniform(size=r.size) < 0.2] = np.inf
         pose = (rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-3, 3))

@@ -570,7 +570,9 @@ mod tests {
     }
 
     /// A straight wall 1.5 m ahead of a camera at the window's centre, seen by 41 columns.
-    fn wall(n: usize) -> (Vec<u8>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+    type Columns = (Vec<u8>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
+    fn wall(n: usize) -> Columns {
         let status = vec![BOUNDARY; n];
         let mut x = Vec::new();
         let mut y = Vec::new();

@@ -166,10 +166,15 @@ impl HitMap {
                     let (ii, jj) = (i - f.i0 + di, j - f.j0 + dj);
                     if ii >= 0 && ii < w && jj >= 0 && jj < h {
                         let k = (jj * w + ii) as usize;
-                        // np.maximum: a NaN in the field stays NaN
-                        if !(f.values[k] >= v) && !f.values[k].is_nan() {
-                            f.values[k] = v;
-                        }
+                        // np.maximum: NaN where either is NaN
+                        let old = f.values[k];
+                        f.values[k] = if old.is_nan() || v.is_nan() {
+                            f32::NAN
+                        } else if v > old {
+                            v
+                        } else {
+                            old
+                        };
                     }
                 }
             }

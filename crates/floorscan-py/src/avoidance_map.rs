@@ -100,6 +100,7 @@ impl PyAvoidanceMap {
     /// Adds an ideal 2-D laser scan to `log_odds` (in place): the fan from the sensor at
     /// `sensor_cell` to the beam ends `end_cells` (N, 2) [fractional cells of the window] gets
     /// `miss_nats`, the end cells where `returned` (N,) bool get `hit_nats`.
+    #[allow(clippy::too_many_arguments)]
     fn insert_laser(
         &mut self,
         py: Python<'_>,
