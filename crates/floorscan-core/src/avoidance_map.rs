@@ -256,6 +256,34 @@ impl AvoidanceMap {
             self.hit_nats
                 .push(model.fusion_weight * (model.hit_a + model.hit_b * rng));
         }
+        // the obstacle's faces between adjacent close boundary points
+        let close = |k: usize, me: &Self| {
+            let gap = (readings.x_m[k + 1] - readings.x_m[k])
+                .hypot(readings.y_m[k + 1] - readings.y_m[k]);
+            me.ok[k] && me.ok[k + 1] && gap < 2.0 * (me.sigma[k] + me.sigma[k + 1]) + 2.0 * cell
+        };
+        let mut longest = f64::NEG_INFINITY;
+        let mut any = false;
+        for k in 0..n.saturating_sub(1) {
+            if close(k, self) {
+                any = true;
+                let [x0, y0] = self.point_c[k];
+                let [x1, y1] = self.point_c[k + 1];
+                longest = nan_max(longest, (x1 - x0).hypot(y1 - y0));
+            }
+        }
+        // checked before anything is drawn, so a refused scan leaves the scratch layers clean
+        let steps = if any {
+            let steps = (2.0 * longest).ceil() + 2.0;
+            if !(steps.is_finite() && steps <= MAX_FACE_SAMPLES as f64) {
+                return Err(Error::InvalidGeometry(format!(
+                    "an obstacle face of {longest} cells between adjacent boundary points"
+                )));
+            }
+            steps as usize
+        } else {
+            0
+        };
         let side = self.side;
         let mut rows = RowSpan::EMPTY;
         // the floor quadrilaterals between neighbouring valid readings, filled at once
@@ -297,29 +325,7 @@ impl AvoidanceMap {
             );
         }
         // the obstacle's faces between adjacent close boundary points
-        let close = |k: usize, me: &Self| {
-            let gap = (readings.x_m[k + 1] - readings.x_m[k])
-                .hypot(readings.y_m[k + 1] - readings.y_m[k]);
-            me.ok[k] && me.ok[k + 1] && gap < 2.0 * (me.sigma[k] + me.sigma[k + 1]) + 2.0 * cell
-        };
-        let mut longest = f64::NEG_INFINITY;
-        let mut any = false;
-        for k in 0..n.saturating_sub(1) {
-            if close(k, self) {
-                any = true;
-                let [x0, y0] = self.point_c[k];
-                let [x1, y1] = self.point_c[k + 1];
-                longest = nan_max(longest, (x1 - x0).hypot(y1 - y0));
-            }
-        }
-        if any {
-            let steps = (2.0 * longest).ceil() + 2.0;
-            if !(steps.is_finite() && steps <= MAX_FACE_SAMPLES as f64) {
-                return Err(Error::InvalidGeometry(format!(
-                    "an obstacle face of {longest} cells between adjacent boundary points"
-                )));
-            }
-            let steps = steps as usize;
+        if steps > 0 {
             let step = 1.0 / (steps - 1) as f64;
             for k in 0..n - 1 {
                 if !close(k, self) {
