@@ -74,9 +74,10 @@ def inflate(occupied: np.ndarray, cell_size_m: float, options: CostmapOptions) -
 
     if not occupied.any():
         return np.zeros(occupied.shape, np.uint8)
-    free = np.where(occupied, 0, 255).astype(np.uint8)
-    d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * cell_size_m
-    cost = np.zeros(occupied.shape, np.float64)
+    free = np.where(occupied, np.uint8(0), np.uint8(255))
+    d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * np.float32(cell_size_m)
+    # float32 throughout (the band's costs are float32 already): the same costs once truncated
+    cost = np.zeros(occupied.shape, np.float32)
     r_in = options.robot_radius_m + options.footprint_padding_m
     band = (d > r_in) & (d <= options.inflation_radius_m)
     cost[band] = 252.0 * np.exp(-options.cost_scaling_factor * (d[band] - r_in))
