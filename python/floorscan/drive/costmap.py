@@ -74,7 +74,8 @@ def inflate(occupied: np.ndarray, cell_size_m: float, options: CostmapOptions) -
 
     if not occupied.any():
         return np.zeros(occupied.shape, np.uint8)
-    free = np.where(occupied, np.uint8(0), np.uint8(255))
+    occupied = np.asarray(occupied, bool)
+    free = (~occupied).view(np.uint8) * np.uint8(255)
     d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * np.float32(cell_size_m)
     # float32 throughout (the band's costs are float32 already): the same costs once truncated
     cost = np.zeros(occupied.shape, np.float32)
