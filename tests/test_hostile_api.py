@@ -250,3 +250,32 @@ def test_drive_natives_refuse_bad_grids_windows_and_poses():
         geodesic_distances(blocked, np.ones((3, 4)), np.array([0]), np.array([0.0]), 0.1)
     with pytest.raises(FloorscanError):
         geodesic_distances(blocked, np.full((3, 3), np.nan), np.array([0]), np.array([0.0]), 0.1)
+
+
+def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
+    from floorscan._native.drive import AvoidanceMap, HitMap, coarse_grid
+    from floorscan.drive import VisualSensorModel
+
+    with pytest.raises(FloorscanError):  # 10^10 cells of scratch: refused, not allocated
+        AvoidanceMap(100_000, 0.05, (-2.0, 3.5))
+    with pytest.raises(FloorscanError):
+        AvoidanceMap(10, 0.05, (math.nan, 3.5))
+    m = AvoidanceMap(10, 0.05, (-2.0, 3.5))
+    z = np.zeros(3)
+    with pytest.raises(FloorscanError):  # a layer of another size
+        m.insert_visual(
+            np.zeros((9, 10), np.float32), (0, 0), (0, 0, 0), np.zeros(3, np.uint8),
+            z, z, z, z, z, z, VisualSensorModel(),
+        )  # fmt: skip
+    with pytest.raises(FloorscanError):  # a face 10^300 m long between close boundary points
+        big = np.array([0.0, 1e300])
+        m.insert_visual(
+            np.zeros((10, 10), np.float32), (0, 0), (0, 0, 0), np.zeros(2, np.uint8),
+            np.array([1.0, 1.0]), big, big * 0, big * 0, np.full(2, 1e300), np.zeros(2),
+            VisualSensorModel(),
+        )  # fmt: skip
+    off = np.zeros((1, 2), np.int64)
+    with pytest.raises(FloorscanError):
+        HitMap(1 << 20, 0.025, (0.0, 0.0), 3.0, off, off, np.ones(1, np.float32))
+    with pytest.raises(FloorscanError):  # a coarse cell larger than the map
+        coarse_grid(np.zeros((4, 4), np.uint8), 9, 253, 2.0)

@@ -1,11 +1,12 @@
-"""The avoidance map's vectorised hit drawing against brute force over every cell: a disc
+"""The reference avoidance map's vectorised hit drawing (tests/avoidance_map_reference.py, which
+the Rust core equals) against brute force over every cell: a disc
 marks exactly the cells whose centre lies within its radius; a face segment marks every cell
 it passes through."""
 
 from __future__ import annotations
 
 import numpy as np
-from floorscan.drive.avoidance_map import _stamp_hits
+from avoidance_map_reference import stamp_hits as _stamp_hits
 
 
 def _arc(rng, count=160):

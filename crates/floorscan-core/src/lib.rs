@@ -8,7 +8,8 @@
 //! the unclamped, mergeable [`evidence`] layer),
 //! the exact ray walk ([`raycast`]), updates from visual scans, lasers and sonars
 //! ([`inserter`], [`ray_update`], [`laser`], [`sonar`]) and the robot-centred [`local_map`];
-//! for driving on the maps: a planner's [`navigation`] function and the search of a
+//! for driving on the maps: the [`avoidance_map`]'s updates (its floor quadrilaterals filled
+//! by [`polygon_fill`]), a planner's [`navigation`] function, and the search and hit map of a
 //! correlative [`scan_matcher`].
 //!
 //! Conventions: SI units; REP 103 frames (x forward, y left, z up, angles counter-clockwise in
@@ -16,6 +17,7 @@
 
 pub mod appearance;
 pub mod appearance_options;
+pub mod avoidance_map;
 pub mod branchless;
 pub mod colour_image;
 pub mod column_spacing;
@@ -27,6 +29,7 @@ pub mod fusion;
 pub mod grid;
 pub mod grid_options;
 pub mod ground_table;
+pub mod hit_map;
 pub mod image;
 pub mod inserter;
 pub mod lanes;
@@ -37,6 +40,7 @@ pub mod log_odds;
 pub mod mount;
 pub mod navigation;
 pub mod noise_threshold;
+pub mod polygon_fill;
 pub mod pose;
 pub mod queries;
 pub mod ranger;

@@ -120,6 +120,77 @@ pub fn geodesic_distances(
     Ok(dist)
 }
 
+/// The coarse grid a navigation function runs on, from a `width` x `height` costmap (row
+/// major, costs 0..=254) in blocks of `factor` x `factor` cells (the last partial row and
+/// column of blocks left out): a block is `blocked` when every one of its cells costs
+/// `blocked_from` or more (optimistic: the local planner checks the fine costmap), and its
+/// `weight` is 1 + min(mean cost, blocked_from) / 64, plus `unknown_cost` times its share of
+/// cells without evidence when `known` (one flag per cell) is given. Returns the coarse
+/// (width, height); `blocked` and `weight` are refilled.
+#[allow(clippy::too_many_arguments)]
+pub fn coarse_grid(
+    cost: &[u8],
+    width: usize,
+    height: usize,
+    known: Option<&[bool]>,
+    factor: usize,
+    blocked_from: u8,
+    unknown_cost: f64,
+    blocked: &mut Vec<bool>,
+    weight: &mut Vec<f64>,
+) -> Result<(usize, usize)> {
+    let n = width
+        .checked_mul(height)
+        .filter(|&n| n <= MAX_CELLS)
+        .ok_or_else(|| invalid_option("grid", format!("more than {MAX_CELLS} cells")))?;
+    if cost.len() != n || known.is_some_and(|k| k.len() != n) {
+        return Err(Error::LengthMismatch(format!(
+            "a {width} x {height} costmap needs {n} cells, got {} costs and {:?} flags",
+            cost.len(),
+            known.map(<[bool]>::len)
+        )));
+    }
+    if factor == 0 || factor > width.max(height).max(1) {
+        return Err(invalid_option(
+            "plan_cell_m",
+            format!(
+                "the coarse cell must span 1..={} map cells, got {factor}",
+                width.max(height)
+            ),
+        ));
+    }
+    if !unknown_cost.is_finite() {
+        return Err(invalid_option("unknown_cost", "must be finite"));
+    }
+    let (w, h) = (width / factor, height / factor);
+    blocked.clear();
+    weight.clear();
+    let count = (factor * factor) as f64;
+    for bj in 0..h {
+        for bi in 0..w {
+            let (mut sum, mut seen, mut lowest) = (0.0f64, 0.0f64, u8::MAX);
+            for j in bj * factor..(bj + 1) * factor {
+                let row = j * width;
+                for i in bi * factor..(bi + 1) * factor {
+                    let c = cost[row + i];
+                    sum += c as f64;
+                    lowest = lowest.min(c);
+                    if let Some(k) = known {
+                        seen += k[row + i] as u8 as f64;
+                    }
+                }
+            }
+            blocked.push(lowest >= blocked_from);
+            let mut wgt = 1.0 + (sum / count).min(blocked_from as f64) / 64.0;
+            if known.is_some() {
+                wgt += unknown_cost * (1.0 - seen / count);
+            }
+            weight.push(wgt);
+        }
+    }
+    Ok((w, h))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,5 +306,33 @@ mod tests {
         assert!(geodesic_distances(2, 2, &[false; 4], &[f64::NAN; 4], &[], 1.0).is_err());
         assert!(geodesic_distances(1 << 13, 1 << 13, &[], &[], &[], 1.0).is_err());
         assert!(geodesic_distances(2, 2, &[false; 4], &[1.0; 4], &[], 0.0).is_err());
+    }
+
+    #[test]
+    fn coarse_blocks_take_the_least_cost_and_the_mean() {
+        // 4 x 2 costs in blocks of 2: [[0, 254], [253, 253]] and [[10, 20], [30, 40]]
+        let cost = [0, 254, 10, 20, 253, 253, 30, 40];
+        let known = [true, true, false, true, true, true, false, false];
+        let (mut blocked, mut weight) = (Vec::new(), Vec::new());
+        let wh = coarse_grid(
+            &cost,
+            4,
+            2,
+            Some(&known),
+            2,
+            253,
+            2.0,
+            &mut blocked,
+            &mut weight,
+        );
+        assert_eq!(wh.unwrap(), (2, 1));
+        assert_eq!(blocked, vec![false, false]);
+        assert_eq!(weight[0], 1.0 + 190.0 / 64.0);
+        assert_eq!(weight[1], 1.0 + 25.0 / 64.0 + 2.0 * 0.75);
+        let cost = [253u8; 4];
+        coarse_grid(&cost, 2, 2, None, 2, 253, 2.0, &mut blocked, &mut weight).unwrap();
+        assert_eq!((blocked[0], weight[0]), (true, 1.0 + 253.0 / 64.0));
+        assert!(coarse_grid(&cost, 2, 2, None, 0, 253, 2.0, &mut blocked, &mut weight).is_err());
+        assert!(coarse_grid(&cost, 3, 2, None, 1, 253, 2.0, &mut blocked, &mut weight).is_err());
     }
 }

@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 mod appearance;
 mod appearance_options;
 mod arrays;
+mod avoidance_map;
 mod errors;
 mod evidence;
 mod gif;
@@ -20,6 +21,7 @@ mod grid;
 mod grid_options;
 mod grid_views;
 mod ground_table;
+mod hit_map;
 mod image;
 mod inserter;
 mod local_map;
@@ -135,13 +137,19 @@ mod _native {
         }
     }
 
-    /// Driving: the planner's navigation function and the scan matcher's search.
+    /// Driving: the avoidance map's updates, the planner's navigation function, the scan
+    /// matcher's search and hit map.
     #[pymodule]
     mod drive {
         use super::*;
 
         #[pymodule_export]
-        use crate::navigation::geodesic_distances;
+        use crate::avoidance_map::{decay, PyAvoidanceMap};
+        #[pymodule_export]
+        use crate::hit_map::PyHitMap;
+
+        #[pymodule_export]
+        use crate::navigation::{coarse_grid, geodesic_distances};
         #[pymodule_export]
         use crate::scan_matcher::correlative_search;
 

@@ -63,3 +63,58 @@ pub fn geodesic_distances<'py>(
         PyArray1::from_vec(py, out).reshape([h, w])
     })
 }
+
+/// The navigation function's coarse grid from a costmap `cost` (H, W) uint8 in blocks of
+/// `factor` x `factor` cells: (blocked (h, w) bool: every cell of the block costs
+/// `blocked_from` or more; weight (h, w) float64: 1 + min(mean cost, blocked_from) / 64, plus
+/// `unknown_cost` times the block's share of cells not `known` (H, W) bool when given).
+#[pyfunction]
+#[pyo3(signature = (cost, factor, blocked_from, unknown_cost, known=None))]
+#[allow(clippy::type_complexity)]
+pub fn coarse_grid<'py>(
+    py: Python<'py>,
+    cost: PyReadonlyArray2<'py, u8>,
+    factor: usize,
+    blocked_from: u8,
+    unknown_cost: f64,
+    known: Option<PyReadonlyArray2<'py, bool>>,
+) -> PyResult<(Bound<'py, PyArray2<bool>>, Bound<'py, PyArray2<f64>>)> {
+    guard(|| {
+        let shape = cost.shape().to_vec();
+        let c = cost
+            .as_slice()
+            .map_err(|_| error("LengthMismatchError", "`cost` must be C-contiguous".into()))?;
+        let k = match &known {
+            Some(k) if k.shape() != shape.as_slice() => {
+                return Err(error(
+                    "LengthMismatchError",
+                    "`known` must have the shape of `cost`".into(),
+                ))
+            }
+            Some(k) => Some(k.as_slice().map_err(|_| {
+                error("LengthMismatchError", "`known` must be C-contiguous".into())
+            })?),
+            None => None,
+        };
+        let (mut blocked, mut weight) = (Vec::new(), Vec::new());
+        let (w, h) = py
+            .detach(|| {
+                floorscan_core::navigation::coarse_grid(
+                    c,
+                    shape[1],
+                    shape[0],
+                    k,
+                    factor,
+                    blocked_from,
+                    unknown_cost,
+                    &mut blocked,
+                    &mut weight,
+                )
+            })
+            .map_err(to_pyerr)?;
+        Ok((
+            PyArray1::from_vec(py, blocked).reshape([h, w])?,
+            PyArray1::from_vec(py, weight).reshape([h, w])?,
+        ))
+    })
+}

@@ -1,9 +1,56 @@
 """
-Driving: the planner's navigation function and the scan matcher's search.
+Driving: the avoidance map's updates, the planner's navigation function, the scan
+matcher's search and hit map.
 """
 
 from _typeshed import Incomplete, SupportsLenAndGetItem
-from typing import SupportsFloat, SupportsIndex
+from typing import Any, SupportsFloat, SupportsIndex, final
+
+@final
+class AvoidanceMap:
+    """
+    The avoidance map's insertion machinery for a `side` x `side` window of `cell_size_m`
+    [m] cells clamped to `clamp_nats` (min < 0 < max); its scratch layers are made once.
+    """
+    def __new__(cls, /, side: SupportsIndex, cell_size_m: SupportsFloat | SupportsIndex, clamp_nats: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex]) -> AvoidanceMap: ...
+    def insert_laser(self, /, log_odds: Incomplete, sensor_cell: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], end_cells: Incomplete, returned: Incomplete, hit_nats: SupportsFloat | SupportsIndex, miss_nats: SupportsFloat | SupportsIndex) -> None:
+        """
+        Adds an ideal 2-D laser scan to `log_odds` (in place): the fan from the sensor at
+        `sensor_cell` to the beam ends `end_cells` (N, 2) [fractional cells of the window] gets
+        `miss_nats`, the end cells where `returned` (N,) bool get `hit_nats`.
+        """
+    def insert_visual(self, /, log_odds: Incomplete, origin_cells: tuple[SupportsIndex, SupportsIndex], camera: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], status: Incomplete, x: Incomplete, y: Incomplete, near_x: Incomplete, near_y: Incomplete, footprints: Incomplete, errors: Incomplete, model: Any) -> None:
+        """
+        Adds one visual scan to `log_odds` ((side, side) float32, in place; its cell (0, 0) is
+        world cell `origin_cells`) seen by the camera at `camera` (world_from_camera): per
+        column the status codes, boundary points, near edges [m, camera ground frame],
+        footprints and predicted errors [m] (NaN: none); `model` a
+        `floorscan.drive.VisualSensorModel` (its fields are read by name).
+        """
+
+@final
+class HitMap:
+    """
+    The hit map of `side` x `side` cells of `cell_size_m` [m] from `origin_m`, ignoring points
+    beyond `range_max_m`; `novelty` (N, 2) int64 the novelty disc's cell offsets (di, dj);
+    `stamp` (M, 2) int64 and `stamp_values` (M,) float32 the field's stamp.
+    """
+    def __new__(cls, /, side: SupportsIndex, cell_size_m: SupportsFloat | SupportsIndex, origin_m: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], range_max_m: SupportsFloat | SupportsIndex, novelty: Incomplete, stamp: Incomplete, stamp_values: Incomplete) -> HitMap: ...
+    def insert(self, /, hits: Incomplete, points: Incomplete, pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], novel_only: bool, field: Incomplete | None = None, field_origin: tuple[SupportsIndex, SupportsIndex] = ...) -> int:
+        """
+        Stores `points` (N, 2) float64 [m, robot frame] seen from `pose` into `hits` ((side,
+        side) uint8, in place), only those without a stored hit in the novelty disc when
+        `novel_only`, and raises `field` (float32, in place; its cell (0, 0) the grid's cell
+        `field_origin`) to the new hits' stamps. Returns how many were stored.
+        """
+
+def coarse_grid(cost: Incomplete, factor: SupportsIndex, blocked_from: SupportsIndex, unknown_cost: SupportsFloat | SupportsIndex, known: Incomplete | None = None) -> tuple[Incomplete, Incomplete]:
+    """
+    The navigation function's coarse grid from a costmap `cost` (H, W) uint8 in blocks of
+    `factor` x `factor` cells: (blocked (h, w) bool: every cell of the block costs
+    `blocked_from` or more; weight (h, w) float64: 1 + min(mean cost, blocked_from) / 64, plus
+    `unknown_cost` times the block's share of cells not `known` (H, W) bool when given).
+    """
 
 def correlative_search(field: Incomplete, origin_m: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], cell_m: SupportsFloat | SupportsIndex, points: Incomplete, prior: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], xy_steps: SupportsIndex, yaw_steps: SupportsIndex, yaw_step_rad: SupportsFloat | SupportsIndex, prior_xy_m: SupportsFloat | SupportsIndex, prior_yaw_rad: SupportsFloat | SupportsIndex) -> tuple[tuple[float, float, float], float, float]:
     """
@@ -13,6 +60,11 @@ def correlative_search(field: Incomplete, origin_m: tuple[SupportsFloat | Suppor
     at `origin_m`, cells `cell_m` wide), yaws of -yaw_steps..=yaw_steps times `yaw_step_rad`;
     score = mean field value x exp(-(|t| / prior_xy_m)^2 - (dyaw / prior_yaw_rad)^2); then
     refined below a cell on the field read bilinearly (`floorscan_core::scan_matcher::refine`).
+    """
+
+def decay(values: Incomplete, factor: SupportsFloat | SupportsIndex) -> None:
+    """
+    Forgetting: every value of `values` (float32, in place) times `factor`.
     """
 
 def geodesic_distances(blocked: Incomplete, weight: Incomplete, seed_cells: Incomplete, seed_costs: Incomplete, step_m: SupportsFloat | SupportsIndex) -> Incomplete:

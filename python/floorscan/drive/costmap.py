@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._native.drive import geodesic_distances
+from .._native.drive import coarse_grid, geodesic_distances
 from ..errors import OptionError
 
 LETHAL = 254
@@ -74,9 +74,11 @@ def inflate(occupied: np.ndarray, cell_size_m: float, options: CostmapOptions) -
 
     if not occupied.any():
         return np.zeros(occupied.shape, np.uint8)
-    free = np.where(occupied, 0, 255).astype(np.uint8)
-    d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * cell_size_m
-    cost = np.zeros(occupied.shape, np.float64)
+    occupied = np.asarray(occupied, bool)
+    free = (~occupied).view(np.uint8) * np.uint8(255)
+    d = cv2.distanceTransform(free, cv2.DIST_L2, 5) * np.float32(cell_size_m)
+    # float32 throughout (the band's costs are float32 already): the same costs once truncated
+    cost = np.zeros(occupied.shape, np.float32)
     r_in = options.robot_radius_m + options.footprint_padding_m
     band = (d > r_in) & (d <= options.inflation_radius_m)
     cost[band] = 252.0 * np.exp(-options.cost_scaling_factor * (d[band] - r_in))
@@ -94,18 +96,19 @@ def navigation_function(
     lethal 253, rounded). A goal outside the window (or blocked) is reached through the
     window's border: each border cell starts at its straight-line distance to the goal."""
     f = max(1, int(round(options.plan_cell_m / cell_size_m)))
-    h, w = cost.shape[0] // f, cost.shape[1] // f
-    blocks = cost[: h * f, : w * f].reshape(h, f, w, f).astype(np.float64)
     step = f * cell_size_m
     # optimistic: a coarse cell is passable when any of its cells is (the dynamic window
-    # checks every trajectory on the fine costmap); it costs its cells' mean
-    blocked = blocks.min(axis=(1, 3)) >= INSCRIBED
-    weight = 1.0 + np.minimum(blocks.mean(axis=(1, 3)), INSCRIBED) / 64.0
-    if known is not None:
-        # unknown space costs more to plan through than floor seen free (navfn's
-        # allow_unknown with a penalty): detours through unseen rooms lose to known floor
-        k = known[: h * f, : w * f].reshape(h, f, w, f).mean(axis=(1, 3))
-        weight = weight + options.unknown_cost * (1.0 - k)
+    # checks every trajectory on the fine costmap); it costs its cells' mean, and unknown
+    # space costs more to plan through than floor seen free (navfn's allow_unknown with a
+    # penalty): detours through unseen rooms lose to known floor (in the Rust core)
+    blocked, weight = coarse_grid(
+        np.ascontiguousarray(cost, np.uint8),
+        f,
+        INSCRIBED,
+        float(options.unknown_cost),
+        None if known is None else np.ascontiguousarray(known, bool),
+    )
+    h, w = blocked.shape
     ox, oy = origin_m
     gx, gy = goal_xy
     gi, gj = int((gx - ox) // step), int((gy - oy) // step)

@@ -14,6 +14,10 @@ new keeps the map as it was first seen: a robot that comes back with drifted odo
 the walls as they were, not its own latest, drifted copies of them (which would let the error
 stay, as a matcher against its last few frames does).
 
+Storing (the novelty test and the stamps into the cached field) runs in the Rust core
+(``floorscan_core::hit_map``), in place on the numpy counts and field kept here, as does the
+search (``floorscan_core::scan_matcher``).
+
 Odometry's heading error grows with the square root of the distance travelled (wheel noise)
 and turns it into metres of position error; matching against walls seen before keeps the
 heading, and so the waypoints, where they are. It cannot close large loops (no global search,
@@ -28,7 +32,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from .._native.drive import correlative_search
+from .._native.drive import HitMap, correlative_search
 from ..errors import OptionError
 
 CACHE_MARGIN_M = 1.0
@@ -142,23 +146,28 @@ class ScanMatcher:
         # novelty disc: fixed by the options, made once
         r = int(math.floor(STAMP_SIGMAS * options.sigma_m / self.cell))
         di, dj, dist = _disc(r, self.cell, STAMP_SIGMAS * options.sigma_m)
-        self._stamp_offsets = (di, dj)
         self._stamp_values = np.exp(-0.5 * (dist / options.sigma_m) ** 2).astype(np.float32)
         r = int(math.floor(options.novelty_m / self.cell))
-        self._novelty_offsets = _disc(r, self.cell, r * self.cell)[:2] if r > 0 else None
+        novelty = _disc(r, self.cell, r * self.cell)[:2] if r > 0 else (np.zeros(0, int),) * 2
+        self._native = HitMap(
+            self.n,
+            self.cell,
+            self.origin_m,
+            options.range_max_m,
+            np.ascontiguousarray(np.stack(novelty, 1), np.int64),
+            np.ascontiguousarray(np.stack([di, dj], 1), np.int64),
+            self._stamp_values,
+        )
         # the last likelihood field (field, i0, j0), reused while the robot stays within it;
-        # newly stored hits are stamped into it
+        # newly stored hits are stamped into it; whether it holds any non-zero value
         self._cache: Optional[Tuple[np.ndarray, int, int]] = None
-
-    def _cells(self, x, y):
-        i = np.floor((np.asarray(x) - self.origin_m[0]) / self.cell).astype(np.int64)
-        j = np.floor((np.asarray(y) - self.origin_m[1]) / self.cell).astype(np.int64)
-        return i, j
+        self._cache_nonzero = False
 
     def _window(self, x0: float, y0: float, half_m: float) -> Tuple[int, int, int, int]:
         """Cells (i0, j0, i1, j1), end exclusive, of the square of half-side ``half_m``
         [m] around (x0, y0), cut to the map."""
-        ci, cj = self._cells(x0, y0)
+        ci = math.floor((x0 - self.origin_m[0]) / self.cell)
+        cj = math.floor((y0 - self.origin_m[1]) / self.cell)
         r = int(math.ceil(half_m / self.cell))
         return (
             max(0, int(ci) - r),
@@ -170,7 +179,7 @@ class ScanMatcher:
     def _usable(self, points_robot: np.ndarray) -> np.ndarray:
         """The finite points (N, 2) within ``range_max_m``."""
         pts = np.asarray(points_robot, np.float64).reshape(-1, 2)
-        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        # a non-finite coordinate makes the distance NaN or inf: one test drops both
         return pts[np.hypot(pts[:, 0], pts[:, 1]) <= self.options.range_max_m]
 
     def _field(self, x0: float, y0: float, half_m: float):
@@ -191,28 +200,6 @@ class ScanMatcher:
         field[d > STAMP_SIGMAS * s] = 0.0
         return field, i0, j0
 
-    def _stamp(self, i: np.ndarray, j: np.ndarray) -> None:
-        """Raises the cached field around newly stored hits (cells i, j) to each one's
-        Gaussian: the field is the largest Gaussian of the hits, so this equals a field
-        computed afresh."""
-        if self._cache is None or len(i) == 0:
-            return
-        field, i0, j0 = self._cache
-        h, w = field.shape
-        di, dj = self._stamp_offsets
-        val = self._stamp_values
-        ii = (i - i0)[:, None] + di[None, :]
-        jj = (j - j0)[:, None] + dj[None, :]
-        inside = (ii >= 0) & (ii < w) & (jj >= 0) & (jj < h)
-        vals = np.broadcast_to(val[None, :], ii.shape)[inside]
-        flat = (jj[inside] * w + ii[inside]).astype(np.int64)
-        # the largest value per cell without ufunc.at (slow): writes in ascending order of
-        # value, so the last write to a cell, which wins, is its largest
-        order = np.argsort(vals, kind="stable")
-        flat, vals = flat[order], vals[order]
-        view = field.reshape(-1)
-        view[flat] = np.maximum(view[flat], vals)
-
     def _cached_field(self, x0: float, y0: float, half_m: float):
         """The field over at least ``half_m`` around (x0, y0): the cached one when it covers
         that square, else a new one ``CACHE_MARGIN_M`` larger."""
@@ -223,6 +210,7 @@ class ScanMatcher:
             if i0 <= lo_i and j0 <= lo_j and hi_i <= i0 + w and hi_j <= j0 + h:
                 return self._cache
         self._cache = self._field(x0, y0, half_m + CACHE_MARGIN_M)
+        self._cache_nonzero = bool(self._cache[0].any())
         return self._cache
 
     def match(self, points_robot: np.ndarray, prior) -> MatchResult:
@@ -237,7 +225,7 @@ class ScanMatcher:
             pts = pts[np.linspace(0, len(pts) - 1, int(o.max_points)).round().astype(np.int64)]
         half = o.range_max_m + o.search_xy_m + 3 * o.sigma_m
         field, i0, j0 = self._cached_field(prior[0], prior[1], half)
-        if field.size == 0 or not field.any():
+        if field.size == 0 or not self._cache_nonzero:
             return MatchResult(prior, 0.0, False, len(pts))
         origin = (self.origin_m[0] + i0 * self.cell, self.origin_m[1] + j0 * self.cell)
         pose, mean, _ = correlative_search(
@@ -261,25 +249,20 @@ class ScanMatcher:
         """Adds the points [m, robot frame] seen from ``pose`` to the map (counts saturate
         at 255); ``novel_only``: only those without a stored hit within ``novelty_m``.
         Returns how many were stored."""
-        pts = self._usable(points_robot)
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        i, j = self._cells(
-            pose[0] + c * pts[:, 0] - s * pts[:, 1], pose[1] + s * pts[:, 0] + c * pts[:, 1]
+        pts = np.ascontiguousarray(points_robot, np.float64).reshape(-1, 2)
+        field, i0, j0 = self._cache if self._cache is not None else (None, 0, 0)
+        stored = self._native.insert(
+            self.hits,
+            pts,
+            tuple(float(v) for v in pose[:3]),
+            novel_only and self.frames > 0,
+            field,
+            (i0, j0),
         )
-        ok = (i >= 0) & (i < self.n) & (j >= 0) & (j < self.n)
-        i, j = i[ok], j[ok]
-        if novel_only and self.frames > 0 and self._novelty_offsets is not None and len(i):
-            di, dj = self._novelty_offsets
-            ni = np.clip(i[:, None] + di[None, :], 0, self.n - 1)
-            nj = np.clip(j[:, None] + dj[None, :], 0, self.n - 1)
-            new = ~(self.hits[nj, ni] > 0).any(axis=1)
-            i, j = i[new], j[new]
-        self._stamp(i, j)
-        flat, counts = np.unique(j * self.n + i, return_counts=True)
-        view = self.hits.reshape(-1)
-        view[flat] = np.minimum(view[flat].astype(np.int64) + counts, 255).astype(np.uint8)
+        if stored and field is not None:
+            self._cache_nonzero = self._cache_nonzero or bool(field.any())
         self.frames += 1
-        return len(i)
+        return stored
 
     def correct(self, points_robot: np.ndarray, prior) -> MatchResult:
         """Matches the scan near ``prior``, then stores what it shows that the map does not

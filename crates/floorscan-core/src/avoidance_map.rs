@@ -1,0 +1,679 @@
+//! The drive's avoidance map updates (`floorscan.drive.AvoidanceMap`): a square log-odds
+//! window of `side` x `side` cells in the odometry frame (row 0 = lowest y; cell (i, j) spans
+//! [i, i + 1) x [j, j + 1) in cell coordinates, the window's cell (0, 0) being world cell
+//! `origin_cells`), updated in place from one visual scan through the calibrated inverse
+//! sensor model:
+//!
+//! - each pair of neighbouring valid readings fills the floor quadrilateral between their near
+//!   edges of view and the nearer of their two ends (filled as OpenCV's `fillPoly` fills it,
+//!   [`crate::polygon_fill`]); those cells get free evidence fusion_weight x (free_a + free_b r),
+//!   r [m] the distance of the cell's centre from the camera;
+//! - boundary readings mark the cells whose centre lies within max(sigma, cell / 2) of the
+//!   boundary point, and the cells the face between two close boundary points passes through,
+//!   occupied with fusion_weight x (hit_a + hit_b range) (the face takes the smaller of its two
+//!   points' values); `too_close` readings mark the cell of their near edge with
+//!   fusion_weight x too_close_logit. Hits take priority over free evidence, a later reading's
+//!   hit over an earlier one's;
+//! - every cell is then clamped to `clamp_nats`.
+//!
+//! The arithmetic follows the numpy implementation it replaced operation for operation (cell
+//! coordinates and geometry in `f64`, free evidence in `f32`), so both give the same map.
+//! Scratch layers are allocated once, with the map; an insertion allocates nothing.
+
+use crate::error::{invalid_option, Error, Result};
+use crate::polygon_fill::{Canvas, PolygonFill};
+use crate::pose::Pose2;
+
+/// The largest window side [cells]: 10^8 cells (the options' 100 m at 1 cm).
+pub const MAX_SIDE: usize = 10_000;
+
+/// The most readings one insertion takes (columns of a scan).
+pub const MAX_READINGS: usize = 1 << 16;
+
+/// Sub-cell precision of the filled quadrilaterals' corners: 1 / 16 cell.
+const SHIFT: u32 = 4;
+
+/// Most samples along one obstacle face between adjacent boundary points.
+const MAX_FACE_SAMPLES: usize = 1 << 16;
+
+/// The calibrated inverse sensor model (`floorscan.drive.VisualSensorModel`, documented
+/// there): logits of P(occupied), the free margin before a boundary, the default error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VisualModel {
+    pub free_a: f64,
+    pub free_b: f64,
+    pub hit_a: f64,
+    pub hit_b: f64,
+    pub too_close_logit: f64,
+    pub margin_sigmas: f64,
+    pub default_error_m: f64,
+    pub fusion_weight: f64,
+}
+
+/// One scan's readings, column by column, in the camera's ground frame [m]: status codes
+/// (0 boundary, 1 no boundary, 2 too close, 3 invalid; `ColumnStatus`), the boundary (or
+/// farthest) point, the near edge of view, the footprint of a pixel row there and the table's
+/// predicted error (NaN where unknown).
+#[derive(Debug, Clone, Copy)]
+pub struct VisualReadings<'a> {
+    pub status: &'a [u8],
+    pub x_m: &'a [f64],
+    pub y_m: &'a [f64],
+    pub near_x_m: &'a [f64],
+    pub near_y_m: &'a [f64],
+    pub footprint_m: &'a [f64],
+    pub error_m: &'a [f64],
+}
+
+const BOUNDARY: u8 = 0;
+const NO_BOUNDARY: u8 = 1;
+const TOO_CLOSE: u8 = 2;
+
+/// np.maximum / np.minimum: NaN when either is NaN.
+fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else if a >= b {
+        a
+    } else {
+        b
+    }
+}
+
+fn nan_min(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else if a <= b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The avoidance map's insertion machinery: its geometry, clamps and scratch layers.
+#[derive(Debug, Clone)]
+pub struct AvoidanceMap {
+    side: usize,
+    cell_m: f64,
+    clamp: (f32, f32),
+    /// cells inside a floor quadrilateral this insertion (1), else 0
+    mask: Vec<u8>,
+    /// the hit evidence of this insertion, NaN where none
+    hit: Vec<f32>,
+    /// per reading: cell coordinates of the near edge, the free end, the boundary point
+    near_c: Vec<[f64; 2]>,
+    end_c: Vec<[f64; 2]>,
+    point_c: Vec<[f64; 2]>,
+    sigma: Vec<f64>,
+    valid: Vec<bool>,
+    ok: Vec<bool>,
+    hit_nats: Vec<f64>,
+    quads: Vec<[[i64; 2]; 4]>,
+    fill: PolygonFill,
+}
+
+impl AvoidanceMap {
+    /// A map of `side` x `side` cells of `cell_m` [m], clamped to `clamp_nats` (min < 0 < max).
+    pub fn new(side: usize, cell_m: f64, clamp_nats: (f64, f64)) -> Result<Self> {
+        if !(1..=MAX_SIDE).contains(&side) {
+            return Err(invalid_option(
+                "side",
+                format!("must be in 1..={MAX_SIDE} cells, got {side}"),
+            ));
+        }
+        if !(cell_m.is_finite() && cell_m > 0.0) {
+            return Err(invalid_option(
+                "cell_size_m",
+                format!("must be > 0, got {cell_m}"),
+            ));
+        }
+        let (lo, hi) = (clamp_nats.0 as f32, clamp_nats.1 as f32);
+        if !(lo.is_finite() && hi.is_finite() && lo < 0.0 && 0.0 < hi) {
+            return Err(invalid_option(
+                "clamp_nats",
+                format!("need min < 0 < max, got {clamp_nats:?}"),
+            ));
+        }
+        Ok(Self {
+            side,
+            cell_m,
+            clamp: (lo, hi),
+            mask: vec![0; side * side],
+            hit: vec![f32::NAN; side * side],
+            near_c: Vec::new(),
+            end_c: Vec::new(),
+            point_c: Vec::new(),
+            sigma: Vec::new(),
+            valid: Vec::new(),
+            ok: Vec::new(),
+            hit_nats: Vec::new(),
+            quads: Vec::new(),
+            fill: PolygonFill::default(),
+        })
+    }
+
+    /// Side of the window [cells].
+    pub fn side(&self) -> usize {
+        self.side
+    }
+
+    fn check_layer(&self, log_odds: &[f32]) -> Result<()> {
+        if log_odds.len() != self.side * self.side {
+            return Err(Error::LengthMismatch(format!(
+                "a {0} x {0} map needs {1} cells, got {2}",
+                self.side,
+                self.side * self.side,
+                log_odds.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Adds one visual scan seen by the camera at `camera` (world_from_camera, odometry frame)
+    /// to `log_odds` (the window, row major), whose cell (0, 0) is world cell `origin_cells`.
+    pub fn insert_visual(
+        &mut self,
+        log_odds: &mut [f32],
+        origin_cells: (i64, i64),
+        camera: Pose2,
+        readings: &VisualReadings<'_>,
+        model: &VisualModel,
+    ) -> Result<()> {
+        self.check_layer(log_odds)?;
+        let n = readings.status.len();
+        if n > MAX_READINGS {
+            return Err(Error::LengthMismatch(format!(
+                "{n} readings > {MAX_READINGS}"
+            )));
+        }
+        for (name, len) in [
+            ("x", readings.x_m.len()),
+            ("y", readings.y_m.len()),
+            ("near_x", readings.near_x_m.len()),
+            ("near_y", readings.near_y_m.len()),
+            ("footprints", readings.footprint_m.len()),
+            ("errors", readings.error_m.len()),
+        ] {
+            if len != n {
+                return Err(Error::LengthMismatch(format!(
+                    "{n} status codes but {len} {name}"
+                )));
+            }
+        }
+        if !(camera.x.is_finite() && camera.y.is_finite() && camera.yaw.is_finite()) {
+            return Err(Error::InvalidGeometry("camera pose not finite".into()));
+        }
+        let cell = self.cell_m;
+        let (ox, oy) = (origin_cells.0 as f64, origin_cells.1 as f64);
+        let (c, s) = (camera.yaw.cos(), camera.yaw.sin());
+        let to_cells = |gx: f64, gy: f64| {
+            let wx = camera.x + c * gx - s * gy;
+            let wy = camera.y + s * gx + c * gy;
+            [wx / cell - ox, wy / cell - oy]
+        };
+        let cam_c = [camera.x / cell - ox, camera.y / cell - oy];
+        let q = 0.25 * (cell * cell);
+        self.near_c.clear();
+        self.end_c.clear();
+        self.point_c.clear();
+        self.sigma.clear();
+        self.valid.clear();
+        self.ok.clear();
+        self.hit_nats.clear();
+        for k in 0..n {
+            let (px, py) = (readings.x_m[k], readings.y_m[k]);
+            let (nx, ny) = (readings.near_x_m[k], readings.near_y_m[k]);
+            let status = readings.status[k];
+            let bnd = status == BOUNDARY;
+            let rng = px.hypot(py);
+            let err = if bnd { readings.error_m[k] } else { f64::NAN };
+            let e = if err.is_finite() {
+                err
+            } else {
+                model.default_error_m
+            };
+            let fp = readings.footprint_m[k];
+            let f = if fp.is_finite() { fp } else { 0.0 };
+            let sigma = (e * e + 0.25 * f * f + q).sqrt();
+            // free space ends margin_sigmas before a boundary, never nearer than the near edge
+            let near_r = nx.hypot(ny);
+            let end_r = if bnd {
+                rng - model.margin_sigmas * sigma
+            } else {
+                rng
+            };
+            let end_r = nan_max(end_r, near_r);
+            let scale = if rng > 0.0 { end_r / rng } else { 0.0 };
+            let (ex, ey) = (px * scale, py * scale);
+            let seen = status == BOUNDARY || status == NO_BOUNDARY;
+            self.valid.push(seen && (ex + ey + nx + ny).is_finite());
+            self.near_c.push(to_cells(nx, ny));
+            self.end_c.push(to_cells(ex, ey));
+            let pc = to_cells(px, py);
+            self.ok.push(bnd && (pc[0] + pc[1]).is_finite());
+            self.point_c.push(pc);
+            self.sigma.push(sigma);
+            self.hit_nats
+                .push(model.fusion_weight * (model.hit_a + model.hit_b * rng));
+        }
+        // the obstacle's faces between adjacent close boundary points
+        let close = |k: usize, me: &Self| {
+            let gap = (readings.x_m[k + 1] - readings.x_m[k])
+                .hypot(readings.y_m[k + 1] - readings.y_m[k]);
+            me.ok[k] && me.ok[k + 1] && gap < 2.0 * (me.sigma[k] + me.sigma[k + 1]) + 2.0 * cell
+        };
+        let mut longest = f64::NEG_INFINITY;
+        let mut any = false;
+        for k in 0..n.saturating_sub(1) {
+            if close(k, self) {
+                any = true;
+                let [x0, y0] = self.point_c[k];
+                let [x1, y1] = self.point_c[k + 1];
+                longest = nan_max(longest, (x1 - x0).hypot(y1 - y0));
+            }
+        }
+        // checked before anything is drawn, so a refused scan leaves the scratch layers clean
+        let steps = if any {
+            let steps = (2.0 * longest).ceil() + 2.0;
+            if !(steps.is_finite() && steps <= MAX_FACE_SAMPLES as f64) {
+                return Err(Error::InvalidGeometry(format!(
+                    "an obstacle face of {longest} cells between adjacent boundary points"
+                )));
+            }
+            steps as usize
+        } else {
+            0
+        };
+        let side = self.side;
+        let mut rows = RowSpan::EMPTY;
+        // the floor quadrilaterals between neighbouring valid readings, filled at once
+        self.quads.clear();
+        for k in 0..n.saturating_sub(1) {
+            if self.valid[k] && self.valid[k + 1] {
+                let quad = fan_quad(
+                    self.near_c[k],
+                    self.near_c[k + 1],
+                    self.end_c[k],
+                    self.end_c[k + 1],
+                    cam_c,
+                );
+                rows.cover_vertices(&quad, side);
+                self.quads.push(quad);
+            }
+        }
+        self.fill_quads();
+        // hit discs around the boundary points, in reading order (a later one wins)
+        for k in 0..n {
+            if !self.ok[k] {
+                continue;
+            }
+            let [x, y] = self.point_c[k];
+            let sig = if self.sigma[k].is_nan() {
+                0.0
+            } else {
+                self.sigma[k].clamp(f64::MIN, f64::MAX)
+            };
+            let r = (sig / cell).max(0.5);
+            stamp_disc(
+                &mut self.hit,
+                side,
+                x,
+                y,
+                r,
+                self.hit_nats[k] as f32,
+                &mut rows,
+            );
+        }
+        // the obstacle's faces between adjacent close boundary points
+        if steps > 0 {
+            let step = 1.0 / (steps - 1) as f64;
+            for k in 0..n - 1 {
+                if !close(k, self) {
+                    continue;
+                }
+                let [x0, y0] = self.point_c[k];
+                let [x1, y1] = self.point_c[k + 1];
+                let v = nan_min(self.hit_nats[k], self.hit_nats[k + 1]) as f32;
+                for t in 0..steps {
+                    let t = if t + 1 == steps {
+                        1.0
+                    } else {
+                        t as f64 * step + 0.0
+                    };
+                    let pi = (x0 + t * (x1 - x0)).floor();
+                    let pj = (y0 + t * (y1 - y0)).floor();
+                    if pi >= 0.0 && pi < side as f64 && pj >= 0.0 && pj < side as f64 {
+                        let (i, j) = (pi as usize, pj as usize);
+                        self.hit[j * side + i] = v;
+                        rows.cover(j);
+                    }
+                }
+            }
+        }
+        // too close: the near edge of view
+        let too_close = (model.fusion_weight * model.too_close_logit) as f32;
+        for k in 0..n {
+            let (nx, ny) = (readings.near_x_m[k], readings.near_y_m[k]);
+            if readings.status[k] != TOO_CLOSE || !(nx + ny).is_finite() {
+                continue;
+            }
+            let [tx, ty] = to_cells(nx, ny);
+            if tx >= 0.0 && tx < side as f64 && ty >= 0.0 && ty < side as f64 {
+                let (i, j) = (tx as usize, ty as usize);
+                self.hit[j * side + i] = too_close;
+                rows.cover(j);
+            }
+        }
+        // free evidence by range (f32, as numpy computed it), then hits, then the clamps
+        let fw = model.fusion_weight as f32;
+        let (fa, fb) = (model.free_a as f32, model.free_b as f32);
+        self.apply(log_odds, &rows, |i, j| {
+            let r = ((i as f64 + 0.5 - cam_c[0]).hypot(j as f64 + 0.5 - cam_c[1]) * cell) as f32;
+            fw * (fa + fb * r)
+        });
+        Ok(())
+    }
+
+    /// Adds an ideal 2-D laser scan: the fan from the sensor's cell coordinates `sensor_c`
+    /// to each beam's end `end_c` [cells] (the return, or the range limit; a non-finite end
+    /// is no reading) gets `miss_nats`, the cell of each end where `returned` gets `hit_nats`
+    /// (cell coordinates truncated towards zero, as numpy's cast).
+    pub fn insert_laser(
+        &mut self,
+        log_odds: &mut [f32],
+        sensor_c: [f64; 2],
+        end_c: &[[f64; 2]],
+        returned: &[bool],
+        hit_nats: f32,
+        miss_nats: f32,
+    ) -> Result<()> {
+        self.check_layer(log_odds)?;
+        let n = end_c.len();
+        if n > MAX_READINGS {
+            return Err(Error::LengthMismatch(format!("{n} beams > {MAX_READINGS}")));
+        }
+        if returned.len() != n {
+            return Err(Error::LengthMismatch(format!(
+                "{n} beam ends but {} return flags",
+                returned.len()
+            )));
+        }
+        if !(sensor_c[0].is_finite() && sensor_c[1].is_finite()) {
+            return Err(Error::InvalidGeometry("sensor position not finite".into()));
+        }
+        let side = self.side;
+        let mut rows = RowSpan::EMPTY;
+        let valid = |e: &[f64; 2]| (e[0] + e[1]).is_finite();
+        self.quads.clear();
+        for k in 0..n.saturating_sub(1) {
+            if valid(&end_c[k]) && valid(&end_c[k + 1]) {
+                let quad = fan_quad(sensor_c, sensor_c, end_c[k], end_c[k + 1], sensor_c);
+                rows.cover_vertices(&quad, side);
+                self.quads.push(quad);
+            }
+        }
+        self.fill_quads();
+        for (e, &hit) in end_c.iter().zip(returned) {
+            if !hit {
+                continue;
+            }
+            let (i, j) = (e[0].trunc(), e[1].trunc());
+            if i >= 0.0 && i < side as f64 && j >= 0.0 && j < side as f64 {
+                self.hit[j as usize * side + i as usize] = hit_nats;
+                rows.cover(j as usize);
+            }
+        }
+        self.apply(log_odds, &rows, |_, _| miss_nats);
+        Ok(())
+    }
+
+    /// Marks the cells of this insertion's quadrilaterals in the mask (one `fillPoly`).
+    fn fill_quads(&mut self) {
+        let mut canvas = Canvas {
+            cells: &mut self.mask,
+            width: self.side,
+            height: self.side,
+        };
+        self.fill.fill(&mut canvas, &self.quads, SHIFT, 1u8);
+    }
+
+    /// Adds this insertion's evidence on the touched rows (a cell's hit, else its free
+    /// evidence `free(i, j)` when inside a quadrilateral), resets the scratch layers there,
+    /// and clamps every cell.
+    fn apply(&mut self, log_odds: &mut [f32], rows: &RowSpan, free: impl Fn(usize, usize) -> f32) {
+        let side = self.side;
+        for j in rows.lo..rows.hi.min(side) {
+            let row = j * side;
+            for i in 0..side {
+                let k = row + i;
+                let h = self.hit[k];
+                if h.is_finite() {
+                    log_odds[k] += h;
+                } else if self.mask[k] > 0 {
+                    log_odds[k] += free(i, j);
+                }
+                self.hit[k] = f32::NAN;
+                self.mask[k] = 0;
+            }
+        }
+        let (lo, hi) = self.clamp;
+        for v in log_odds.iter_mut() {
+            *v = v.clamp(lo, hi);
+        }
+    }
+}
+
+/// The quadrilateral between two neighbouring readings [cells x 16, OpenCV's pixel
+/// coordinates]: their near edges, then both rays cut at the nearer of the two ends (the floor
+/// seen past an obstacle's corner by one ray never clears the corner).
+fn fan_quad(
+    n0: [f64; 2],
+    n1: [f64; 2],
+    end0: [f64; 2],
+    end1: [f64; 2],
+    cam: [f64; 2],
+) -> [[i64; 2]; 4] {
+    let d0 = [end0[0] - cam[0], end0[1] - cam[1]];
+    let d1 = [end1[0] - cam[0], end1[1] - cam[1]];
+    let (r0, r1) = (d0[0].hypot(d0[1]), d1[0].hypot(d1[1]));
+    let r = nan_min(r0, r1);
+    let (q0, q1) = (r / nan_max(r0, 1e-9), r / nan_max(r1, 1e-9));
+    let e0 = [cam[0] + d0[0] * q0, cam[1] + d0[1] * q0];
+    let e1 = [cam[0] + d1[0] * q1, cam[1] + d1[1] * q1];
+    // OpenCV's pixel p is centred on p; cell p spans [p, p + 1): half a cell back
+    let fixed = |p: [f64; 2]| {
+        let f = |v: f64| {
+            let t = ((v - 0.5) * (1 << SHIFT) as f64).round_ties_even();
+            // numpy's cast to int32; far-off corners are clipped by the fill anyway
+            t.clamp(i32::MIN as f64, i32::MAX as f64) as i64
+        };
+        [f(p[0]), f(p[1])]
+    };
+    [fixed(n0), fixed(n1), fixed(e1), fixed(e0)]
+}
+
+/// The rows an insertion touched, so only they are applied and reset.
+struct RowSpan {
+    lo: usize,
+    hi: usize,
+}
+
+impl RowSpan {
+    const EMPTY: RowSpan = RowSpan {
+        lo: usize::MAX,
+        hi: 0,
+    };
+
+    fn cover(&mut self, j: usize) {
+        self.lo = self.lo.min(j);
+        self.hi = self.hi.max(j + 1);
+    }
+
+    /// The rows a polygon with these corners [cells x 16] can touch, within `0..side`.
+    fn cover_vertices(&mut self, quad: &[[i64; 2]], side: usize) {
+        let half = (1i64 << SHIFT) >> 1;
+        for v in quad {
+            let j = ((v[1] + half) >> SHIFT).clamp(0, side as i64 - 1) as usize;
+            self.cover(j);
+        }
+    }
+}
+
+/// Sets the cells whose centre lies within `r` [cells] of (x, y) [cells] to `value` (as the
+/// numpy code did: (i + 0.5 - x)^2 + (j + 0.5 - y)^2 <= r^2).
+fn stamp_disc(
+    hit: &mut [f32],
+    side: usize,
+    x: f64,
+    y: f64,
+    r: f64,
+    value: f32,
+    rows: &mut RowSpan,
+) {
+    let (fx, fy) = (x.floor(), y.floor());
+    let m = r.ceil() + 1.0;
+    let n = side as f64;
+    let (i_lo, i_hi) = ((fx - m).max(0.0), (fx + m).min(n - 1.0));
+    let (j_lo, j_hi) = ((fy - m).max(0.0), (fy + m).min(n - 1.0));
+    if !(i_lo <= i_hi && j_lo <= j_hi) {
+        return;
+    }
+    let rr = r * r;
+    for j in j_lo as usize..=j_hi as usize {
+        let b = j as f64 + 0.5 - y;
+        for i in i_lo as usize..=i_hi as usize {
+            let a = i as f64 + 0.5 - x;
+            if a * a + b * b <= rr {
+                hit[j * side + i] = value;
+                rows.cover(j);
+            }
+        }
+    }
+}
+
+/// Forgetting: every value times `factor` (in [0, 1]).
+pub fn decay(values: &mut [f32], factor: f32) {
+    for v in values {
+        *v *= factor;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn model() -> VisualModel {
+        VisualModel {
+            free_a: -3.2,
+            free_b: 0.55,
+            hit_a: 2.0,
+            hit_b: -0.45,
+            too_close_logit: 1.0,
+            margin_sigmas: 2.0,
+            default_error_m: 0.01,
+            fusion_weight: 0.7,
+        }
+    }
+
+    /// A straight wall 1.5 m ahead of a camera at the window's centre, seen by 41 columns.
+    type Columns = (Vec<u8>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
+    fn wall(n: usize) -> Columns {
+        let status = vec![BOUNDARY; n];
+        let mut x = Vec::new();
+        let mut y = Vec::new();
+        let mut nx = Vec::new();
+        let mut ny = Vec::new();
+        for k in 0..n {
+            let a = -0.6 + 1.2 * k as f64 / (n - 1) as f64;
+            x.push(1.5);
+            y.push(1.5 * a.tan());
+            nx.push(0.3);
+            ny.push(0.3 * a.tan());
+        }
+        (status, x, y, nx, ny)
+    }
+
+    #[test]
+    fn a_wall_ahead_is_occupied_and_the_floor_before_it_free() {
+        let side = 100;
+        let mut map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
+        let mut l = vec![0.0f32; side * side];
+        let (status, x, y, nx, ny) = wall(41);
+        let fp = vec![0.01; 41];
+        let err = vec![f64::NAN; 41];
+        let r = VisualReadings {
+            status: &status,
+            x_m: &x,
+            y_m: &y,
+            near_x_m: &nx,
+            near_y_m: &ny,
+            footprint_m: &fp,
+            error_m: &err,
+        };
+        // camera at (2.5, 2.5) m: cell (50, 50)
+        map.insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &r, &model())
+            .unwrap();
+        let at = |x: f64, y: f64| l[(y / 0.05) as usize * side + (x / 0.05) as usize];
+        assert!(at(2.5 + 1.5, 2.5) > 0.5, "{}", at(4.0, 2.5));
+        assert!(at(2.5 + 1.0, 2.5) < -0.5);
+        assert!(at(2.5 + 0.5, 2.5 + 0.1) < -0.5);
+        assert_eq!(at(2.5 - 0.5, 2.5), 0.0); // behind the camera
+        assert_eq!(at(2.5 + 2.0, 2.5), 0.0); // behind the wall
+                                             // the scratch layers are reset: a second insertion adds the same evidence again
+        let once = l.clone();
+        map.insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &r, &model())
+            .unwrap();
+        for (a, b) in l.iter().zip(&once) {
+            assert!((a - (2.0 * b).clamp(-2.0, 3.5)).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn discs_cover_the_cells_whose_centres_are_within_the_radius() {
+        let side = 20;
+        let mut hit = vec![f32::NAN; side * side];
+        let mut rows = RowSpan::EMPTY;
+        stamp_disc(&mut hit, side, 7.3, 9.8, 2.4, 1.0, &mut rows);
+        for j in 0..side {
+            for i in 0..side {
+                let d = ((i as f64 + 0.5 - 7.3).powi(2) + (j as f64 + 0.5 - 9.8).powi(2)).sqrt();
+                assert_eq!(hit[j * side + i] == 1.0, d <= 2.4, "{i} {j}");
+            }
+        }
+        assert!(rows.lo == 7 && rows.hi == 12);
+        // a huge disc far outside stays within the grid's loops
+        stamp_disc(&mut hit, side, -1e300, 5.0, 1e200, 2.0, &mut rows);
+    }
+
+    #[test]
+    fn bad_arguments_are_errors() {
+        assert!(AvoidanceMap::new(0, 0.05, (-2.0, 3.5)).is_err());
+        assert!(AvoidanceMap::new(MAX_SIDE + 1, 0.05, (-2.0, 3.5)).is_err());
+        assert!(AvoidanceMap::new(10, 0.0, (-2.0, 3.5)).is_err());
+        assert!(AvoidanceMap::new(10, 0.05, (1.0, 3.5)).is_err());
+        assert!(AvoidanceMap::new(10, 0.05, (-2.0, f64::NAN)).is_err());
+        let mut map = AvoidanceMap::new(10, 0.05, (-2.0, 3.5)).unwrap();
+        let mut l = vec![0.0f32; 99];
+        let r = VisualReadings {
+            status: &[],
+            x_m: &[],
+            y_m: &[],
+            near_x_m: &[],
+            near_y_m: &[],
+            footprint_m: &[],
+            error_m: &[],
+        };
+        assert!(map
+            .insert_visual(&mut l, (0, 0), Pose2::IDENTITY, &r, &model())
+            .is_err());
+        let mut l = vec![0.0f32; 100];
+        assert!(map
+            .insert_visual(&mut l, (0, 0), Pose2::new(f64::NAN, 0.0, 0.0), &r, &model())
+            .is_err());
+        let short = VisualReadings { status: &[0], ..r };
+        assert!(map
+            .insert_visual(&mut l, (0, 0), Pose2::IDENTITY, &short, &model())
+            .is_err());
+    }
+}

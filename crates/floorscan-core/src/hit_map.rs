@@ -1,0 +1,276 @@
+//! The correlative scan matcher's persistent map of where its scans ended
+//! (`floorscan.drive.scan_matcher.ScanMatcher`): hit counts on a fixed `side` x `side` grid
+//! (row major, row 0 = lowest y, cell (0, 0)'s corner at `origin_m`), and the likelihood field
+//! cached over part of it, raised around each newly stored hit to its Gaussian stamp.
+//!
+//! Storing a scan: its points within `range_max_m` (robot frame) are moved by the pose onto
+//! the grid; with `novel_only`, a point is stored only when no cell of the novelty disc around
+//! its cell already holds a hit (every point is tested against the map as it was before this
+//! scan, the disc cut at the grid's edges); counts saturate at 255. The discs' offsets (and
+//! the stamp's values) are the caller's, made once.
+
+use crate::error::{invalid_option, Error, Result};
+use crate::pose::Pose2;
+
+/// The largest grid side [cells] (the options' 400 m at 1 cm would be 40 000; they bound the
+/// cells to 64 M, 8 000 squared).
+pub const MAX_SIDE: usize = 1 << 16;
+
+/// The most cells a disc (novelty or stamp) may hold.
+pub const MAX_DISC_CELLS: usize = 1 << 20;
+
+/// The most points one scan may store.
+pub const MAX_POINTS: usize = 1 << 20;
+
+/// The likelihood field cached over part of the grid: `width` x `height` values whose cell
+/// (0, 0) is the grid's cell (`i0`, `j0`).
+pub struct FieldMut<'a> {
+    pub values: &'a mut [f32],
+    pub width: usize,
+    pub height: usize,
+    pub i0: i64,
+    pub j0: i64,
+}
+
+/// The grid's geometry and discs, and scratch space for one scan's cells.
+#[derive(Debug, Clone)]
+pub struct HitMap {
+    side: usize,
+    cell_m: f64,
+    origin_m: (f64, f64),
+    range_max_m: f64,
+    novelty: Vec<(i64, i64)>,
+    stamp: Vec<(i64, i64, f32)>,
+    cells: Vec<(i64, i64)>,
+}
+
+impl HitMap {
+    /// A grid of `side` x `side` cells of `cell_m` [m] from `origin_m`; points beyond
+    /// `range_max_m` [m] are ignored; `novelty` the cell offsets (di, dj) of the novelty disc
+    /// (empty: every point is new), `stamp` the offsets and values of the field's stamp.
+    pub fn new(
+        side: usize,
+        cell_m: f64,
+        origin_m: (f64, f64),
+        range_max_m: f64,
+        novelty: Vec<(i64, i64)>,
+        stamp: Vec<(i64, i64, f32)>,
+    ) -> Result<Self> {
+        if !(1..=MAX_SIDE).contains(&side) {
+            return Err(invalid_option(
+                "side",
+                format!("must be in 1..={MAX_SIDE}, got {side}"),
+            ));
+        }
+        if !(cell_m.is_finite() && cell_m > 0.0) {
+            return Err(invalid_option(
+                "cell_size_m",
+                format!("must be > 0, got {cell_m}"),
+            ));
+        }
+        if !(origin_m.0.is_finite() && origin_m.1.is_finite()) {
+            return Err(Error::InvalidGeometry("origin not finite".into()));
+        }
+        if range_max_m.is_nan() {
+            return Err(invalid_option("range_max_m", "must be a number"));
+        }
+        if novelty.len() > MAX_DISC_CELLS || stamp.len() > MAX_DISC_CELLS {
+            return Err(invalid_option(
+                "disc",
+                format!("more than {MAX_DISC_CELLS} cells"),
+            ));
+        }
+        let bound = side as i64;
+        if novelty
+            .iter()
+            .map(|&(a, b)| (a, b))
+            .chain(stamp.iter().map(|&(a, b, _)| (a, b)))
+            .any(|(a, b)| a.abs() > bound || b.abs() > bound)
+        {
+            return Err(invalid_option("disc", "offsets beyond the grid's side"));
+        }
+        Ok(Self {
+            side,
+            cell_m,
+            origin_m,
+            range_max_m,
+            novelty,
+            stamp,
+            cells: Vec::new(),
+        })
+    }
+
+    /// Stores the `points` [m, robot frame] seen from `pose` into `hits` (see the module's
+    /// docs) and stamps the new hits into `field`; returns how many were stored.
+    pub fn insert(
+        &mut self,
+        hits: &mut [u8],
+        points: &[[f64; 2]],
+        pose: Pose2,
+        novel_only: bool,
+        field: Option<FieldMut<'_>>,
+    ) -> Result<usize> {
+        let n = self.side;
+        if hits.len() != n * n {
+            return Err(Error::LengthMismatch(format!(
+                "a {n} x {n} hit map needs {} cells, got {}",
+                n * n,
+                hits.len()
+            )));
+        }
+        if points.len() > MAX_POINTS {
+            return Err(Error::LengthMismatch(format!(
+                "{} points > {MAX_POINTS}",
+                points.len()
+            )));
+        }
+        if let Some(f) = &field {
+            if f.values.len() != f.width * f.height {
+                return Err(Error::LengthMismatch(format!(
+                    "field {} x {} needs {} values, got {}",
+                    f.width,
+                    f.height,
+                    f.width * f.height,
+                    f.values.len()
+                )));
+            }
+        }
+        let (c, s) = (pose.yaw.cos(), pose.yaw.sin());
+        self.cells.clear();
+        for p in points {
+            if !(p[0].is_finite() && p[1].is_finite()) || p[0].hypot(p[1]) > self.range_max_m {
+                continue;
+            }
+            let x = pose.x + c * p[0] - s * p[1];
+            let y = pose.y + s * p[0] + c * p[1];
+            let fi = ((x - self.origin_m.0) / self.cell_m).floor();
+            let fj = ((y - self.origin_m.1) / self.cell_m).floor();
+            if fi >= 0.0 && fi < n as f64 && fj >= 0.0 && fj < n as f64 {
+                self.cells.push((fi as i64, fj as i64));
+            }
+        }
+        if novel_only && !self.novelty.is_empty() {
+            let last = n as i64 - 1;
+            let novelty = &self.novelty;
+            self.cells.retain(|&(i, j)| {
+                !novelty.iter().any(|&(di, dj)| {
+                    let (ii, jj) = ((i + di).clamp(0, last), (j + dj).clamp(0, last));
+                    hits[jj as usize * n + ii as usize] > 0
+                })
+            });
+        }
+        if let Some(f) = field {
+            let (w, h) = (f.width as i64, f.height as i64);
+            for &(i, j) in &self.cells {
+                for &(di, dj, v) in &self.stamp {
+                    let (ii, jj) = (i - f.i0 + di, j - f.j0 + dj);
+                    if ii >= 0 && ii < w && jj >= 0 && jj < h {
+                        let k = (jj * w + ii) as usize;
+                        // np.maximum: NaN where either is NaN
+                        let old = f.values[k];
+                        f.values[k] = if old.is_nan() || v.is_nan() {
+                            f32::NAN
+                        } else if v > old {
+                            v
+                        } else {
+                            old
+                        };
+                    }
+                }
+            }
+        }
+        for &(i, j) in &self.cells {
+            let k = j as usize * n + i as usize;
+            hits[k] = hits[k].saturating_add(1);
+        }
+        Ok(self.cells.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn disc(r: i64) -> Vec<(i64, i64)> {
+        let mut v = Vec::new();
+        for dj in -r..=r {
+            for di in -r..=r {
+                if di * di + dj * dj <= r * r {
+                    v.push((di, dj));
+                }
+            }
+        }
+        v
+    }
+
+    #[test]
+    fn only_points_far_from_stored_hits_are_stored_and_counts_saturate() {
+        let n = 40;
+        let mut map = HitMap::new(n, 0.1, (0.0, 0.0), 3.0, disc(2), vec![(0, 0, 1.0)]).unwrap();
+        let mut hits = vec![0u8; n * n];
+        let pose = Pose2::new(1.0, 1.0, 0.0);
+        assert_eq!(
+            map.insert(&mut hits, &[[0.55, 0.55]], pose, true, None)
+                .unwrap(),
+            1
+        );
+        assert_eq!(hits[15 * n + 15], 1);
+        // within two cells of it: not new; three cells away: new
+        let pts = [[0.75, 0.55], [0.85, 0.55], [f64::NAN, 0.0], [5.0, 0.0]];
+        assert_eq!(map.insert(&mut hits, &pts, pose, true, None).unwrap(), 1);
+        assert_eq!(hits[15 * n + 18], 1);
+        assert_eq!(hits[15 * n + 17], 0);
+        // every point, the same cell 300 times: 255
+        let many = vec![[0.55, 0.55]; 300];
+        assert_eq!(
+            map.insert(&mut hits, &many, pose, false, None).unwrap(),
+            300
+        );
+        assert_eq!(hits[15 * n + 15], 255);
+    }
+
+    #[test]
+    fn new_hits_raise_the_field_to_their_stamp() {
+        let n = 20;
+        let stamp = vec![(0, 0, 1.0f32), (1, 0, 0.5), (-1, 0, 0.5)];
+        let mut map = HitMap::new(n, 1.0, (0.0, 0.0), 100.0, vec![], stamp).unwrap();
+        let mut hits = vec![0u8; n * n];
+        let mut values = vec![0.7f32; 4 * 3];
+        let field = FieldMut {
+            values: &mut values,
+            width: 4,
+            height: 3,
+            i0: 5,
+            j0: 5,
+        };
+        map.insert(&mut hits, &[[6.5, 6.5]], Pose2::IDENTITY, true, Some(field))
+            .unwrap();
+        // cell (6, 6) is field cell (1, 1): 1.0 there, its neighbours keep 0.7 > 0.5
+        assert_eq!(values[4 + 1], 1.0);
+        assert_eq!(values[4], 0.7);
+        assert_eq!(values[4 + 2], 0.7);
+    }
+
+    #[test]
+    fn bad_arguments_are_errors() {
+        assert!(HitMap::new(0, 0.1, (0.0, 0.0), 3.0, vec![], vec![]).is_err());
+        assert!(HitMap::new(10, 0.0, (0.0, 0.0), 3.0, vec![], vec![]).is_err());
+        assert!(HitMap::new(10, 0.1, (f64::NAN, 0.0), 3.0, vec![], vec![]).is_err());
+        assert!(HitMap::new(10, 0.1, (0.0, 0.0), 3.0, vec![(11, 0)], vec![]).is_err());
+        let mut map = HitMap::new(10, 0.1, (0.0, 0.0), 3.0, vec![], vec![]).unwrap();
+        assert!(map
+            .insert(&mut [0u8; 99], &[], Pose2::IDENTITY, false, None)
+            .is_err());
+        let mut v = vec![0.0f32; 5];
+        let f = FieldMut {
+            values: &mut v,
+            width: 2,
+            height: 2,
+            i0: 0,
+            j0: 0,
+        };
+        assert!(map
+            .insert(&mut [0u8; 100], &[], Pose2::IDENTITY, false, Some(f))
+            .is_err());
+    }
+}

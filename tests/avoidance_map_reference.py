@@ -1,0 +1,170 @@
+"""The avoidance map's insertions as first written with numpy and OpenCV (``cv2.fillPoly`` for
+the floor quadrilaterals): the reference the Rust core (``floorscan_core::avoidance_map``) must
+equal cell for cell (tests/drive/test_avoidance_map_native.py) and the baseline of
+bench/drive_step.py. Shares only the map's geometry with the package."""
+
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+import numpy as np
+from floorscan.drive.avoidance_map import AvoidanceMap, _compose
+from floorscan.drive.sensor_model import VisualSensorModel
+from floorscan.ranging.scan import ColumnStatus
+
+_SHIFT = 4  # sub-cell precision of rasterised polygons: 1 / 16 cell
+
+
+def stamp_hits(hit, cx, cy, rad, values, ok, near) -> None:
+    """Draws into ``hit`` (n, n) the discs of radius ``rad`` [cells] around the boundary
+    points (cx, cy) [fractional cells: cell k spans [k, k + 1)] where ``ok``, each with its
+    ``values`` entry (the cells whose centre lies within the radius), and the segments from
+    point k to k + 1 where ``near[k]`` with the smaller of the two values (the cells the
+    segment passes through, sampled every half cell)."""
+    n_rows, n_cols = hit.shape
+    idx = np.nonzero(ok)[0]
+    if idx.size:
+        x, y, r, v = cx[idx], cy[idx], rad[idx], values[idx]
+        m = int(np.ceil(r.max())) + 1
+        d = np.arange(-m, m + 1)
+        di, dj = (a.ravel() for a in np.meshgrid(d, d))
+        pi = np.floor(x)[:, None] + di[None, :]
+        pj = np.floor(y)[:, None] + dj[None, :]
+        inside = (pi + 0.5 - x[:, None]) ** 2 + (pj + 0.5 - y[:, None]) ** 2 <= (r * r)[:, None]
+        inside &= (pi >= 0) & (pi < n_cols) & (pj >= 0) & (pj < n_rows)
+        vals = np.broadcast_to(v[:, None], pi.shape)
+        hit[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = vals[inside]
+    seg = np.nonzero(near)[0]
+    if seg.size:
+        x0, y0, x1, y1 = cx[seg], cy[seg], cx[seg + 1], cy[seg + 1]
+        steps = int(np.ceil(2 * np.hypot(x1 - x0, y1 - y0).max())) + 2
+        t = np.linspace(0.0, 1.0, steps)[None, :]
+        pi = np.floor(x0[:, None] + t * (x1 - x0)[:, None])
+        pj = np.floor(y0[:, None] + t * (y1 - y0)[:, None])
+        inside = (pi >= 0) & (pi < n_cols) & (pj >= 0) & (pj < n_rows)
+        v = np.minimum(values[seg], values[seg + 1])
+        vals = np.broadcast_to(v[:, None], pi.shape)
+        hit[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = vals[inside]
+
+
+class ReferenceAvoidanceMap(AvoidanceMap):
+    """:class:`~floorscan.drive.AvoidanceMap` with the numpy/OpenCV insertions and decay."""
+
+    def decay(self, dt_s: float) -> None:
+        hl = self.options.half_life_s
+        if hl is not None and dt_s > 0:
+            self.log_odds *= np.float32(0.5 ** (dt_s / hl))
+            self.bumps *= np.float32(0.5 ** (dt_s / (10 * hl)))
+
+    def _apply(self, free_mask, free_nats, hit_nats) -> None:
+        lo, hi = self.options.clamp_nats
+        L = self.log_odds
+        sel = (free_mask > 0) & ~np.isfinite(hit_nats) if hit_nats is not None else free_mask > 0
+        L[sel] += free_nats[sel]
+        if hit_nats is not None:
+            h = np.isfinite(hit_nats)
+            L[h] += hit_nats[h]
+        np.clip(L, lo, hi, out=L)
+
+    def _fan(self, near_c, end_c, valid, cam_c) -> np.ndarray:
+        import cv2
+
+        mask = np.zeros(self.log_odds.shape, np.uint8)
+        k = np.nonzero(valid[:-1] & valid[1:])[0]
+        if k.size:
+            cam = np.asarray(cam_c, np.float64)[None, :]
+            d0, d1 = end_c[k] - cam, end_c[k + 1] - cam
+            r0, r1 = np.hypot(*d0.T), np.hypot(*d1.T)
+            r = np.minimum(r0, r1)
+            e0 = cam + d0 * (r / np.maximum(r0, 1e-9))[:, None]
+            e1 = cam + d1 * (r / np.maximum(r1, 1e-9))[:, None]
+            quads = np.stack([near_c[k], near_c[k + 1], e1, e0], axis=1)
+            # OpenCV's pixel p is centred on p; cell p spans [p, p + 1): half a cell back
+            pts = np.round((quads - 0.5) * (1 << _SHIFT)).astype(np.int32)
+            cv2.fillPoly(mask, list(pts), 1, lineType=cv2.LINE_8, shift=_SHIFT)
+        return mask
+
+    def _range_image(self, mask, cam_c) -> np.ndarray:
+        jj, ii = np.nonzero(mask)
+        r = np.full(mask.shape, np.nan, np.float32)
+        r[jj, ii] = np.hypot(ii + 0.5 - cam_c[0], jj + 0.5 - cam_c[1]) * self.cell
+        return r
+
+    def insert_visual(
+        self,
+        scan,
+        pose,
+        *,
+        mount=(0.0, 0.0, 0.0),
+        table=None,
+        model: Optional[VisualSensorModel] = None,
+    ) -> None:
+        model = VisualSensorModel() if model is None else model
+        cam = _compose(pose, mount)
+        c, s = math.cos(cam[2]), math.sin(cam[2])
+        status = np.asarray(scan.status_codes)
+        px, py = np.asarray(scan.x), np.asarray(scan.y)
+        nx, ny = np.asarray(scan.near_x), np.asarray(scan.near_y)
+        rng = np.hypot(px, py)
+        err = np.full(len(status), np.nan)
+        bnd = status == 0
+        if table is not None and bnd.any():
+            err[bnd] = table.lookup_error(
+                np.asarray(scan.columns, np.float64)[bnd], np.asarray(scan.rows)[bnd]
+            )
+        sigma = model.sigma_m(err, np.asarray(scan.footprints, np.float64), self.cell)
+        near_r = np.hypot(nx, ny)
+        end_r = np.where(bnd, rng - model.margin_sigmas * sigma, rng)
+        end_r = np.maximum(end_r, near_r)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            scale = np.where(rng > 0, end_r / rng, 0.0)
+        ex, ey = px * scale, py * scale
+        seen = (status == ColumnStatus.BOUNDARY) | (status == ColumnStatus.NO_BOUNDARY)
+        valid = seen & np.isfinite(ex + ey + nx + ny)
+
+        def world(gx, gy):
+            return cam[0] + c * gx - s * gy, cam[1] + s * gx + c * gy
+
+        ncx, ncy = self.to_cells(*world(nx, ny))
+        ecx, ecy = self.to_cells(*world(ex, ey))
+        cam_c = self.to_cells(cam[0], cam[1])
+        mask = self._fan(np.stack([ncx, ncy], 1), np.stack([ecx, ecy], 1), valid, cam_c)
+        r_img = self._range_image(mask, cam_c)
+        free_nats = model.fusion_weight * model.free_logit(r_img)
+        hit = np.full(mask.shape, np.nan, np.float32)
+        bcx, bcy = self.to_cells(*world(px, py))
+        hit_nats = model.fusion_weight * model.hit_logit(rng)
+        ok = bnd & np.isfinite(bcx + bcy)
+        rad = np.maximum(np.nan_to_num(sigma) / self.cell, 0.5)
+        gap = np.hypot(np.diff(px), np.diff(py))
+        near = np.zeros(len(status), bool)
+        near[:-1] = ok[:-1] & ok[1:] & (gap < 2.0 * (sigma[:-1] + sigma[1:]) + 2 * self.cell)
+        stamp_hits(hit, bcx, bcy, rad, hit_nats, ok, near)
+        tc = (status == 2) & np.isfinite(nx + ny)
+        if tc.any():
+            tx, ty = self.to_cells(*world(nx[tc], ny[tc]))
+            ok = (tx >= 0) & (tx < self.n) & (ty >= 0) & (ty < self.n)
+            hit[ty[ok].astype(int), tx[ok].astype(int)] = (
+                model.fusion_weight * model.too_close_logit
+            )
+        self._apply(mask, free_nats, hit)
+
+    def insert_laser(
+        self, ranges, angles, pose, *, range_max_m, hit_nats=2.2, miss_nats=-2.0
+    ) -> None:
+        r = np.asarray(ranges, np.float64)
+        a = np.asarray(angles, np.float64) + pose[2]
+        end = np.where(np.isfinite(r), r, range_max_m)
+        ex, ey = pose[0] + end * np.cos(a), pose[1] + end * np.sin(a)
+        ecx, ecy = self.to_cells(ex, ey)
+        pc = self.to_cells(pose[0], pose[1])
+        near = np.tile(np.array(pc, np.float64), (len(r), 1))
+        valid = np.isfinite(ecx + ecy)
+        mask = self._fan(near, np.stack([ecx, ecy], 1), valid, pc)
+        hit = np.full(mask.shape, np.nan, np.float32)
+        h = np.isfinite(r)
+        hx, hy = ecx[h].astype(int), ecy[h].astype(int)
+        ok = (hx >= 0) & (hx < self.n) & (hy >= 0) & (hy < self.n)
+        hit[hy[ok], hx[ok]] = hit_nats
+        self._apply(mask, np.full(mask.shape, miss_nats, np.float32), hit)

@@ -1,0 +1,134 @@
+"""The avoidance map's insertions in the Rust core against the numpy/OpenCV implementation they
+replaced (tests/avoidance_map_reference.py): the same log odds, bit for bit, on the ranger's
+scans of simulated corridor and room views, on random scans with every column status, odd
+geometry and windows the fan leaves, and on laser scans."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from avoidance_map_reference import ReferenceAvoidanceMap
+from floorscan.drive import AvoidanceMap, AvoidanceMapOptions
+from floorscan.drive.loop import make_table
+from floorscan.drive.sensor_model import VisualSensorModel
+from floorscan.errors import FloorscanError
+from floorscan.ranging.ranger import VisualRanger
+from floorscan.sim import Camera, World, render_image
+
+
+def _pair(center=(0.0, 0.0), **options):
+    o = AvoidanceMapOptions(**options)
+    return AvoidanceMap(o, center=center), ReferenceAvoidanceMap(o, center=center)
+
+
+def _same(a, b):
+    assert a.log_odds.dtype == b.log_odds.dtype == np.float32
+    diff = np.count_nonzero(a.log_odds != b.log_odds)
+    assert diff == 0, f"{diff} cells differ; max {np.abs(a.log_odds - b.log_odds).max()}"
+
+
+@pytest.mark.parametrize("world_name", ["corridor", "room"])
+def test_ranger_scans_along_a_tour_give_the_same_map(world_name):
+    world, cam = World.builtin(world_name), Camera(width=320, height=240)
+    table = make_table(cam, "exact")
+    ranger = VisualRanger(table, columns=160)
+    ours, ref = _pair(center=world.start[:2])
+    tour = np.asarray(world.tour, np.float64)
+    x, y, yaw = world.start
+    for k in range(12):
+        gx, gy = tour[k % len(tour)]
+        yaw = math.atan2(gy - y, gx - x) + (0.3 if k % 3 == 1 else 0.0)
+        x, y = x + 0.25 * math.cos(yaw), y + 0.25 * math.sin(yaw)
+        pose = (x, y, yaw)
+        scan = ranger.scan(render_image(world, cam, pose, seed=0, frame=k))
+        for m in (ours, ref):
+            m.decay(0.1)
+            m.recenter(x, y)
+            m.insert_visual(scan, pose, mount=cam.robot_from_camera, table=table)
+        _same(ours, ref)
+    assert np.count_nonzero(ours.log_odds) > 500
+
+
+def _random_scan(rng, n):
+    a = np.sort(rng.uniform(-1.2, 1.2, n))
+    r = rng.uniform(0.2, 6.0, n) * (1 + 0.3 * np.sin(5 * a))
+    near = rng.uniform(0.2, 0.5, n)
+    status = rng.choice(4, n, p=[0.6, 0.2, 0.1, 0.1]).astype(np.uint8)
+    x, y = r * np.cos(a), r * np.sin(a)
+    nx, ny = near * np.cos(a), near * np.sin(a)
+    fp = rng.uniform(0.0, 0.08, n)
+    fp[rng.uniform(size=n) < 0.1] = np.nan
+    bad = rng.uniform(size=n) < 0.05
+    x[bad] = np.nan
+    nx[rng.uniform(size=n) < 0.03] = np.inf
+    # some boundaries nearer than their near edge, some at the camera
+    x[rng.uniform(size=n) < 0.03] = 0.0
+    return SimpleNamespace(
+        status_codes=status,
+        x=x,
+        y=y,
+        near_x=nx,
+        near_y=ny,
+        footprints=fp,
+        columns=np.arange(n, dtype=np.uint32),
+        rows=np.zeros(n),
+    )
+
+
+class _Table:
+    """Predicted errors: NaN for some columns."""
+
+    def lookup_error(self, u, v):
+        e = 0.005 + 0.002 * (np.asarray(u) % 7)
+        e[np.asarray(u) % 11 == 0] = np.nan
+        return e
+
+
+def test_random_scans_with_every_status_give_the_same_map():
+    rng = np.random.default_rng(3)
+    model = VisualSensorModel(fusion_weight=0.9, margin_sigmas=1.5, hit_b=-0.3)
+    for trial in range(30):
+        cell = [0.05, 0.04, 0.1][trial % 3]
+        ours, ref = _pair(center=(1.0, -2.0), size_m=6.0, cell_size_m=cell, clamp_nats=(-1.5, 2.5))
+        for k in range(3):
+            scan = _random_scan(rng, int(rng.integers(2, 200)))
+            # poses near the window's edge: fans run off it
+            pose = (1.0 + rng.uniform(-3, 3), -2.0 + rng.uniform(-3, 3), rng.uniform(-4, 4))
+            mount = (0.1, 0.02, rng.uniform(-0.2, 0.2))
+            table = _Table() if k % 2 else None
+            for m in (ours, ref):
+                with np.errstate(all="ignore"):  # inf - inf in the reference's sums
+                    m.insert_visual(scan, pose, mount=mount, table=table, model=model)
+                m.decay(0.3)
+            _same(ours, ref)
+
+
+def test_laser_scans_give_the_same_map():
+    rng = np.random.default_rng(5)
+    ours, ref = _pair(center=(0.0, 0.0), probability_scale=1.0, probability_offset=0.0)
+    angles = np.linspace(-3 * np.pi / 4, 3 * np.pi / 4, 271)
+    for _ in range(10):
+        r = rng.uniform(0.1, 6.0, angles.size)
+        r[rng.uniform(size=r.size) < 0.2] = np.inf
+        pose = (rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-3, 3))
+        for m in (ours, ref):
+            m.decay(0.1)
+            m.insert_laser(r, angles, pose, range_max_m=4.0)
+        _same(ours, ref)
+
+
+def test_bad_layers_and_readings_are_errors():
+    m = AvoidanceMap()
+    scan = _random_scan(np.random.default_rng(0), 20)
+    scan.near_x = scan.near_x[:5]
+    with pytest.raises(FloorscanError):
+        m.insert_visual(scan, (0.0, 0.0, 0.0))
+    m.log_odds = np.zeros((3, 3), np.float32)
+    with pytest.raises(FloorscanError):
+        m.insert_visual(_random_scan(np.random.default_rng(0), 20), (0.0, 0.0, 0.0))
+    m.log_odds = np.zeros((m.n, m.n), np.float32)[:, ::2]
+    with pytest.raises(FloorscanError):
+        m.decay(0.1)

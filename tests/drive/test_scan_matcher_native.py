@@ -1,0 +1,68 @@
+"""The scan matcher's storing in the Rust core against the numpy code it replaced
+(tests/scan_matcher_reference.py): the same hit counts, the same cached likelihood field and
+the same matches, bit for bit, over random scans from drifting poses, with points off the map,
+non-finite and beyond the range limit, and saturating counts."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from floorscan.drive.scan_matcher import ScanMatcher, ScanMatcherOptions
+from floorscan.errors import FloorscanError
+from scan_matcher_reference import ReferenceScanMatcher
+
+
+def _scan(rng, n):
+    a = np.linspace(-1.2, 1.2, n)
+    r = rng.uniform(0.3, 3.6, n) * (1 + 0.2 * np.sin(4 * a))
+    pts = np.stack([r * np.cos(a), r * np.sin(a)], 1)
+    pts[rng.uniform(size=n) < 0.03] = np.nan
+    pts[rng.uniform(size=n) < 0.02, 0] = np.inf
+    return pts
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        ScanMatcherOptions(size_m=8.0),
+        ScanMatcherOptions(size_m=6.0, cell_size_m=0.05, novelty_m=0.0, sigma_m=0.1),
+        ScanMatcherOptions(size_m=10.0, novelty_m=0.3, range_max_m=2.0),
+    ],
+)
+def test_random_scans_store_the_same_hits_field_and_matches(options):
+    rng = np.random.default_rng(11)
+    ours = ScanMatcher(options, center=(0.5, -0.5))
+    ref = ReferenceScanMatcher(options, center=(0.5, -0.5))
+    pose = (0.0, 0.0, 0.0)
+    walls = _scan(rng, 160)
+    for k in range(25):
+        pose = (pose[0] + 0.15, pose[1] + rng.normal(0, 0.05), pose[2] + rng.normal(0, 0.1))
+        pts = walls if k % 3 else _scan(rng, int(rng.integers(0, 300)))
+        a, b = ours.correct(pts, pose), ref.correct(pts, pose)
+        assert a == b
+        assert np.array_equal(ours.hits, ref.hits)
+        if ref._cache is not None:
+            assert np.array_equal(ours._cache[0], ref._cache[0])
+            assert ours._cache[1:] == ref._cache[1:]
+    # the same cell many times: counts saturate at 255
+    many = np.tile([[1.0, 0.0]], (300, 1))
+    home = (0.0, 0.0, 0.0)
+    assert ours.insert(many, home) == ref.insert(many, home) == 300
+    assert np.array_equal(ours.hits, ref.hits) and ours.hits.max() == 255
+
+
+def test_bad_native_arguments_are_errors():
+    from floorscan._native.drive import HitMap
+
+    off, vals = np.zeros((1, 2), np.int64), np.ones(1, np.float32)
+    with pytest.raises(FloorscanError):
+        HitMap(0, 0.025, (0.0, 0.0), 3.0, off, off, vals)
+    with pytest.raises(FloorscanError):
+        HitMap(10, 0.025, (0.0, 0.0), 3.0, np.full((1, 2), 99, np.int64), off, vals)
+    with pytest.raises(FloorscanError):
+        HitMap(10, 0.025, (0.0, 0.0), 3.0, off, off, np.ones(2, np.float32))
+    m = HitMap(10, 0.025, (0.0, 0.0), 3.0, off, off, vals)
+    with pytest.raises(FloorscanError):
+        m.insert(np.zeros((9, 9), np.uint8), np.zeros((1, 2)), (0.0, 0.0, 0.0), False)
+    with pytest.raises(FloorscanError):
+        m.insert(np.zeros((10, 10), np.uint8), np.zeros((1, 3)), (0.0, 0.0, 0.0), False)
