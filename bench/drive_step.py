@@ -2,7 +2,11 @@
 the plan's navigation function separately, it runs every fifth frame) per frame, at a
 resolution.
 
-    .venv/bin/python bench/drive_step.py --width 640 --height 480 --seconds 10
+    .venv/bin/python bench/drive_step.py --width 640 --height 480 --seconds 10 [--ranger KIND]
+    .venv/bin/python bench/drive_step.py --stages --width 640 --height 480 [--ranger KIND]
+
+``--ranger``: the range sensor (edge, appearance, fused; default edge, the figures before the
+fused ranger became the configuration's default; ``floorscan drive`` uses the configuration's).
 """
 
 from __future__ import annotations
@@ -11,6 +15,7 @@ import argparse
 import json
 
 from floorscan.drive import DriveOptions, drive
+from floorscan.pipeline.config import Config
 from floorscan.sim import Camera, World
 
 
@@ -21,9 +26,19 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--sensor", default="camera")
     ap.add_argument("--stages", action="store_true", help="time each stage on a fixed frame")
+    ap.add_argument("--ranger", default="edge", choices=["edge", "appearance", "fused"])
     a = ap.parse_args()
+    cfg = Config().with_overrides({"ranger.kind": a.ranger})
     if a.stages:
-        print(json.dumps({"resolution": f"{a.width}x{a.height}", **stages(a.width, a.height)}))
+        print(
+            json.dumps(
+                {
+                    "resolution": f"{a.width}x{a.height}",
+                    "ranger": a.ranger,
+                    **stages(a.width, a.height, config=cfg),
+                }
+            )
+        )
         return
     cam = Camera(width=a.width, height=a.height)
     r = drive(
@@ -32,12 +47,14 @@ def main() -> None:
             seconds=a.seconds, table="exact", sensor=a.sensor, keep_frames=0, columns=a.width // 2
         ),
         camera=cam,
+        config=cfg,
     )
     s = r.summary()
     print(
         json.dumps(
             {
                 "resolution": f"{a.width}x{a.height}",
+                "ranger": a.ranger,
                 "frames": len(r.record.step_s),
                 "step_ms_median": s["step_ms_median"],
                 "plan_ms_median": s["plan_ms_median"],
@@ -46,7 +63,7 @@ def main() -> None:
     )
 
 
-def stages(width: int = 640, height: int = 480, repeats: int = 50) -> dict:
+def stages(width: int = 640, height: int = 480, repeats: int = 50, config=None) -> dict:
     """Median time [ms] of each stage of one closed-loop step on a fixed corridor frame."""
     import time
 
@@ -62,12 +79,12 @@ def stages(width: int = 640, height: int = 480, repeats: int = 50) -> dict:
     )
     from floorscan.drive.loop import _visual_points
     from floorscan.drive.scan_matcher import ScanMatcher
-    from floorscan.ranging.ranger import VisualRanger
+    from floorscan.pipeline.mapper import ranger_from_config
     from floorscan.sim import render_image
 
     world, cam = World.builtin("corridor"), Camera(width=width, height=height)
     table = make_table(cam, "exact")
-    ranger = VisualRanger(table, columns=width // 2)
+    ranger = ranger_from_config(table, config or Config(), columns=width // 2)
     pose = tuple(world.start)
     image = render_image(world, cam, pose)
     m = AvoidanceMap(center=pose[:2])

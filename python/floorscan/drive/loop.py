@@ -151,7 +151,7 @@ def _between(a, b):
 def _visual_points(scan, mount) -> np.ndarray:
     """The scan's boundary points (N, 2) [m, robot frame]: the camera's ground frame moved by
     ``mount`` (robot_from_camera)."""
-    bnd = np.asarray(scan.status_codes) == ColumnStatus.BOUNDARY
+    bnd = np.asarray(scan.status_codes) == int(ColumnStatus.BOUNDARY)  # an int compares fast
     x, y = np.asarray(scan.x)[bnd], np.asarray(scan.y)[bnd]
     c, s = math.cos(mount[2]), math.sin(mount[2])
     return np.stack([mount[0] + c * x - s * y, mount[1] + s * x + c * y], 1)
