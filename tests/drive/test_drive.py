@@ -184,6 +184,36 @@ def test_options_are_validated():
         DriveOptions(sensor="sonar")
     with pytest.raises(OptionError):
         DriveOptions(table="guess")
+    with pytest.raises(OptionError, match="ranger"):
+        DriveOptions(ranger="sonar")
+
+
+def test_the_drive_ranges_with_its_own_kind_and_the_configs_options(monkeypatch):
+    """DriveOptions.ranger picks the range sensor (edge by default, whatever the
+    configuration's default kind); a configuration gives its options."""
+    import floorscan.drive.loop as loop
+    from floorscan.pipeline.config import Config
+    from floorscan.ranging.fused import FusedRanger
+
+    built = []
+    real = loop.ranger_from_config
+
+    def spy(table, cfg, **kw):
+        r = real(table, cfg, **kw)
+        built.append(r)
+        return r
+
+    monkeypatch.setattr(loop, "ranger_from_config", spy)
+    world = World.from_toml(HALL + BOX)
+    o = DriveOptions(seconds=0.2, table="exact", keep_frames=0)
+    drive(world, o)
+    assert isinstance(built[-1], VisualRanger)
+    cfg = Config().with_overrides({"ranger.threshold": 13.0})
+    drive(
+        world, DriveOptions(seconds=0.2, table="exact", keep_frames=0, ranger="fused"), config=cfg
+    )
+    assert isinstance(built[-1], FusedRanger)
+    assert built[-1].edge.options["threshold"] == 13.0
 
 
 def test_cli_drive_end_to_end(tmp_path):

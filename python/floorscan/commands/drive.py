@@ -51,6 +51,12 @@ def register(sub) -> None:
         "--config",
         help="configuration TOML: its [ranger] and [appearance] tables make the range sensor",
     )
+    p.add_argument(
+        "--ranger",
+        choices=["edge", "appearance", "fused"],
+        help="range sensor kind (default edge: DriveOptions.ranger; a --config gives the "
+        "rangers' options, not their kind)",
+    )
     p.add_argument("--no-gif", action="store_true", help="leave out drive.gif")
     p.add_argument(
         "--no-scan-matching",
@@ -70,6 +76,7 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     config = Config.load(args.config) if args.config else None
+    ranger = {"ranger": args.ranger} if args.ranger else {}
     if args.suite:
         seconds = args.seconds if args.seconds != 600.0 else 150.0
         kw = {"worlds": args.world} if args.world else {}
@@ -80,6 +87,7 @@ def run(args: argparse.Namespace) -> int:
             table=args.table,
             scan_matching=not args.no_scan_matching,
             config=config,
+            **ranger,
             **kw,
         )
         print(open(f"{args.out}/suite.md").read())
@@ -99,6 +107,7 @@ def run(args: argparse.Namespace) -> int:
         table=args.table,
         keep_frames=0 if args.no_gif else 5,
         scan_matching=not args.no_scan_matching,
+        **ranger,
     )
     result = drive(world, options, config=config)
     result.write(args.out, gif=not args.no_gif)

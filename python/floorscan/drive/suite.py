@@ -33,11 +33,12 @@ def run_suite(
     table: str = "exact",
     scan_matching: bool = True,
     config=None,
+    ranger: str = DriveOptions.ranger,
     progress=print,
 ) -> List[Dict]:
     """Runs every (world, speed, seed, sensor) for at most ``seconds`` [s] each (``worlds``:
     built-in names or world files; ``config``: the range sensor's configuration, see
-    :func:`~floorscan.drive.drive`); writes
+    :func:`~floorscan.drive.drive`; ``ranger``: its kind without one); writes
     ``suite.json`` and ``suite.md`` into ``out`` and returns the rows."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -59,6 +60,7 @@ def run_suite(
                         table=table,
                         keep_frames=0,
                         scan_matching=scan_matching,
+                        ranger=ranger,
                     )
                     s = drive(
                         world, o, camera=camera, table=tbl, waypoints=tour, config=config
