@@ -10,7 +10,10 @@
    `floorscan run`'s loop: resident memory sampled every 600 frames, to show it stays flat.
 
 Run: .venv/bin/python bench/run_pipeline.py [--minutes 10] [--fps-only] [--repeats 3]
-(prints Markdown)
+[--ranger edge|appearance|fused] [--columns N] (prints Markdown). The figures in BENCHMARKS.md
+use the edge ranger on 64 columns (the defaults of the bench, the configuration's defaults
+before issue 13 made them the fused ranger on columns placed by floor distance: `--ranger
+fused --columns 0`).
 """
 
 from __future__ import annotations
@@ -68,8 +71,7 @@ SOURCES = {
 }
 
 
-def fps(tmp: Path, repeats: int) -> None:
-    cfg = Config()
+def fps(tmp: Path, repeats: int, cfg: Config) -> None:
     cam = Camera(width=640, height=480)
     sim = simulate_run(
         World.builtin("corridor"),
@@ -116,7 +118,8 @@ def fps(tmp: Path, repeats: int) -> None:
     best = {name: max(v) for name, v in results.items()}
     base = best["baseline: cv2.imread on a 2-thread pool, 4 frames ahead"]
     print(
-        f"| 640x480, 64 columns, {n} frames | frames/s (each run) | best | vs baseline "
+        f"| 640x480, {cfg.ranger.kind} ranger, {len(mapper.ranger.columns)} columns, {n} frames "
+        "| frames/s (each run) | best | vs baseline "
         "| CPU ms per frame, all threads (least) |"
     )
     print("|---|---:|---:|---:|---:|")
@@ -183,8 +186,13 @@ if __name__ == "__main__":
     ap.add_argument("--minutes", type=float, default=10.0)
     ap.add_argument("--fps-only", action="store_true", help="skip the memory run")
     ap.add_argument("--repeats", type=int, default=3, help="alternating runs of each variant")
+    ap.add_argument("--ranger", default="edge", choices=["edge", "appearance", "fused"])
+    ap.add_argument("--columns", type=int, default=64, help="0: the configuration's default")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as d:
-        fps(Path(d), args.repeats)
+        over = {"ranger.kind": args.ranger}
+        if args.columns:
+            over["ranger.columns"] = args.columns
+        fps(Path(d), args.repeats, Config().with_overrides(over))
         if not args.fps_only:
             memory(Path(d), args.minutes)
