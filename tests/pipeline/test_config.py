@@ -88,7 +88,9 @@ def test_every_printed_default_is_the_rust_default(capsys):
     ranger = {k: v for k, v in printed["ranger"].items() if k not in RANGER_EXTRAS}
     assert ranger == defaults("ranger")
     appearance = {
-        k: v for k, v in printed["appearance"].items() if k not in ("snap_rows", "snap_fraction")
+        k: v
+        for k, v in printed["appearance"].items()
+        if k not in ("snap_rows", "snap_fraction", "texture_share")
     }
     expected = {k: v for k, v in defaults("appearance").items() if k not in SHARED_WITH_RANGER}
     assert appearance == expected

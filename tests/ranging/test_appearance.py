@@ -141,6 +141,21 @@ def test_fused_takes_nearby_edges_and_ignores_grout_lines():
         FusedRanger(edge, fs.AppearanceRanger(table, columns=4), snap_rows=1)
 
 
+@pytest.mark.parametrize("share", [-0.1, 1.5, float("nan")])
+def test_fused_texture_share_out_of_range_is_an_option_error(share):
+    table = image_row_table(W, H)
+    edge = fs.VisualRanger(table, columns=8, max_range_m=None)
+    app = fs.AppearanceRanger(table, columns=8, max_range_m=None)
+    with pytest.raises(fs.OptionError, match="texture_share"):
+        FusedRanger(edge, app, texture_share=share)
+
+
+def test_fused_texture_share_comes_from_the_config():
+    cfg = Config().with_overrides({"ranger.kind": "fused", "appearance.texture_share": 0.4})
+    r = ranger_from_config(image_row_table(W, H), cfg, max_range_m=None, columns=8)
+    assert r.options["texture_share"] == 0.4
+
+
 @pytest.mark.parametrize("fraction", [-0.1, 1.5, float("nan")])
 def test_fused_snap_fraction_out_of_range_is_an_option_error(fraction):
     table = image_row_table(W, H)

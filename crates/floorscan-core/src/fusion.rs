@@ -5,12 +5,46 @@
 //! ranger found its first edge within `snap_rows` of the appearance boundary (both boundary or
 //! too-close) or when the appearance ranger saw nothing but floor (no boundary), and the
 //! appearance reading otherwise (an edge far below an appearance boundary is floor texture).
+//!
+//! A frame whose floor breaks the texture assumption (more than `texture_share` of its edge
+//! boundaries lie farther than `snap_rows` below an appearance boundary: grout lines, plank
+//! joints, a printed pattern) also gives the appearance ranger's "only floor" columns to the
+//! appearance reading: in such a frame an edge where the floor's look does not end is the
+//! floor's own pattern, not a grey obstacle on a grey floor.
 
 use crate::error::{Error, Result};
 use crate::scan::{ColumnOutcome, Scan};
 
-/// Fuses two scans of the same frame and columns into `out` (its buffer reused).
-pub fn fuse_scans(edge: &Scan, appearance: &Scan, snap_rows: f64, out: &mut Scan) -> Result<()> {
+/// The share of `edge`'s boundary columns whose boundary lies more than `snap_rows` below
+/// (nearer than) the appearance boundary of the same column: how much of the frame's floor
+/// pattern the edge ranger took for obstacles. 0 without edge boundaries.
+pub fn texture_edge_share(edge: &Scan, appearance: &Scan, snap_rows: f64) -> f64 {
+    let (mut boundaries, mut below) = (0usize, 0usize);
+    for (e, a) in edge.readings.iter().zip(&appearance.readings) {
+        if let ColumnOutcome::Boundary { row: re, .. } = e.outcome {
+            boundaries += 1;
+            if let ColumnOutcome::Boundary { row: ra, .. } = a.outcome {
+                below += usize::from(re - ra > snap_rows);
+            }
+        }
+    }
+    if boundaries == 0 {
+        0.0
+    } else {
+        below as f64 / boundaries as f64
+    }
+}
+
+/// Fuses two scans of the same frame and columns into `out` (its buffer reused); a frame
+/// whose [`texture_edge_share`] exceeds `texture_share` (in [0, 1]; 1: never) takes the
+/// appearance reading where the appearance ranger saw only floor.
+pub fn fuse_scans(
+    edge: &Scan,
+    appearance: &Scan,
+    snap_rows: f64,
+    texture_share: f64,
+    out: &mut Scan,
+) -> Result<()> {
     if edge.len() != appearance.len()
         || edge
             .readings
@@ -28,6 +62,13 @@ pub fn fuse_scans(edge: &Scan, appearance: &Scan, snap_rows: f64, out: &mut Scan
             format!("must be finite and >= 0, got {snap_rows}"),
         ));
     }
+    if !(0.0..=1.0).contains(&texture_share) {
+        return Err(crate::error::invalid_option(
+            "texture_share",
+            format!("must be in [0, 1], got {texture_share}"),
+        ));
+    }
+    let textured = texture_edge_share(edge, appearance, snap_rows) > texture_share;
     out.timestamp_s = appearance.timestamp_s;
     out.readings.clear();
     out.readings.extend(
@@ -44,7 +85,7 @@ pub fn fuse_scans(edge: &Scan, appearance: &Scan, snap_rows: f64, out: &mut Scan
                     (ColumnOutcome::Boundary { row, .. }, ColumnOutcome::TooClose) => {
                         (row - a.start_row).abs() <= snap_rows
                     }
-                    (_, ColumnOutcome::NoBoundary { .. }) => true,
+                    (_, ColumnOutcome::NoBoundary { .. }) => !textured,
                     _ => false,
                 };
                 if agree {
@@ -110,7 +151,7 @@ mod tests {
             ],
         };
         let mut out = Scan::default();
-        fuse_scans(&edge, &appearance, 2.0, &mut out).unwrap();
+        fuse_scans(&edge, &appearance, 2.0, 1.0, &mut out).unwrap();
         assert_eq!(out.readings[0], edge.readings[0]);
         assert_eq!(out.readings[1], appearance.readings[1]);
         assert_eq!(out.readings[2], edge.readings[2]);
@@ -124,13 +165,56 @@ mod tests {
                 farthest: Point2::new(3.0, 0.0),
             },
         );
-        fuse_scans(&edge, &app2, 2.0, &mut out).unwrap();
+        fuse_scans(&edge, &app2, 2.0, 1.0, &mut out).unwrap();
         assert_eq!(out.readings[1], edge.readings[1]);
         let short = Scan {
             timestamp_s: 1.0,
             readings: vec![boundary(0, 1.0)],
         };
-        assert!(fuse_scans(&edge, &short, 2.0, &mut out).is_err());
-        assert!(fuse_scans(&edge, &appearance, f64::NAN, &mut out).is_err());
+        assert!(fuse_scans(&edge, &short, 2.0, 1.0, &mut out).is_err());
+        assert!(fuse_scans(&edge, &appearance, f64::NAN, 1.0, &mut out).is_err());
+        assert!(fuse_scans(&edge, &appearance, 2.0, 1.5, &mut out).is_err());
+        assert!(fuse_scans(&edge, &appearance, 2.0, f64::NAN, &mut out).is_err());
+    }
+
+    #[test]
+    fn a_frame_of_floor_pattern_trusts_the_appearance_rangers_floor() {
+        // Four boundary columns by the edge ranger: two far below appearance boundaries (a
+        // pattern), one agreeing, one where the appearance ranger saw only floor.
+        let nb = || ColumnOutcome::NoBoundary {
+            top_row: 0.0,
+            farthest: Point2::new(3.0, 0.0),
+        };
+        let edge = Scan {
+            timestamp_s: 1.0,
+            readings: vec![
+                boundary(0, 90.0),
+                boundary(1, 85.0),
+                boundary(2, 50.0),
+                boundary(3, 70.0),
+            ],
+        };
+        let appearance = Scan {
+            timestamp_s: 1.0,
+            readings: vec![
+                boundary(0, 40.0),
+                boundary(1, 42.0),
+                boundary(2, 49.5),
+                reading(3, nb()),
+            ],
+        };
+        // 2 of 4 edge boundaries lie below the appearance boundary by more than the snap
+        assert_eq!(texture_edge_share(&edge, &appearance, 3.0), 0.5);
+        let mut out = Scan::default();
+        fuse_scans(&edge, &appearance, 3.0, 0.4, &mut out).unwrap();
+        assert_eq!(out.readings[3], appearance.readings[3]); // textured: the floor stands
+        assert_eq!(out.readings[2], edge.readings[2]); // agreement still snaps to the edge
+        fuse_scans(&edge, &appearance, 3.0, 0.5, &mut out).unwrap();
+        assert_eq!(out.readings[3], edge.readings[3]); // not above the share: the edge stands
+        let none = Scan {
+            timestamp_s: 1.0,
+            readings: vec![reading(0, nb())],
+        };
+        assert_eq!(texture_edge_share(&none, &none, 3.0), 0.0);
     }
 }

@@ -115,8 +115,20 @@ impl PyAppearanceRanger {
 /// Fuses an edge scan and an appearance scan of the same frame and columns
 /// (`floorscan_core::fusion`).
 #[pyfunction]
-pub fn fuse(edge: &PyScan, appearance: &PyScan, snap_rows: f64) -> PyResult<PyScan> {
+pub fn fuse(
+    edge: &PyScan,
+    appearance: &PyScan,
+    snap_rows: f64,
+    texture_share: f64,
+) -> PyResult<PyScan> {
     let mut out = Scan::default();
-    fuse_scans(&edge.inner, &appearance.inner, snap_rows, &mut out).py()?;
+    fuse_scans(
+        &edge.inner,
+        &appearance.inner,
+        snap_rows,
+        texture_share,
+        &mut out,
+    )
+    .py()?;
     Ok(PyScan { inner: out })
 }

@@ -182,7 +182,7 @@ def default_ranger_options() -> Any:
     The default `RangerOptions` (its serde form, a dict).
     """
 
-def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex) -> Scan:
+def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex, texture_share: SupportsFloat | SupportsIndex) -> Scan:
     """
     Fuses an edge scan and an appearance scan of the same frame and columns
     (`floorscan_core::fusion`).

@@ -30,7 +30,7 @@ from ..calibration.options import CalibrationOptions
 from ..errors import ConfigError, OptionError
 from ..formats.toml_file import dumps_toml, load_toml, loads_toml
 from ..options import check, field_docs
-from ..ranging.fused import SNAP_FRACTION, SNAP_ROWS
+from ..ranging.fused import SNAP_FRACTION, SNAP_ROWS, TEXTURE_SHARE
 
 _CAL = CalibrationOptions()
 
@@ -65,6 +65,10 @@ class AppearanceExtras:
     snap_fraction: float = doc(
         "fused ranger: the same distance as a share of the image height, in [0, 1]; the larger of the two applies",
         SNAP_FRACTION,
+    )
+    texture_share: float = doc(
+        "fused ranger: a frame where more than this share of the edge boundaries lie below appearance boundaries breaks the texture assumption, and its columns the appearance ranger saw as floor stay floor; in [0, 1], 1: never",
+        TEXTURE_SHARE,
     )
 
 

@@ -56,7 +56,13 @@ def ranger_from_config(table: GroundTable, cfg: Config, **overrides):
         return edge()
     if r.kind == "appearance":
         return appearance()
-    return FusedRanger(edge(), appearance(), snap_rows=a.snap_rows, snap_fraction=a.snap_fraction)
+    return FusedRanger(
+        edge(),
+        appearance(),
+        snap_rows=a.snap_rows,
+        snap_fraction=a.snap_fraction,
+        texture_share=a.texture_share,
+    )
 
 
 def grid_kwargs(cfg: Config) -> Dict[str, object]:
