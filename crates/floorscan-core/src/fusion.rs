@@ -9,8 +9,9 @@
 //! A frame whose floor breaks the texture assumption (more than `texture_share` of its edge
 //! boundaries lie farther than `snap_rows` below an appearance boundary: grout lines, plank
 //! joints, a printed pattern) also gives the appearance ranger's "only floor" columns to the
-//! appearance reading: in such a frame an edge where the floor's look does not end is the
-//! floor's own pattern, not a grey obstacle on a grey floor.
+//! appearance reading where the edge ranger found a boundary: in such a frame an edge where
+//! the floor's look does not end is the floor's own pattern, not a grey obstacle on a grey
+//! floor. A too-close edge reading stays (the robot may be touching an obstacle).
 
 use crate::error::{Error, Result};
 use crate::scan::{ColumnOutcome, Scan};
@@ -85,7 +86,9 @@ pub fn fuse_scans(
                     (ColumnOutcome::Boundary { row, .. }, ColumnOutcome::TooClose) => {
                         (row - a.start_row).abs() <= snap_rows
                     }
-                    (_, ColumnOutcome::NoBoundary { .. }) => !textured,
+                    // a too-close edge stays: the robot may be at an obstacle already
+                    (ColumnOutcome::Boundary { .. }, ColumnOutcome::NoBoundary { .. }) => !textured,
+                    (_, ColumnOutcome::NoBoundary { .. }) => true,
                     _ => false,
                 };
                 if agree {
@@ -192,6 +195,7 @@ mod tests {
                 boundary(1, 85.0),
                 boundary(2, 50.0),
                 boundary(3, 70.0),
+                reading(4, ColumnOutcome::TooClose),
             ],
         };
         let appearance = Scan {
@@ -201,6 +205,7 @@ mod tests {
                 boundary(1, 42.0),
                 boundary(2, 49.5),
                 reading(3, nb()),
+                reading(4, nb()),
             ],
         };
         // 2 of 4 edge boundaries lie below the appearance boundary by more than the snap
@@ -209,6 +214,7 @@ mod tests {
         fuse_scans(&edge, &appearance, 3.0, 0.4, &mut out).unwrap();
         assert_eq!(out.readings[3], appearance.readings[3]); // textured: the floor stands
         assert_eq!(out.readings[2], edge.readings[2]); // agreement still snaps to the edge
+        assert_eq!(out.readings[4], edge.readings[4]); // too close stays
         fuse_scans(&edge, &appearance, 3.0, 0.5, &mut out).unwrap();
         assert_eq!(out.readings[3], edge.readings[3]); // not above the share: the edge stands
         let none = Scan {
