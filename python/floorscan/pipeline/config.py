@@ -67,7 +67,7 @@ class AppearanceExtras:
         SNAP_FRACTION,
     )
     texture_share: float = doc(
-        "fused ranger: a frame where more than this share of the edge boundaries lie below appearance boundaries breaks the texture assumption, and its columns the appearance ranger saw as floor stay floor; in [0, 1], 1 (the default): never; 0.15 for a tiled floor (EVALUATION.md)",
+        "fused ranger: a frame where more than this share of the edge boundaries lie below appearance boundaries breaks the texture assumption, and its columns the appearance ranger saw as floor stay floor; in [0, 1], 1: never",
         TEXTURE_SHARE,
     )
 
