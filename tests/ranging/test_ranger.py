@@ -185,9 +185,10 @@ def test_table_must_be_a_ground_table():
 
 @pytest.mark.parametrize("width_m,range_m", [(0.03, 1.0), (0.08, 2.0)])
 def test_spaced_columns_leave_no_gap_wider_than_the_obstacle(width_m, range_m):
-    """Columns placed by floor distance (the default): between two consecutive columns no
-    obstacle of the width at the range fits, checked by brute force on the simulator camera's
-    table (fisheye, so the spacing in pixels varies across the image)."""
+    """Columns placed by floor distance (the default): between two consecutive columns'
+    bearings (at their ground nearest the range) no more than the angle the obstacle subtends
+    at the range, so at the range no obstacle of the width fits between them; checked by brute
+    force on the simulator camera's table (fisheye, so the spacing in pixels varies)."""
     from floorscan.sim import Camera
 
     table = Camera().ground_table(spacing_px=4)
@@ -198,13 +199,13 @@ def test_spaced_columns_leave_no_gap_wider_than_the_obstacle(width_m, range_m):
     x, y = table.lookup(np.broadcast_to(u, (len(u), H)), np.broadcast_to(v, (len(u), H)))
     gap = np.abs(np.hypot(x, y) - range_m)
     best = np.nanargmin(np.where(np.isfinite(gap), gap, np.inf), axis=1)
-    px, py = x[np.arange(len(u)), best], y[np.arange(len(u)), best]
+    bearing = np.arctan2(y[np.arange(len(u)), best], x[np.arange(len(u)), best])
+    reach = 2 * np.arcsin(width_m / (2 * range_m))
     a, b = cols[:-1], cols[1:]
     split = b > a + 1  # adjacent pixel columns cannot be split further
-    d = np.hypot(px[b] - px[a], py[b] - py[a])[split]
-    assert d.max() <= width_m + 1e-9
+    assert np.abs(bearing[b] - bearing[a])[split].max() <= reach + 1e-12
     # and not needlessly dense: skipping every other column would leave some gap too wide
-    assert np.hypot(np.diff(px[cols[::2]]), np.diff(py[cols[::2]])).max() > width_m
+    assert np.abs(np.diff(bearing[cols[::2]])).max() > reach
     # the default is this rule for a 3 cm leg at 1 m
     default = VisualRanger(table).columns
     spaced = VisualRanger(table, columns={"obstacle_width_m": 0.03, "range_m": 1.0}).columns

@@ -251,11 +251,7 @@ impl AppearanceRanger {
 
     /// Whether pixel (u, v) looks like floor to the current model.
     pub fn looks_like_floor<P: Pixel>(&self, image: &ColourView<P>, u: usize, v: usize) -> bool {
-        let texture = match self.options.features {
-            AppearanceFeatures::Colour => None,
-            AppearanceFeatures::ColourAndTexture => Some(texture_bin(gradient(image, u, v))),
-        };
-        self.model.is_floor(colour_bin(image.rgb8(u, v)), texture)
+        RowPixels::new(image, v, self.options.features).is_floor(&self.model, u)
     }
 
     /// `row_prefix[u + 1] - row_prefix[u]` = 1 where pixel (u, v) looks like floor, for
@@ -292,8 +288,10 @@ impl AppearanceRanger {
         for u in (0..image.width()).step_by(REFERENCE_STRIDE) {
             if let Some((top, bottom)) = self.reference[u] {
                 for v in (top..=bottom).rev().step_by(REFERENCE_STRIDE) {
-                    let t = texture_bin(gradient(image, u, v));
-                    self.model.add(colour_bin(image.rgb8(u, v)), t);
+                    let row = RowPixels::new(image, v, AppearanceFeatures::ColourAndTexture);
+                    if let (colour, Some(texture)) = row.bins(u) {
+                        self.model.add(colour, texture);
+                    }
                 }
             }
         }
@@ -454,9 +452,11 @@ fn margin(share: f32) -> f32 {
     (2.0 * share - 1.0).clamp(0.0, 1.0)
 }
 
-/// One image row's pixels, read from the channels' row slices: the colour and texture bins
-/// of [`AppearanceRanger::looks_like_floor`] without its per-pixel index arithmetic (the same
-/// bins; the row and column scans are tested against it).
+/// One image row's pixels, read from the channels' row slices: each pixel's colour bin and
+/// texture bin, the texture being |G(u+1, v) - G(u-1, v)| + 2 |G(u, v+1) - G(u, v)| of the green
+/// channel (8-bit scale, clamped at the borders). The vertical difference looks only
+/// downwards, so the floor row just below an obstacle keeps its floor texture and the boundary
+/// stays on the obstacle's base.
 struct RowPixels<'a, P: Pixel> {
     red: &'a [P],
     green: &'a [P],
@@ -482,8 +482,9 @@ impl<'a, P: Pixel> RowPixels<'a, P> {
         }
     }
 
+    /// (colour bin, texture bin when texture is used) of pixel u.
     #[inline(always)]
-    fn is_floor(&self, model: &FloorModel, u: usize) -> bool {
+    fn bins(&self, u: usize) -> (usize, Option<usize>) {
         let shift = if P::MAX > 255 { 8 } else { 0 };
         let at = |row: &[P], stride: usize, u: usize| row[u * stride].to_i32() >> shift;
         let [rs, gs, bs] = self.strides;
@@ -494,22 +495,14 @@ impl<'a, P: Pixel> RowPixels<'a, P> {
             let across = at(self.green, gs, ur) - at(self.green, gs, ul);
             texture_bin(across.abs() + 2 * (at(self.green_below, gs, u) - g0).abs())
         });
+        (colour, texture)
+    }
+
+    #[inline(always)]
+    fn is_floor(&self, model: &FloorModel, u: usize) -> bool {
+        let (colour, texture) = self.bins(u);
         model.is_floor(colour, texture)
     }
-}
-
-/// Texture at (u, v): |G(u+1, v) - G(u-1, v)| + 2 |G(u, v+1) - G(u, v)| of the green channel
-/// (8-bit scale, clamped at the borders). The vertical difference looks only downwards, so the
-/// floor row just below an obstacle keeps its floor texture and the boundary stays on the
-/// obstacle's base.
-#[inline(always)]
-fn gradient<P: Pixel>(image: &ColourView<P>, u: usize, v: usize) -> i32 {
-    let g = image.channel(1);
-    let shift = if P::MAX > 255 { 8 } else { 0 };
-    let at = |u: usize, v: usize| g.get(u, v).to_i32() >> shift;
-    let (ul, ur) = (u.saturating_sub(1), (u + 1).min(g.width() - 1));
-    let vb = (v + 1).min(g.height() - 1);
-    (at(ur, v) - at(ul, v)).abs() + 2 * (at(u, vb) - at(u, v)).abs()
 }
 
 #[cfg(test)]

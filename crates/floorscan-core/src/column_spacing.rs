@@ -2,20 +2,21 @@
 //! obstacle of a given width at a given range cannot stand between two sampled columns (a
 //! chair leg stepped over by evenly spaced columns is an obstacle the map never sees).
 //!
-//! For every image column, the ground point whose range is nearest the asked range is found
-//! in the ground table (so the rule holds for any lens, with no pinhole assumption); walking
-//! across the image, a column is taken whenever the next one's point would lie farther than
-//! the obstacle's width from the last taken column's point. Where the nearest ground a column
-//! sees lies beyond the asked range, the spacing is kept there (stricter: the same width
-//! subtends a smaller angle farther away).
+//! For every image column, the bearing of the ground point whose range is nearest the asked
+//! range is read from the ground table (so the rule holds for any lens, with no pinhole
+//! assumption); walking across the image, a column is taken whenever the next one's bearing
+//! would differ from the last taken column's by more than the angle the obstacle subtends at
+//! that range, 2 asin(width / 2 range). Bearings, not floor distances: a table that stops short
+//! of the range (a calibration that covers only the near floor) still gets the spacing the
+//! range needs.
 
 use crate::error::{invalid_option, Result};
 use crate::ground_table::GroundTable;
 use crate::pose::Point2;
 
-/// Per image column: the ground point [m] whose range is nearest `range_m`, `None` where the
-/// column has no ground.
-fn points_at_range(table: &GroundTable, range_m: f64) -> Vec<Option<Point2>> {
+/// Per image column: the bearing [rad] of the ground point whose range is nearest `range_m`,
+/// `None` where the column has no ground.
+fn bearings_at_range(table: &GroundTable, range_m: f64) -> Vec<Option<f64>> {
     let (w, h) = (table.image_width(), table.image_height());
     (0..w)
         .map(|u| {
@@ -28,15 +29,20 @@ fn points_at_range(table: &GroundTable, range_m: f64) -> Vec<Option<Point2>> {
                     }
                 }
             }
-            best.map(|(_, p)| p)
+            best.map(|(_, p)| p.y.atan2(p.x))
         })
         .collect()
 }
 
-/// The image columns (ascending) such that consecutive columns' ground points near
-/// `range_m` [m] lie at most `obstacle_width_m` [m] apart, where the pixels allow (adjacent
-/// pixel columns farther apart than that are both taken). Columns without ground are left
-/// out. Errors: non-positive or non-finite arguments, or a table without ground.
+/// The angle [rad] an obstacle `width_m` wide subtends at `range_m`.
+pub fn subtended_rad(width_m: f64, range_m: f64) -> f64 {
+    2.0 * (width_m / (2.0 * range_m)).min(1.0).asin()
+}
+
+/// The image columns (ascending) such that consecutive columns' bearings differ by at most
+/// [`subtended_rad`]`(obstacle_width_m, range_m)`, where the pixels allow (adjacent pixel
+/// columns farther apart than that are both taken). Columns without ground are left out.
+/// Errors: non-positive or non-finite arguments, or a table without ground.
 pub fn spaced_columns(
     table: &GroundTable,
     obstacle_width_m: f64,
@@ -54,34 +60,35 @@ pub fn spaced_columns(
             format!("must be finite and > 0, got {range_m}"),
         ));
     }
-    let points = points_at_range(table, range_m);
-    let dist = |a: Point2, b: Point2| (a.x - b.x).hypot(a.y - b.y);
+    let reach = subtended_rad(obstacle_width_m, range_m);
     let mut out: Vec<u32> = Vec::new();
     // The last column taken and the last one with ground (each column seen but not taken
-    // lies within the width of the last one taken).
-    let mut taken: Option<(usize, Point2)> = None;
-    let mut seen: Option<(usize, Point2)> = None;
-    for (u, p) in points.iter().enumerate() {
-        let Some(p) = *p else { continue };
-        let mut take = |c: usize, q: Point2, taken: &mut Option<(usize, Point2)>| {
-            out.push(c as u32);
-            *taken = Some((c, q));
-        };
+    // lies within reach of the last one taken).
+    let mut taken: Option<(usize, f64)> = None;
+    let mut seen: Option<(usize, f64)> = None;
+    for (u, b) in bearings_at_range(table, range_m).into_iter().enumerate() {
+        let Some(b) = b else { continue };
         match (taken, seen) {
-            (None, _) => take(u, p, &mut taken),
-            (Some((tu, tp)), Some((su, sp))) if dist(p, tp) > obstacle_width_m => {
+            (None, _) => {
+                out.push(u as u32);
+                taken = Some((u, b));
+            }
+            (Some((tu, tb)), Some((su, sb))) if (b - tb).abs() > reach => {
                 if su != tu {
-                    take(su, sp, &mut taken);
+                    out.push(su as u32);
                 }
                 // Adjacent columns (or the two sides of a gap without ground) farther apart
-                // than the width: this one too.
-                if dist(p, sp) > obstacle_width_m || su == tu {
-                    take(u, p, &mut taken);
+                // than the reach: this one too.
+                if (b - sb).abs() > reach || su == tu {
+                    out.push(u as u32);
+                    taken = Some((u, b));
+                } else {
+                    taken = Some((su, sb));
                 }
             }
             _ => {}
         }
-        seen = Some((u, p));
+        seen = Some((u, b));
     }
     if let (Some((su, _)), Some((tu, _))) = (seen, taken) {
         if su != tu {
@@ -118,16 +125,24 @@ mod tests {
         .unwrap()
     }
 
-    /// Brute force: the largest gap between consecutive chosen columns' points near the
-    /// range, over the pairs whose pixels are not adjacent (adjacent pixels cannot be split).
-    fn worst_gap(table: &GroundTable, cols: &[u32], range_m: f64) -> f64 {
-        let pts = points_at_range(table, range_m);
+    /// Brute force: the largest bearing difference between consecutive chosen columns' points
+    /// nearest the range (every pixel row looked up), over the pairs whose pixels are not
+    /// adjacent (adjacent pixels cannot be split).
+    fn worst_gap_rad(table: &GroundTable, cols: &[u32], range_m: f64) -> f64 {
+        let bearing = |u: u32| {
+            (0..table.image_height())
+                .filter_map(|v| table.lookup(u as f64, v as f64))
+                .min_by(|a, b| {
+                    (a.norm() - range_m)
+                        .abs()
+                        .total_cmp(&(b.norm() - range_m).abs())
+                })
+                .map(|p| p.y.atan2(p.x))
+                .unwrap()
+        };
         cols.windows(2)
             .filter(|w| w[1] > w[0] + 1)
-            .map(|w| {
-                let (a, b) = (pts[w[0] as usize].unwrap(), pts[w[1] as usize].unwrap());
-                (a.x - b.x).hypot(a.y - b.y)
-            })
+            .map(|w| (bearing(w[1]) - bearing(w[0])).abs())
             .fold(0.0, f64::max)
     }
 
@@ -136,7 +151,13 @@ mod tests {
         let t = pinhole(640, 480, 300.0, 0.3, 0.5);
         for (width, range) in [(0.03, 1.0), (0.05, 2.0), (0.10, 1.0)] {
             let cols = spaced_columns(&t, width, range).unwrap();
-            assert!(worst_gap(&t, &cols, range) <= width, "{width} at {range}");
+            let reach = subtended_rad(width, range);
+            assert!(
+                worst_gap_rad(&t, &cols, range) <= reach,
+                "{width} at {range}"
+            );
+            // at the range itself, the chord between neighbouring bearings is the width
+            assert!((2.0 * range * (reach / 2.0).sin() - width).abs() < 1e-12);
             assert!(cols.windows(2).all(|w| w[0] < w[1]));
             assert_eq!(cols[0], 0);
             assert_eq!(*cols.last().unwrap(), 639);
@@ -155,6 +176,21 @@ mod tests {
         let a = spaced_columns(&t, 0.03, 1.0).unwrap().len();
         let b = spaced_columns(&t, 0.10, 1.0).unwrap().len();
         assert!(b < a);
+    }
+
+    #[test]
+    fn a_table_short_of_the_range_keeps_the_ranges_angular_spacing() {
+        // A calibration that covers the floor only to 0.6 m: the columns' bearings still lie
+        // within the angle a 3 cm obstacle subtends at 1 m (a floor distance of 3 cm at 0.6 m
+        // would allow 1.7 times that).
+        let full = pinhole(640, 480, 300.0, 0.3, 0.5);
+        let short = GroundTable::from_fn(640, 480, 4, |u, v| {
+            full.lookup(u, v).filter(|p| p.norm() <= 0.6)
+        })
+        .unwrap();
+        let b = spaced_columns(&short, 0.03, 1.0).unwrap();
+        assert!(worst_gap_rad(&short, &b, 1.0) <= subtended_rad(0.03, 1.0));
+        assert!(b.len() > spaced_columns(&short, 0.03 / 0.6, 1.0).unwrap().len());
     }
 
     #[test]

@@ -50,6 +50,8 @@ pub mod raycast;
 pub mod scan;
 pub mod scan_matcher;
 pub mod sonar;
+#[cfg(test)]
+mod test_rng;
 
 pub use appearance::AppearanceRanger;
 pub use appearance_options::{AppearanceFeatures, AppearanceOptions};

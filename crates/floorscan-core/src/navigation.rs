@@ -247,13 +247,8 @@ mod tests {
 
     #[test]
     fn dijkstra_equals_relaxation_on_random_grids() {
-        let mut state = 12345u64;
-        let mut rnd = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % 10_000) as f64 / 10_000.0
-        };
+        let mut stream = crate::test_rng::XorShift::new(12345);
+        let mut rnd = || stream.fraction(10_000);
         for _ in 0..20 {
             let (w, h) = (17, 11);
             let blocked: Vec<bool> = (0..w * h).map(|_| rnd() < 0.25).collect();

@@ -93,13 +93,8 @@ mod tests {
     #[test]
     fn robust_sigma_of_gaussian_samples_is_their_standard_deviation() {
         // Box-Muller from a fixed xorshift stream; sigma 40 (integers lose little).
-        let mut s = 0x9E37_79B9_7F4A_7C15u64;
-        let mut uniform = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut stream = crate::test_rng::XorShift::new(0x9E37_79B9_7F4A_7C15);
+        let mut uniform = || (stream.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         let mut v: Vec<i32> = (0..20000)
             .map(|_| {
                 let (a, b) = (uniform().max(1e-12), uniform());
@@ -125,13 +120,8 @@ mod tests {
 
     #[test]
     fn counting_gives_the_selections_result_on_random_samples() {
-        let mut s = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            s
-        };
+        let mut stream = crate::test_rng::XorShift::new(0x2545_F491_4F6C_DD1D);
+        let mut next = || stream.next_u64();
         let mut histogram = vec![0u32; MAX_HISTOGRAM_SPAN];
         for trial in 0..300 {
             let n = 1 + (next() % 500) as usize;

@@ -72,7 +72,7 @@ pub struct RangerOptions {
     /// one-pixel step near the filter's sub-pixel peak).
     pub refinement: Refinement,
     /// Sampled columns. Default: placed from the ground table so that no obstacle 3 cm wide
-    /// (a chair leg) at 1 m stands between two columns (about 120 columns on a 320-pixel
+    /// (a chair leg) at 1 m stands between two columns (115 columns on a 320-pixel
     /// 136-degree camera; evenly spaced 64 stepped over 15 % of such legs in the simulator).
     pub columns: ColumnSelection,
     /// Start of each column's scan. Default: 2 px bottom margin (dead border rows are common).

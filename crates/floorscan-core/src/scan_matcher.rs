@@ -452,13 +452,8 @@ mod tests {
 
     #[test]
     fn the_search_finds_the_brute_force_best_on_random_fields_and_points_near_the_edges() {
-        let mut state = 99u64;
-        let mut rnd = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % 1_000_000) as f64 / 1_000_000.0
-        };
+        let mut stream = crate::test_rng::XorShift::new(99u64);
+        let mut rnd = || stream.fraction(1_000_000);
         for _ in 0..10 {
             let (w, h) = (23, 17);
             let values: Vec<f32> = (0..w * h).map(|_| rnd() as f32).collect();
@@ -574,13 +569,8 @@ mod tests {
 
     #[test]
     fn the_row_wise_sums_equal_the_padded_gathers_bit_for_bit() {
-        let mut state = 7u64;
-        let mut rnd = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % 1_000_000) as f64 / 1_000_000.0
-        };
+        let mut stream = crate::test_rng::XorShift::new(7u64);
+        let mut rnd = || stream.fraction(1_000_000);
         for _ in 0..20 {
             let (w, h) = (31, 19);
             let values: Vec<f32> = (0..w * h).map(|_| rnd() as f32).collect();

@@ -22,19 +22,21 @@ SNAP_ROWS = 3.0
 """Default ``snap_rows``."""
 SNAP_FRACTION = 0.08
 """Default ``snap_fraction``: on the simulated carpets the appearance boundary lies a median 7-18
-rows of 240 above a right edge (a grey baseboard looks like the grey carpet), on tiles and
-planks a median 63-93 rows above a wrong one (10th percentile 22-46)."""
+rows of 240 above a right edge (a grey skirting board looks like the grey carpet), on tiles and
+planks a median 62-93 rows above a wrong one (10th percentile 22-46):
+``.venv/bin/python bench/fusion_gaps.py``."""
 
 
 TEXTURE_SHARE = 0.15
-"""Default ``texture_share``, chosen on 20 s of each simulated world (seed 0): on the carpets
-0-9 % of a frame's edge boundaries lie below an appearance boundary (median 1 %), on tiles a
-median 38 %. Over the whole simulated suite (31 scenarios, other seeds and a wide lens among
-them) 0.15 against off: all columns 27.0 -> 23.2 % wrong, tiles 57 -> 36 %, patterned carpet
-88 -> 81 %, planks 19 -> 18 %, the carpets unchanged (4.1 %); the real floor set 81.2 -> 82.3 %
-(the living rooms' parquet and rugs 1.4-3.6 points worse, the mall's tiles unchanged). Over
-both sets together 0.15 has fewer wrong columns (EVALUATION.md, "Range sensor kinds"); 1
-turns it off."""
+"""Default ``texture_share``, chosen on 20 s of each simulated world (seed 0,
+``.venv/bin/python bench/fusion_gaps.py``): on the carpets at most 3 % of a frame's edge
+boundaries lie farther than the snap distance below an appearance boundary (90th
+percentile), on tiles a median 37 %. Over the whole simulated suite (31 scenarios, other seeds
+and a wide lens among them) 0.15 against off: all columns 27.0 -> 23.2 % wrong, tiles 57 ->
+36 %, patterned carpet 88 -> 81 %, planks 19 -> 18 %, the carpets unchanged (4.1 %); the real
+floor set 81.2 -> 82.3 % (the living rooms' parquet and rugs 1.4-3.6 points worse, the mall's
+tiles unchanged). Over both sets together 0.15 has fewer wrong columns (EVALUATION.md, "Range
+sensor kinds"); 1 turns it off."""
 
 
 class FusedRanger:
