@@ -266,3 +266,15 @@ def test_cli_drive_reads_the_rangers_config_and_refuses_bad_keys(tmp_path):
         base + ["--world", "room", "-o", str(tmp_path / "y")], capture_output=True, text=True
     )
     assert two.returncode == 2 and "one --world" in two.stderr
+
+
+def test_pose_composition_keeps_yaw_in_minus_pi_to_pi():
+    from floorscan.drive.loop import _between, _compose, _inverse
+
+    a, b = (1.0, 2.0, 3.0), (0.5, -0.25, 0.5)
+    c = _compose(a, b)
+    assert -math.pi <= c[2] < math.pi
+    assert c[2] == pytest.approx(3.5 - 2 * math.pi)
+    back = _between(a, c)  # a^-1 * (a * b) = b
+    assert back == pytest.approx(b)
+    assert -math.pi <= _inverse((0.0, 0.0, -3.5))[2] < math.pi

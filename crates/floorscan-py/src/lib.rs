@@ -14,6 +14,7 @@ mod appearance;
 mod appearance_options;
 mod arrays;
 mod avoidance_map;
+mod dynamic_window;
 mod errors;
 mod evidence;
 mod gif;
@@ -148,6 +149,8 @@ mod _native {
         #[pymodule_export]
         use crate::hit_map::PyHitMap;
 
+        #[pymodule_export]
+        use crate::dynamic_window::best_velocity_sample;
         #[pymodule_export]
         use crate::navigation::{coarse_grid, geodesic_distances};
         #[pymodule_export]

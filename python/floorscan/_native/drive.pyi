@@ -44,6 +44,17 @@ class HitMap:
         `field_origin`) to the new hits' stamps. Returns how many were stored.
         """
 
+def best_velocity_sample(pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], vs: Incomplete, omegas: Incomplete, times_s: Incomplete, cost: Incomplete, origin_m: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], cell_m: SupportsFloat | SupportsIndex, unknown: Incomplete | None, nav: Incomplete, nav_origin_m: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], nav_cell_m: SupportsFloat | SupportsIndex, goal: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], scoring: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], inscribed: SupportsIndex) -> int | None:
+    """
+    The index `k = iw * len(vs) + iv` of the dynamic window's chosen sample of `vs` (float64
+    [m/s]) x `omegas` (float64 [rad/s]) rolled out from `pose` (x, y, yaw) at `times_s`
+    (float64 [s]), or None when no sample is admissible (`floorscan_core::dynamic_window`).
+    `cost` (H, W) uint8 and `unknown` (H, W) bool share `origin_m` and `cell_m`; `nav` (h, w)
+    float64 [m] has its own `nav_origin_m` and `nav_cell_m`; `scoring` is (path_distance_bias,
+    goal_distance_bias, occdist_scale, forward_point_distance_m, blind_radius_m); costs from
+    `inscribed` up are not admissible.
+    """
+
 def coarse_grid(cost: Incomplete, factor: SupportsIndex, blocked_from: SupportsIndex, unknown_cost: SupportsFloat | SupportsIndex, known: Incomplete | None = None) -> tuple[Incomplete, Incomplete]:
     """
     The navigation function's coarse grid from a costmap `cost` (H, W) uint8 in blocks of

@@ -127,12 +127,24 @@ def navigation_function(
         np.ascontiguousarray(blocked), np.ascontiguousarray(weight), cells, d0[sel], step
     )
 
-    def at(x, y):
-        i = np.floor((np.asarray(x) - ox) / step).astype(np.int64)
-        j = np.floor((np.asarray(y) - oy) / step).astype(np.int64)
+    return NavigationFunction(dist, (float(ox), float(oy)), float(step))
+
+
+class NavigationFunction:
+    """The navigation function's geodesic costs [m] on its coarse grid (``distances`` (h, w),
+    cell (0, 0)'s corner at ``origin_m``, cells ``step_m`` wide); called with world points
+    (arrays) [m] it returns their cells' costs, ``inf`` outside the grid or where unreached."""
+
+    def __init__(self, distances: np.ndarray, origin_m, step_m: float) -> None:
+        self.distances = np.ascontiguousarray(distances, np.float64)
+        self.origin_m = origin_m
+        self.step_m = step_m
+
+    def __call__(self, x, y) -> np.ndarray:
+        h, w = self.distances.shape
+        i = np.floor((np.asarray(x) - self.origin_m[0]) / self.step_m).astype(np.int64)
+        j = np.floor((np.asarray(y) - self.origin_m[1]) / self.step_m).astype(np.int64)
         inside = (i >= 0) & (i < w) & (j >= 0) & (j < h)
         out = np.full(np.shape(i), np.inf)
-        out[inside] = dist[j[inside], i[inside]]
+        out[inside] = self.distances[j[inside], i[inside]]
         return out
-
-    return at

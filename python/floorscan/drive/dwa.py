@@ -27,8 +27,9 @@ from typing import Optional, Tuple
 
 import numpy as np
 
+from .._native.drive import best_velocity_sample
 from ..errors import OptionError
-from .costmap import INSCRIBED, LETHAL
+from .costmap import INSCRIBED, LETHAL, NavigationFunction
 
 
 @dataclass(frozen=True)
@@ -76,20 +77,9 @@ class DwaOptions:
             )
 
 
-def choose_velocity(
-    pose: Tuple[float, float, float],
-    velocity: Tuple[float, float],
-    cost: np.ndarray,
-    origin_m,
-    cell_size_m: float,
-    nav,
-    goal_xy,
-    dt_s: float,
-    options: DwaOptions,
-    unknown: Optional[np.ndarray] = None,
-) -> Tuple[float, float, bool]:
-    """(v [m/s], omega [rad/s], admissible) for the next control period ``dt_s`` [s].
-    ``unknown``: (H, W) bool, the cells without evidence (see ``blind_radius_m``)."""
+def velocity_samples(velocity: Tuple[float, float], dt_s: float, options: DwaOptions):
+    """(speeds (n_v,), turn rates (n_w,), roll-out times (n_t,)) of the window reachable within
+    ``dt_s`` from ``velocity`` (v [m/s], omega [rad/s])."""
     o = options
     v0, w0 = velocity
     vs = np.linspace(
@@ -102,53 +92,55 @@ def choose_velocity(
         min(o.max_turn_rad_s, w0 + o.acc_lim_theta * dt_s),
         o.vth_samples,
     )
-    V, W = (a.ravel() for a in np.meshgrid(vs, ws))
     steps = max(2, int(math.ceil(o.max_speed_m_s * o.sim_time_s / o.sim_granularity_m)))
     t = np.linspace(o.sim_time_s / steps, o.sim_time_s, steps)
-    x0, y0, th0 = pose
-    th = th0 + W[:, None] * t[None, :]
-    small = np.abs(W) < 1e-6
-    Wsafe = np.where(small, 1.0, W)
-    xs = np.where(
-        small[:, None],
-        x0 + V[:, None] * t * math.cos(th0),
-        x0 + (V / Wsafe)[:, None] * (np.sin(th) - math.sin(th0)),
+    return vs, ws, t
+
+
+def choose_velocity(
+    pose: Tuple[float, float, float],
+    velocity: Tuple[float, float],
+    cost: np.ndarray,
+    origin_m,
+    cell_size_m: float,
+    nav: NavigationFunction,
+    goal_xy,
+    dt_s: float,
+    options: DwaOptions,
+    unknown: Optional[np.ndarray] = None,
+) -> Tuple[float, float, bool]:
+    """(v [m/s], omega [rad/s], admissible) for the next control period ``dt_s`` [s].
+    ``nav``: :func:`~floorscan.drive.costmap.navigation_function`'s result; ``unknown``: (H, W)
+    bool, the cells without evidence (see ``blind_radius_m``). The roll-outs and scores run in
+    the Rust core (``floorscan_core::dynamic_window``)."""
+    o = options
+    vs, ws, t = velocity_samples(velocity, dt_s, o)
+    k = best_velocity_sample(
+        tuple(float(p) for p in pose),
+        vs,
+        ws,
+        t,
+        np.ascontiguousarray(cost, np.uint8),
+        (float(origin_m[0]), float(origin_m[1])),
+        float(cell_size_m),
+        None if unknown is None else np.ascontiguousarray(unknown, bool),
+        nav.distances,
+        nav.origin_m,
+        nav.step_m,
+        (float(goal_xy[0]), float(goal_xy[1])),
+        (
+            o.path_distance_bias,
+            o.goal_distance_bias,
+            o.occdist_scale,
+            o.forward_point_distance_m,
+            o.blind_radius_m,
+        ),
+        INSCRIBED,
     )
-    ys = np.where(
-        small[:, None],
-        y0 + V[:, None] * t * math.sin(th0),
-        y0 - (V / Wsafe)[:, None] * (np.cos(th) - math.cos(th0)),
-    )
-    worst = _cost_at(cost, origin_m, cell_size_m, xs, ys).max(axis=1)
-    ok = worst < INSCRIBED
-    if unknown is not None:
-        beyond = np.hypot(xs - x0, ys - y0) > o.blind_radius_m
-        unseen = _cost_at(unknown, origin_m, cell_size_m, xs, ys) > 0
-        ok &= ~(unseen & beyond).any(axis=1)
-    ex, ey, eth = xs[:, -1], ys[:, -1], th[:, -1]
-    fx = ex + o.forward_point_distance_m * np.cos(eth)
-    fy = ey + o.forward_point_distance_m * np.sin(eth)
-    n_end, n_fwd = nav(ex, ey), nav(fx, fy)
-    # where the plan does not reach (e.g. the robot already sits in an inflated cell), fall
-    # back to the straight-line distance, so the robot still heads for the goal
-    far = 1e3
-    n_end = np.where(np.isfinite(n_end), n_end, far + np.hypot(ex - goal_xy[0], ey - goal_xy[1]))
-    n_fwd = np.where(np.isfinite(n_fwd), n_fwd, far + np.hypot(fx - goal_xy[0], fy - goal_xy[1]))
-    if math.hypot(x0 - goal_xy[0], y0 - goal_xy[1]) < o.forward_point_distance_m * 2:
-        # arriving (as dwa_local_planner's goal latch): the end point alone, to the metre
-        n_end = np.where(
-            np.isfinite(nav(ex, ey)), np.hypot(ex - goal_xy[0], ey - goal_xy[1]), n_end
-        )
-        n_fwd = n_end
-    score = (
-        o.path_distance_bias * n_fwd / cell_size_m
-        + o.goal_distance_bias * n_end / cell_size_m
-        + o.occdist_scale * worst
-    )
-    if ok.any():
-        k = int(np.argmin(np.where(ok, score, np.inf)))
-        if V[k] > 1e-3:
-            return float(V[k]), float(W[k]), True
+    if k is not None:
+        v, w = float(vs[k % len(vs)]), float(ws[k // len(vs)])
+        if v > 1e-3:
+            return v, w, True
     v, w = escape(pose, cost, origin_m, cell_size_m, nav, goal_xy, options)
     return v, w, False
 

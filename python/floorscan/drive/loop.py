@@ -144,21 +144,26 @@ class DriveRecord:
     plan_s: List[float] = field(default_factory=list)
 
 
+def _wrap(angle: float) -> float:
+    """The angle in [-pi, pi)."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
 def _compose(a, b):
     c, s = math.cos(a[2]), math.sin(a[2])
-    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
+    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], _wrap(a[2] + b[2]))
 
 
 def _inverse(a):
     c, s = math.cos(a[2]), math.sin(a[2])
-    return (-c * a[0] - s * a[1], s * a[0] - c * a[1], -a[2])
+    return (-c * a[0] - s * a[1], s * a[0] - c * a[1], _wrap(-a[2]))
 
 
 def _between(a, b):
     """a^-1 * b."""
     c, s = math.cos(a[2]), math.sin(a[2])
     dx, dy = b[0] - a[0], b[1] - a[1]
-    return (c * dx + s * dy, -s * dx + c * dy, b[2] - a[2])
+    return (c * dx + s * dy, -s * dx + c * dy, _wrap(b[2] - a[2]))
 
 
 def _visual_points(scan, mount) -> np.ndarray:
