@@ -55,8 +55,15 @@ def test_group_figures_pool_the_scenarios(quick_report):
         assert g["boundary"]["columns"] == cols
         assert g["boundary"]["error_rate"] == pytest.approx(wrong / cols)
         assert g["frames"] == sum(m["frames"] for m in ms)
-        views = [f for m in ms for f in m["reliable_local_map"]["frames_per_view"]]
-        assert g["reliable_local_map"]["frames_per_view"] == views
+        for key in ("reliable_local_map", "reliable_avoidance_map"):
+            views = [f for m in ms for f in m[key]["frames_per_view"]]
+            assert g[key]["frames_per_view"] == views
+            right = [f for m in ms for f in m[key]["frames_ranger_right"]]
+            assert g[key]["frames_ranger_right"] == right
+            # the ranger-right views are a subset of the views, in order
+            it = iter(views)
+            assert all(any(f == v for v in it) for f in right)
+            assert all(f is None or 1 <= f <= g[key]["max_frames_tried"] for f in views)
     group_rows = _table_rows(md, "## Per world group")
     assert [r[0] for r in group_rows] == ["carpet", "overhanging table"]
     assert "## Goals" in md
@@ -113,3 +120,12 @@ def test_lighting_is_written_into_the_world_file():
     assert "exposure_jitter = 0.08" in text
     world = Scenario("corridor", lighting="dim").build_world()
     assert world.name == "corridor"
+
+
+def test_frames_to_reliable_names_its_local_map():
+    from floorscan.evaluation.map_metrics import frames_to_reliable
+
+    with pytest.raises(ValueError, match="local_map"):
+        frames_to_reliable(
+            [], None, {}, local_size_m=4.0, max_range_m=3.0, starts=[0], local_map="x"
+        )

@@ -129,16 +129,46 @@ def frames_to_reliable(
     max_range_m: float,
     starts: Sequence[int],
     max_frames: int = 10,
+    local_map: str = "octomap",
 ) -> List[Optional[int]]:
     """For each start frame k0 (a new view: a fresh local map), the number of frames k0, k0+1,
     ... inserted (with true poses) after which the local map agrees with the truth on more than
     :data:`RELIABLE_AGREEMENT` of the cells frame k0 views inside the window; None when
-    ``max_frames`` do not suffice or the view has no truth."""
+    ``max_frames`` do not suffice or the view has no truth.
+
+    ``local_map``: ``"octomap"``, the robot-fixed :class:`~floorscan.mapping.LocalMap` of
+    ``floorscan run`` with ``grid_kwargs``' constant evidence; or ``"avoidance"``, the drive's
+    :class:`~floorscan.drive.AvoidanceMap` (its default options, no decay, ``local_size_m``
+    wide) fed with the calibrated inverse sensor model (``VisualSensorModel``, the table's
+    error bars), scored on its own cells."""
+    if local_map not in ("octomap", "avoidance"):
+        raise ValueError(f"local_map must be 'octomap' or 'avoidance', got {local_map!r}")
     raster = case.raster
     out: List[Optional[int]] = []
-    cell = float(grid_kwargs["cell_size_m"])
+    if local_map == "avoidance":
+        from dataclasses import replace
+
+        from ..drive.avoidance_map import AvoidanceMap, AvoidanceMapOptions
+
+        options = replace(AvoidanceMapOptions(), size_m=local_size_m, half_life_s=None)
+        cell = options.cell_size_m
+    else:
+        cell = float(grid_kwargs["cell_size_m"])
+    mount = tuple(case.robot_from_camera)
     for k0 in starts:
-        local = LocalMap(size_m=local_size_m, pose=tuple(case.true_poses[k0]), **grid_kwargs)
+        pose0 = tuple(case.true_poses[k0])
+        if local_map == "avoidance":
+            local = AvoidanceMap(options, center=pose0[:2])
+
+            def insert(scan, pose, local=local):
+                local.insert_visual(scan, pose, mount=mount, table=case.table)
+
+        else:
+            local = LocalMap(size_m=local_size_m, pose=pose0, **grid_kwargs)
+
+            def insert(scan, pose, local=local):
+                local.insert_scan(scan, pose=pose, mount=mount)
+
         (x0, y0), (x1, y1) = local.extent.bounds_m
         cam = compose(case.true_poses[k0], case.robot_from_camera)
         vx, vy = view_cells(
@@ -161,9 +191,7 @@ def frames_to_reliable(
             k = k0 + n
             if k >= len(scans):
                 break
-            local.insert_scan(
-                scans[k], pose=tuple(case.true_poses[k]), mount=case.robot_from_camera
-            )
+            insert(scans[k], tuple(case.true_poses[k]))
             if agreement_at(local, vx, vy, truth) > RELIABLE_AGREEMENT:
                 found = n + 1
                 break

@@ -19,7 +19,7 @@ from .calibration_error import calibrated_table
 from .case import EvalCase, case_from_run
 from .map_metrics import frames_to_reliable, free_known_share
 from .scenarios import Scenario
-from .scoring import ColumnScores, score_columns, score_map, summarise_columns
+from .scoring import INVALID, ColumnScores, score_columns, score_map, summarise_columns
 
 
 @dataclass
@@ -31,6 +31,16 @@ class CaseResult:
     metrics: Dict[str, Any]
     worst: List[Dict[str, Any]] = field(default_factory=list)
     column_scores: List[ColumnScores] = field(default_factory=list)
+
+
+RANGER_RIGHT_SHARE = 0.05
+"""A view's ranger is right when at most this share of its first frame's columns is wrong."""
+
+
+def _ranger_wrong_share(scores: ColumnScores) -> float:
+    """Share of a frame's readings that are wrong, over the columns not ``invalid``."""
+    read = scores.scan_status != INVALID
+    return float(scores.wrong[read].mean()) if read.any() else 1.0
 
 
 def median_frames(values: Sequence[Optional[int]]) -> Optional[float]:
@@ -108,21 +118,40 @@ def evaluate_case(
                 starts = (
                     np.linspace(0, last, reliable_starts).astype(int).tolist() if last > 0 else [0]
                 )
-                frames = frames_to_reliable(
-                    scans,
-                    case,
-                    kw,
-                    local_size_m=cfg.local_map.size_m,
-                    max_range_m=ranged_m(cfg),
-                    starts=sorted(set(starts)),
-                    max_frames=reliable_max_frames,
-                )
-                metrics["reliable_local_map"] = {
-                    "frames_per_view": frames,
-                    "median_frames": median_frames(frames),
-                    "views_never_reliable": sum(1 for f in frames if f is None),
-                    "max_frames_tried": reliable_max_frames,
-                }
+                reliable = {}
+                for key, kind in (
+                    ("reliable_local_map", "octomap"),
+                    ("reliable_avoidance_map", "avoidance"),
+                ):
+                    frames = frames_to_reliable(
+                        scans,
+                        case,
+                        kw,
+                        local_size_m=cfg.local_map.size_m,
+                        max_range_m=ranged_m(cfg),
+                        starts=sorted(set(starts)),
+                        max_frames=reliable_max_frames,
+                        local_map=kind,
+                    )
+                    reliable[key] = {
+                        "frames_per_view": frames,
+                        "median_frames": median_frames(frames),
+                        "views_never_reliable": sum(1 for f in frames if f is None),
+                        "max_frames_tried": reliable_max_frames,
+                    }
+                # the views where the ranger is right (issue 15's condition): at most
+                # RANGER_RIGHT_SHARE of the first frame's readings wrong (columns the table
+                # gives no ground are the calibration's, not the ranger's)
+                right = [
+                    bool(_ranger_wrong_share(column_scores[k]) <= RANGER_RIGHT_SHARE)
+                    for k in sorted(set(starts))
+                ]
+                for entry in reliable.values():
+                    sub = [f for f, r in zip(entry["frames_per_view"], right) if r]
+                    entry["frames_ranger_right"] = sub
+                    entry["ranger_right_views"] = len(sub)
+                    entry["median_frames_ranger_right"] = median_frames(sub)
+                metrics.update(reliable)
     return CaseResult(case.name, metrics, worst, column_scores)
 
 
