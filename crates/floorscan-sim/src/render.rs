@@ -10,9 +10,10 @@ use floorscan_core::Pose2;
 use crate::camera::{CameraPlacement, CameraRays};
 use crate::clearance::{sector_of, Clearance};
 use crate::error::{invalid_option, Result};
+use crate::noise_lanes::{NoiseBatch, NoiseKernel};
 use crate::rng::{derive_seed, Rng};
 use crate::scene::{Scene, Surface};
-use crate::shade::{shade, ShadeCache, ID_NOTHING};
+use crate::shade::{shade, shade_pending, Pending, ShadeCache, ID_NOTHING};
 use crate::truth::PixelLabel;
 
 /// Reusable buffers of a render (so rendering a run allocates once).
@@ -21,12 +22,26 @@ pub struct RenderBuffers {
     radiance: Vec<f32>,
     ids: Vec<u32>,
     scratch: Vec<f32>,
+    /// A row's texture noise requests and its pixels' pending radiances.
+    noise: NoiseBatch,
+    pending: Vec<Pending>,
     /// The rendered 8-bit image, row-major.
     pub image: Vec<u8>,
     /// The [`PixelLabel`] code of each pixel centre, row-major.
     pub labels: Vec<u8>,
     /// The exposure used for this frame (mean exposure times the jitter).
     pub exposure: f64,
+}
+
+/// How the main pass shades (the images are the same bits either way).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Shading {
+    /// Each pixel completely before the next (texture noise one point at a time): the
+    /// reference the tests compare the lanes with.
+    #[cfg_attr(not(test), allow(dead_code))]
+    PerPixel,
+    /// A row's texture noise of carpets and walls evaluated together with this kernel.
+    Lanes(NoiseKernel),
 }
 
 /// Renders the view of a robot at `world_from_robot` into `out` (image and labels).
@@ -37,6 +52,28 @@ pub fn render_into(
     seed: u64,
     frame_index: u64,
     out: &mut RenderBuffers,
+) -> Result<()> {
+    let shading = Shading::Lanes(NoiseKernel::detect());
+    render_with(
+        scene,
+        rays,
+        world_from_robot,
+        seed,
+        frame_index,
+        out,
+        shading,
+    )
+}
+
+/// [`render_into`] shading the main pass as `shading` says.
+pub(crate) fn render_with(
+    scene: &Scene,
+    rays: &CameraRays,
+    world_from_robot: Pose2,
+    seed: u64,
+    frame_index: u64,
+    out: &mut RenderBuffers,
+    shading: Shading,
 ) -> Result<()> {
     if !world_from_robot.is_finite() {
         return Err(invalid_option("pose", "robot pose must be finite"));
@@ -66,27 +103,50 @@ pub fn render_into(
         &mut out.ids[..n],
         &mut out.labels[..n],
     );
-    for k in 0..n {
-        let d0 = dirs[k];
-        if d0[0].is_nan() {
-            radiance[k] = 0.0;
-            ids[k] = ID_NOTHING;
-            labels[k] = PixelLabel::Nothing as u8;
-            continue;
+    // One row at a time: trace and shade each pixel, the texture noise of carpets and walls
+    // left pending; evaluate the row's noise in lanes; finish the radiances.
+    let (batch, pending) = (&mut out.noise, &mut out.pending);
+    for row in (0..n).step_by(w.max(1)) {
+        let end = (row + w).min(n);
+        // At most two noise requests a pixel (a carpet's fibres and mottling).
+        batch.start(2 * (end - row));
+        pending.clear();
+        for k in row..end {
+            let d0 = dirs[k];
+            if d0[0].is_nan() {
+                pending.push(Pending::Done(0.0));
+                ids[k] = ID_NOTHING;
+                labels[k] = PixelLabel::Nothing as u8;
+                continue;
+            }
+            let d = place.to_world(d0);
+            let sector = clear.sector(sector_of(azimuth[k] + yaw));
+            // The floor's t is the camera's, in any pose (o[2] is the mount height, d[2] d0[2]).
+            let limit = if floor_t[k].is_nan() {
+                scene.limit(place.origin, d)
+            } else {
+                (floor_t[k], Surface::Floor)
+            };
+            let hit = scene.trace_clear_from(place.origin, d, sector, horizontal[k], limit);
+            let (p, id, label) = match shading {
+                Shading::Lanes(_) => {
+                    shade_pending(scene, &hit, pixel_angle[k], footprint[k], &mut cache, batch)
+                }
+                Shading::PerPixel => {
+                    let sample = shade(scene, &hit, pixel_angle[k], footprint[k], &mut cache);
+                    (Pending::Done(sample.radiance), sample.id, sample.label)
+                }
+            };
+            pending.push(p);
+            ids[k] = id;
+            labels[k] = label as u8;
         }
-        let d = place.to_world(d0);
-        let sector = clear.sector(sector_of(azimuth[k] + yaw));
-        // The floor's t is the camera's, in any pose (o[2] is the mount height, d[2] d0[2]).
-        let limit = if floor_t[k].is_nan() {
-            scene.limit(place.origin, d)
-        } else {
-            (floor_t[k], Surface::Floor)
-        };
-        let hit = scene.trace_clear_from(place.origin, d, sector, horizontal[k], limit);
-        let sample = shade(scene, &hit, pixel_angle[k], footprint[k], &mut cache);
-        ids[k] = sample.id;
-        labels[k] = sample.label as u8;
-        radiance[k] = sample.radiance;
+        if let Shading::Lanes(kernel) = shading {
+            batch.evaluate(kernel);
+        }
+        for (r, p) in radiance[row..end].iter_mut().zip(pending.iter()) {
+            *r = p.finish(batch);
+        }
     }
 
     if cam.imaging.antialias {
@@ -348,6 +408,45 @@ mod tests {
                     assert_ne!(want, Surface::Floor);
                 } else {
                     assert_eq!((t.to_bits(), Surface::Floor), (want_t.to_bits(), want));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn lanes_render_exactly_as_per_pixel_shading_in_every_builtin_world() {
+        // The row batches of texture noise (the AVX2 lanes where the CPU has them, and the
+        // forced portable kernel) against shading each pixel completely: the same radiance
+        // bits before blur and noise, the same image bytes and labels, from random poses.
+        use crate::builtin::builtin_names;
+        use crate::rng::Rng;
+        let mut rng = Rng::new(5);
+        for (w, h) in [(96, 72), (61, 37)] {
+            let rays = CameraRays::new(Camera::wide_angle(w, h)).unwrap();
+            for name in builtin_names() {
+                let scene = Scene::new(builtin_world(name).unwrap());
+                let b = scene.world.bounds();
+                for i in 0..3 {
+                    let pose = Pose2::new(
+                        b.min.x + (b.max.x - b.min.x) * rng.uniform(),
+                        b.min.y + (b.max.y - b.min.y) * rng.uniform(),
+                        std::f64::consts::TAU * rng.uniform(),
+                    );
+                    let render = |shading| {
+                        let mut buf = RenderBuffers::default();
+                        render_with(&scene, &rays, pose, 3, i, &mut buf, shading).unwrap();
+                        buf
+                    };
+                    let want = render(Shading::PerPixel);
+                    for kernel in [NoiseKernel::Portable, NoiseKernel::detect()] {
+                        let got = render(Shading::Lanes(kernel));
+                        let bits = |b: &RenderBuffers| -> Vec<u32> {
+                            b.radiance.iter().map(|r| r.to_bits()).collect()
+                        };
+                        assert_eq!(bits(&got), bits(&want), "{name} {kernel:?} {pose:?}");
+                        assert_eq!(got.image, want.image, "{name} {kernel:?}");
+                        assert_eq!(got.labels, want.labels, "{name} {kernel:?}");
+                    }
                 }
             }
         }

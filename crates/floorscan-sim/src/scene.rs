@@ -205,13 +205,19 @@ impl Scene {
     }
 
     /// [`Self::covering_at`], remembering the last cell of one covering in `memo`.
-    #[inline]
+    #[inline(always)]
     pub fn covering_cached(&self, p: Point2, memo: &mut CellMemo<usize>) -> usize {
         let gx = (p.x - self.shape.origin.x) * self.inv_cell_m;
         let gy = (p.y - self.shape.origin.y) * self.inv_cell_m;
-        if let Some(c) = memo.get(gx, gy) {
-            return c;
+        match memo.get(gx, gy) {
+            Some(c) => c,
+            None => self.covering_enter(p, gx, gy, memo),
         }
+    }
+
+    /// [`Self::covering_cached`] outside the remembered cell (out of line: the rarer path).
+    #[inline(never)]
+    fn covering_enter(&self, p: Point2, gx: f64, gy: f64, memo: &mut CellMemo<usize>) -> usize {
         if gx >= 0.0 && gy >= 0.0 && gx < self.extent.0 && gy < self.extent.1 {
             // In range (checked above): the fast floor is exact.
             let (ix, iy) = (fast_floor(gx), fast_floor(gy));
