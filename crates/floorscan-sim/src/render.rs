@@ -174,15 +174,27 @@ pub(crate) fn render_with(
     let read = cam.imaging.read_noise_dn as f32;
     let shot = cam.imaging.shot_noise_gain as f32;
     let noisy = read > 0.0 || shot > 0.0;
-    let pixels = out.image[..n].iter_mut().zip(&out.radiance[..n]);
-    for ((byte, &radiance), &gain) in pixels.zip(&rays.gain[..n]) {
-        let mut v = radiance * gain * scale;
-        if noisy {
-            let sigma = (read * read + shot * v.max(0.0)).sqrt();
-            v += sigma * rng.normal_fast();
+    let (image, radiance, gain) = (&mut out.image[..n], &out.radiance[..n], &rays.gain[..n]);
+    // Round half up (no libm call); the clamp keeps it in range.
+    let quantise = |v: f32| (v.clamp(0.0, 255.0) + 0.5) as u8;
+    if noisy {
+        // The generator's draws first (one per pixel, in pixel order, as it is sequential),
+        // then the pixels with no generator in the loop (vectorisable): the same values.
+        out.scratch.resize(n, 0.0);
+        let draws = &mut out.scratch[..n];
+        for z in draws.iter_mut() {
+            *z = rng.normal_fast();
         }
-        // Round half up (no libm call); the clamp keeps it in range.
-        *byte = (v.clamp(0.0, 255.0) + 0.5) as u8;
+        let pixels = image.iter_mut().zip(radiance).zip(gain).zip(&*draws);
+        for (((byte, &radiance), &gain), &z) in pixels {
+            let v = radiance * gain * scale;
+            let sigma = (read * read + shot * v.max(0.0)).sqrt();
+            *byte = quantise(v + sigma * z);
+        }
+    } else {
+        for ((byte, &radiance), &gain) in image.iter_mut().zip(radiance).zip(gain) {
+            *byte = quantise(radiance * gain * scale);
+        }
     }
     Ok(())
 }
