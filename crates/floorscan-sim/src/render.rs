@@ -110,11 +110,13 @@ pub(crate) fn render_with(
         let end = (row + w).min(n);
         // At most two noise requests a pixel (a carpet's fibres and mottling).
         batch.start(2 * (end - row));
-        pending.clear();
-        for k in row..end {
+        if pending.len() < end - row {
+            pending.resize(end - row, Pending::Done(0.0));
+        }
+        for (k, slot) in (row..end).zip(pending.iter_mut()) {
             let d0 = dirs[k];
             if d0[0].is_nan() {
-                pending.push(Pending::Done(0.0));
+                *slot = Pending::Done(0.0);
                 ids[k] = ID_NOTHING;
                 labels[k] = PixelLabel::Nothing as u8;
                 continue;
@@ -137,7 +139,7 @@ pub(crate) fn render_with(
                     (Pending::Done(sample.radiance), sample.id, sample.label)
                 }
             };
-            pending.push(p);
+            *slot = p;
             ids[k] = id;
             labels[k] = label as u8;
         }
