@@ -155,7 +155,7 @@ pub fn value_noise_lanes(
 }
 
 #[cfg(target_arch = "x86_64")]
-mod x86 {
+pub(crate) mod x86 {
     use std::arch::x86_64::*;
 
     use crate::rng::{FLOOR_MAGIC, HASH_MIX, HX, HY, UNIT_SCALE};
@@ -164,7 +164,7 @@ mod x86 {
     /// f64 (exact) and their low 32 bits (the hash's `ix as u32`).
     #[inline]
     #[target_feature(enable = "avx2")]
-    fn floor4(v: __m256d) -> (__m256d, __m128i) {
+    pub(crate) fn floor4(v: __m256d) -> (__m256d, __m128i) {
         let magic = _mm256_set1_pd(FLOOR_MAGIC);
         // The low 32-bit half of each 64-bit lane, packed into the low 128 bits.
         let low_halves = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);

@@ -10,6 +10,7 @@ use floorscan_core::Pose2;
 use crate::camera::{CameraPlacement, CameraRays};
 use crate::clearance::{sector_of, Clearance};
 use crate::error::{invalid_option, Result};
+use crate::lightmap::LightBatch;
 use crate::noise_lanes::{NoiseBatch, NoiseKernel};
 use crate::rng::{derive_seed, Rng};
 use crate::scene::{Scene, Surface};
@@ -24,6 +25,7 @@ pub struct RenderBuffers {
     scratch: Vec<f32>,
     /// A row's texture noise requests and its pixels' pending radiances.
     noise: NoiseBatch,
+    lights: LightBatch,
     pending: Vec<Pending>,
     /// The rendered 8-bit image, row-major.
     pub image: Vec<u8>,
@@ -40,7 +42,8 @@ pub(crate) enum Shading {
     /// reference the tests compare the lanes with.
     #[cfg_attr(not(test), allow(dead_code))]
     PerPixel,
-    /// A row's texture noise of carpets and walls evaluated together with this kernel.
+    /// A row's texture noise and light of carpets and walls evaluated together with this
+    /// kernel.
     Lanes(NoiseKernel),
 }
 
@@ -105,11 +108,12 @@ pub(crate) fn render_with(
     );
     // One row at a time: trace and shade each pixel, the texture noise of carpets and walls
     // left pending; evaluate the row's noise in lanes; finish the radiances.
-    let (batch, pending) = (&mut out.noise, &mut out.pending);
+    let (batch, lights, pending) = (&mut out.noise, &mut out.lights, &mut out.pending);
     for row in (0..n).step_by(w.max(1)) {
         let end = (row + w).min(n);
         // At most two noise requests a pixel (a carpet's fibres and mottling).
         batch.start(2 * (end - row));
+        lights.start(end - row);
         if pending.len() < end - row {
             pending.resize(end - row, Pending::Done(0.0));
         }
@@ -131,9 +135,15 @@ pub(crate) fn render_with(
             };
             let hit = scene.trace_clear_from(place.origin, d, sector, horizontal[k], limit);
             let (p, id, label) = match shading {
-                Shading::Lanes(_) => {
-                    shade_pending(scene, &hit, pixel_angle[k], footprint[k], &mut cache, batch)
-                }
+                Shading::Lanes(_) => shade_pending(
+                    scene,
+                    &hit,
+                    pixel_angle[k],
+                    footprint[k],
+                    &mut cache,
+                    batch,
+                    lights,
+                ),
                 Shading::PerPixel => {
                     let sample = shade(scene, &hit, pixel_angle[k], footprint[k], &mut cache);
                     (Pending::Done(sample.radiance), sample.id, sample.label)
@@ -145,9 +155,10 @@ pub(crate) fn render_with(
         }
         if let Shading::Lanes(kernel) = shading {
             batch.evaluate(kernel);
+            scene.light.evaluate(kernel, lights);
         }
         for (r, p) in radiance[row..end].iter_mut().zip(pending.iter()) {
-            *r = p.finish(batch);
+            *r = p.finish(batch, lights);
         }
     }
 

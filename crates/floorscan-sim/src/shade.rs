@@ -4,6 +4,7 @@
 use floorscan_core::Point2;
 
 use crate::cell_memo::CellMemo;
+use crate::lightmap::LightBatch;
 use crate::noise_cell::NoiseCell;
 use crate::noise_lanes::NoiseBatch;
 use crate::scene::{Hit, Scene, Surface};
@@ -106,45 +107,46 @@ pub(crate) fn shade(
     }
 }
 
-/// A shaded sample's radiance, possibly waiting for texture noise that a [`NoiseBatch`]
-/// evaluates for many pixels at once (see [`shade_pending`]).
+/// A shaded sample's radiance, possibly waiting for texture noise and light that batches
+/// evaluate for many pixels at once (see [`shade_pending`]).
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Pending {
     Done(f32),
-    /// Carpet: albedo times light.
+    /// Carpet: albedo times the light (request `light` of the light batch).
     Carpet {
         albedo: CarpetAlbedo,
-        light: f32,
+        light: u32,
     },
-    /// A wall: albedo times light, times the wall factor and the face's turn.
+    /// A wall: albedo times the light, times the wall factor and the face's turn.
     Wall {
         albedo: WallAlbedo,
-        light: f32,
+        light: u32,
         wall_factor: f32,
         turn: f32,
     },
 }
 
 impl Pending {
-    /// The radiance, once `batch` has evaluated the noise: [`shade`]'s, bit for bit.
+    /// The radiance, once `noise` and `lights` are evaluated: [`shade`]'s, bit for bit.
     #[inline(always)]
-    pub(crate) fn finish(&self, batch: &NoiseBatch) -> f32 {
+    pub(crate) fn finish(&self, noise: &NoiseBatch, lights: &LightBatch) -> f32 {
         match *self {
             Pending::Done(radiance) => radiance,
-            Pending::Carpet { albedo, light } => albedo.finish(batch) * light,
+            Pending::Carpet { albedo, light } => albedo.finish(noise) * lights.value(light),
             Pending::Wall {
                 albedo,
                 light,
                 wall_factor,
                 turn,
-            } => albedo.finish(batch) * light * wall_factor * turn,
+            } => albedo.finish(noise) * lights.value(light) * wall_factor * turn,
         }
     }
 }
 
-/// [`shade`] with the smooth texture noise of plain carpets and of walls asked of `batch`
-/// instead of computed: the radiance is [`Pending::finish`]ed once the batch is evaluated
-/// (the same bits). Returns it with the sample's identity and label.
+/// [`shade`] with the smooth texture noise of plain carpets and of walls asked of `noise`
+/// and their light asked of `lights` instead of computed: the radiance is
+/// [`Pending::finish`]ed once the batches are evaluated (the same bits). Returns it with the
+/// sample's identity and label.
 #[inline]
 pub(crate) fn shade_pending(
     scene: &Scene,
@@ -152,7 +154,8 @@ pub(crate) fn shade_pending(
     pixel_angle: f32,
     floor_footprint: Footprint,
     cache: &mut ShadeCache,
-    batch: &mut NoiseBatch,
+    noise: &mut NoiseBatch,
+    lights: &mut LightBatch,
 ) -> (Pending, u32, PixelLabel) {
     let world = &scene.world;
     let p = Point2::new(hit.point[0], hit.point[1]);
@@ -160,9 +163,9 @@ pub(crate) fn shade_pending(
         Surface::Floor => {
             let c = scene.covering_cached(p, &mut cache.covering);
             let covering = &scene.coverings[c];
-            if let Some(albedo) = covering.carpet_albedo(p, floor_footprint, batch) {
-                let light = scene.light.at_cached(p, &mut cache.light);
+            if let Some(albedo) = covering.carpet_albedo(p, floor_footprint, noise) {
                 let label = floor_label(covering.covering.class);
+                let light = lights.push(p);
                 return (Pending::Carpet { albedo, light }, 2 + c as u32, label);
             }
         }
@@ -171,10 +174,10 @@ pub(crate) fn shade_pending(
             let solid = &world.solids[f.solid as usize];
             let app = &world.appearances[solid.appearance];
             let fp = Footprint::new(hit.t * pixel_angle as f64);
-            if let Ok(albedo) = app.wall_albedo(s, hit.point[2], fp, f.seed, batch) {
+            if let Ok(albedo) = app.wall_albedo(s, hit.point[2], fp, f.seed, noise) {
                 let pending = Pending::Wall {
                     albedo,
-                    light: scene.light.at_cached(p, &mut cache.light),
+                    light: lights.push(p),
                     wall_factor: world.lighting.wall_factor as f32,
                     turn: f.turn,
                 };
