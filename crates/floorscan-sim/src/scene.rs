@@ -645,8 +645,7 @@ mod tests {
         // it, parallel to it, and quads padded with NaN lanes; the SSE2 lanes (x86-64) and
         // the portable loop against ray_segment, face by face.
         let mut rng = Rng::new(12);
-        let mut p =
-            |rng: &mut Rng| Point2::new(8.0 * rng.uniform() - 4.0, 8.0 * rng.uniform() - 4.0);
+        let p = |rng: &mut Rng| Point2::new(8.0 * rng.uniform() - 4.0, 8.0 * rng.uniform() - 4.0);
         let face = |a: Point2, b: Point2| SideFace {
             a,
             b,
