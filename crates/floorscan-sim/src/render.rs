@@ -26,6 +26,8 @@ pub struct RenderBuffers {
     /// A row's texture noise requests and its pixels' pending radiances.
     noise: NoiseBatch,
     lights: LightBatch,
+    /// A row's anti-aliasing flags.
+    edges: Vec<bool>,
     pending: Vec<Pending>,
     /// The rendered 8-bit image, row-major.
     pub image: Vec<u8>,
@@ -229,15 +231,12 @@ fn antialias(
     let (w, h) = (rays.camera.width, rays.camera.height);
     let yaw = place.world_from_camera.yaw;
     let ids = &out.ids;
+    let mut edges = std::mem::take(&mut out.edges);
     for v in 0..h {
-        for u in 0..w {
+        edge_flags(ids, w, h, v, &mut edges);
+        for u in (0..w).filter(|&u| edges[u]) {
             let k = v * w + u;
-            let id = ids[k];
-            let edge = (u + 1 < w && ids[k + 1] != id)
-                || (u > 0 && ids[k - 1] != id)
-                || (v + 1 < h && ids[k + w] != id)
-                || (v > 0 && ids[k - w] != id);
-            if !edge || rays.dirs[k][0].is_nan() {
+            if rays.dirs[k][0].is_nan() {
                 continue;
             }
             // Samples lie within 0.53 px of the pixel centre: their azimuths within 0.6 pixel
@@ -254,6 +253,42 @@ fn antialias(
             out.radiance[k] = sum / (AA_OFFSETS.len() + 1) as f32;
         }
     }
+    out.edges = edges;
+}
+
+/// Whether each pixel of row `v` differs in surface from a 4-neighbour (into `edges[..w]`):
+/// the interior of the row compares whole rows (vectorisable), the two ends one by one.
+fn edge_flags(ids: &[u32], w: usize, h: usize, v: usize, edges: &mut Vec<bool>) {
+    edges.clear();
+    edges.resize(w, false);
+    let at = |v: usize| &ids[v * w..(v + 1) * w];
+    let row = at(v);
+    // Above and below: the row itself at the image's top and bottom (no difference).
+    let up = if v > 0 { at(v - 1) } else { row };
+    let down = if v + 1 < h { at(v + 1) } else { row };
+    let one = |u: usize| {
+        let id = row[u];
+        (u + 1 < w && row[u + 1] != id)
+            || (u > 0 && row[u - 1] != id)
+            || up[u] != id
+            || down[u] != id
+    };
+    if w < 3 {
+        for (u, e) in edges.iter_mut().enumerate() {
+            *e = one(u);
+        }
+        return;
+    }
+    let inner = row[1..w - 1]
+        .iter()
+        .zip(&row[2..])
+        .zip(&row[..w - 2])
+        .zip(up[1..w - 1].iter().zip(&down[1..w - 1]));
+    for (e, (((id, right), left), (above, below))) in edges[1..w - 1].iter_mut().zip(inner) {
+        *e = (right != id) | (left != id) | (above != id) | (below != id);
+    }
+    edges[0] = one(0);
+    edges[w - 1] = one(w - 1);
 }
 
 /// Separable Gaussian blur with clamped borders.
@@ -302,7 +337,29 @@ fn gaussian_blur(img: &mut [f32], tmp: &mut Vec<f32>, w: usize, h: usize, sigma:
 
 #[cfg(test)]
 mod blur_tests {
-    use super::gaussian_blur;
+    use super::{edge_flags, gaussian_blur};
+
+    #[test]
+    fn edge_flags_are_the_four_neighbour_test() {
+        // Random ids of few values, in images of every small size.
+        let mut rng = crate::rng::Rng::new(2);
+        let mut edges = Vec::new();
+        for (w, h) in [(1, 1), (1, 4), (2, 3), (3, 1), (3, 3), (5, 2), (17, 9)] {
+            let ids: Vec<u32> = (0..w * h).map(|_| (rng.next_u64() % 3) as u32).collect();
+            for v in 0..h {
+                edge_flags(&ids, w, h, v, &mut edges);
+                for u in 0..w {
+                    let k = v * w + u;
+                    let id = ids[k];
+                    let want = (u + 1 < w && ids[k + 1] != id)
+                        || (u > 0 && ids[k - 1] != id)
+                        || (v + 1 < h && ids[k + w] != id)
+                        || (v > 0 && ids[k - w] != id);
+                    assert_eq!(edges[u], want, "{w}x{h} ({u}, {v})");
+                }
+            }
+        }
+    }
 
     #[test]
     fn blur_keeps_constants_and_mass_and_spreads_a_point() {
