@@ -348,14 +348,14 @@ mod blur_tests {
             let ids: Vec<u32> = (0..w * h).map(|_| (rng.next_u64() % 3) as u32).collect();
             for v in 0..h {
                 edge_flags(&ids, w, h, v, &mut edges);
-                for u in 0..w {
+                for (u, &edge) in edges.iter().enumerate() {
                     let k = v * w + u;
                     let id = ids[k];
                     let want = (u + 1 < w && ids[k + 1] != id)
                         || (u > 0 && ids[k - 1] != id)
                         || (v + 1 < h && ids[k + w] != id)
                         || (v > 0 && ids[k - w] != id);
-                    assert_eq!(edges[u], want, "{w}x{h} ({u}, {v})");
+                    assert_eq!(edge, want, "{w}x{h} ({u}, {v})");
                 }
             }
         }
