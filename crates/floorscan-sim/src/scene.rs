@@ -200,6 +200,64 @@ impl FaceQuad {
     }
 }
 
+/// A run of a grid cell's items: up to four side faces in a row (`ids`; the quad's lanes
+/// beyond them NaN, never met), or the cap of a solid.
+#[derive(Debug, Clone, Copy)]
+enum CellRun {
+    Faces { quad: FaceQuad, ids: [u32; 4] },
+    Cap(u32),
+}
+
+/// Each grid cell's items as runs, in the cell's order (faces grouped four by four between
+/// caps).
+#[derive(Debug, Clone)]
+struct CellRuns {
+    offsets: Vec<u32>,
+    runs: Vec<CellRun>,
+}
+
+impl CellRuns {
+    fn build(cells: &CellLists, sides: &[SideFace], cell_count: usize) -> CellRuns {
+        let mut offsets = Vec::with_capacity(cell_count + 1);
+        let mut runs = Vec::new();
+        offsets.push(0);
+        for cell in 0..cell_count {
+            let mut faces: Vec<u32> = Vec::with_capacity(4);
+            let flush = |faces: &mut Vec<u32>, runs: &mut Vec<CellRun>| {
+                if !faces.is_empty() {
+                    let group: Vec<SideFace> = faces.iter().map(|&id| sides[id as usize]).collect();
+                    let mut ids = [u32::MAX; 4];
+                    ids[..faces.len()].copy_from_slice(faces);
+                    runs.push(CellRun::Faces {
+                        quad: FaceQuad::of(&group),
+                        ids,
+                    });
+                    faces.clear();
+                }
+            };
+            for &item in cells.get(cell) {
+                if item & CAP_BIT == 0 {
+                    faces.push(item);
+                    if faces.len() == 4 {
+                        flush(&mut faces, &mut runs);
+                    }
+                } else {
+                    flush(&mut faces, &mut runs);
+                    runs.push(CellRun::Cap(item & !CAP_BIT));
+                }
+            }
+            flush(&mut faces, &mut runs);
+            offsets.push(runs.len() as u32);
+        }
+        CellRuns { offsets, runs }
+    }
+
+    #[inline]
+    fn get(&self, cell: usize) -> &[CellRun] {
+        &self.runs[self.offsets[cell] as usize..self.offsets[cell + 1] as usize]
+    }
+}
+
 /// Grid items: side faces are stored as their index, caps with this bit set.
 const CAP_BIT: u32 = 1 << 31;
 
@@ -212,6 +270,10 @@ pub struct Scene {
     pub world: World,
     pub sides: Vec<SideFace>,
     pub shape: GridShape,
+    /// Each grid cell's side faces and caps, as runs for the grid walk (faces four at a time).
+    cell_runs: CellRuns,
+    /// The items of each cell one by one (the tests' reference for `cell_runs`).
+    #[cfg(test)]
     faces: CellLists,
     regions: CellLists,
     /// Per cell: the covering of the whole cell when one region (or none) decides it, else -1.
@@ -309,8 +371,12 @@ impl Scene {
                 first..face_quads.len() as u32
             })
             .collect();
+        let faces = CellLists::build(shape.cell_count(), &face_pairs);
+        let cell_runs = CellRuns::build(&faces, &sides, shape.cell_count());
         Scene {
-            faces: CellLists::build(shape.cell_count(), &face_pairs),
+            cell_runs,
+            #[cfg(test)]
+            faces,
             face_quads,
             solid_quads,
             regions,
@@ -502,41 +568,50 @@ impl Scene {
         let mut best = limit_surface;
         let mut walk = CellWalk::starting_at(&self.shape, o2, d2, t0);
         while let Some((cell, t_exit)) = walk.next_cell() {
-            for &item in self.faces.get(cell) {
-                if item & CAP_BIT == 0 {
-                    let f = &self.sides[item as usize];
-                    if let Some((t, s)) = ray_segment(o2, d2, f.a, f.b) {
-                        if t < best_t {
-                            let z = o[2] + t * d[2];
-                            if z >= f.z0 && z <= f.z1 {
-                                best_t = t;
-                                best = Surface::Side {
-                                    face: item,
-                                    s: s * f.length,
-                                };
+            // The cell's items in their order: side faces four at a time (lanes), caps.
+            for run in self.cell_runs.get(cell) {
+                match *run {
+                    CellRun::Faces { ref quad, ids } => {
+                        let (met, ts, ss) = quad.ray(o2, d2);
+                        if met == 0 {
+                            continue;
+                        }
+                        for lane in 0..4 {
+                            let t = ts[lane];
+                            if met & 1 << lane != 0 && t < best_t {
+                                let f = &self.sides[ids[lane] as usize];
+                                let z = o[2] + t * d[2];
+                                if z >= f.z0 && z <= f.z1 {
+                                    best_t = t;
+                                    best = Surface::Side {
+                                        face: ids[lane],
+                                        s: ss[lane] * f.length,
+                                    };
+                                }
                             }
                         }
                     }
-                } else {
-                    let k = (item & !CAP_BIT) as usize;
-                    let s = &self.world.solids[k];
-                    // A top face is seen from above, a bottom face (overhangs) from below.
-                    let (z, up) = if o[2] > s.top_m && d[2] < 0.0 {
-                        (s.top_m, true)
-                    } else if o[2] < s.base_m && s.base_m > 0.0 && d[2] > 0.0 {
-                        (s.base_m, false)
-                    } else {
-                        continue;
-                    };
-                    let t = (z - o[2]) / d[2];
-                    if t < best_t {
-                        let p = Point2::new(o[0] + t * d[0], o[1] + t * d[1]);
-                        if self.solid_bounds[k].contains(p) && point_in_polygon(p, &s.polygon) {
-                            best_t = t;
-                            best = Surface::Cap {
-                                solid: k as u32,
-                                up,
-                            };
+                    CellRun::Cap(k) => {
+                        let k = k as usize;
+                        let s = &self.world.solids[k];
+                        // A top face is seen from above, a bottom face (overhangs) from below.
+                        let (z, up) = if o[2] > s.top_m && d[2] < 0.0 {
+                            (s.top_m, true)
+                        } else if o[2] < s.base_m && s.base_m > 0.0 && d[2] > 0.0 {
+                            (s.base_m, false)
+                        } else {
+                            continue;
+                        };
+                        let t = (z - o[2]) / d[2];
+                        if t < best_t {
+                            let p = Point2::new(o[0] + t * d[0], o[1] + t * d[1]);
+                            if self.solid_bounds[k].contains(p) && point_in_polygon(p, &s.polygon) {
+                                best_t = t;
+                                best = Surface::Cap {
+                                    solid: k as u32,
+                                    up,
+                                };
+                            }
                         }
                     }
                 }
@@ -697,6 +772,98 @@ mod tests {
             }
         }
         assert!(checked[0] > 5_000 && checked[1] > 5_000, "{checked:?}");
+    }
+
+    /// The grid walk testing the cell's items one by one (the code before the runs).
+    fn trace_items(scene: &Scene, o: [f64; 3], d: [f64; 3]) -> Hit {
+        let (t_limit, limit_surface) = scene.limit(o, d);
+        let o2 = Point2::new(o[0], o[1]);
+        let d2 = Point2::new(d[0], d[1]);
+        let (mut best_t, mut best) = (t_limit, limit_surface);
+        let mut walk = CellWalk::starting_at(&scene.shape, o2, d2, 0.0);
+        while let Some((cell, t_exit)) = walk.next_cell() {
+            for &item in scene.faces.get(cell) {
+                if item & CAP_BIT == 0 {
+                    let f = &scene.sides[item as usize];
+                    if let Some((t, s)) = ray_segment(o2, d2, f.a, f.b) {
+                        let z = o[2] + t * d[2];
+                        if t < best_t && z >= f.z0 && z <= f.z1 {
+                            best_t = t;
+                            best = Surface::Side {
+                                face: item,
+                                s: s * f.length,
+                            };
+                        }
+                    }
+                } else {
+                    let k = (item & !CAP_BIT) as usize;
+                    let s = &scene.world.solids[k];
+                    let (z, up) = if o[2] > s.top_m && d[2] < 0.0 {
+                        (s.top_m, true)
+                    } else if o[2] < s.base_m && s.base_m > 0.0 && d[2] > 0.0 {
+                        (s.base_m, false)
+                    } else {
+                        continue;
+                    };
+                    let t = (z - o[2]) / d[2];
+                    let p = Point2::new(o[0] + t * d[0], o[1] + t * d[1]);
+                    if t < best_t
+                        && scene.solid_bounds[k].contains(p)
+                        && point_in_polygon(p, &s.polygon)
+                    {
+                        best_t = t;
+                        best = Surface::Cap {
+                            solid: k as u32,
+                            up,
+                        };
+                    }
+                }
+            }
+            if best_t <= t_exit {
+                break;
+            }
+        }
+        Hit::at(o, d, best_t, best)
+    }
+
+    #[test]
+    fn cell_runs_walk_as_the_items_one_by_one_bit_for_bit() {
+        for name in crate::builtin::builtin_names() {
+            let scene = Scene::new(builtin_world(name).unwrap());
+            // The runs hold each cell's items in order.
+            for cell in 0..scene.shape.cell_count() {
+                let items: Vec<u32> = scene
+                    .cell_runs
+                    .get(cell)
+                    .iter()
+                    .flat_map(|run| match *run {
+                        CellRun::Faces { ids, .. } => {
+                            ids.into_iter().filter(|&id| id != u32::MAX).collect()
+                        }
+                        CellRun::Cap(k) => vec![k | CAP_BIT],
+                    })
+                    .collect();
+                assert_eq!(items, scene.faces.get(cell), "{name} cell {cell}");
+            }
+            // Random rays (from the camera heights, looking anywhere): the same hit, bits.
+            let b = scene.world.bounds();
+            let mut rng = Rng::new(8);
+            for _ in 0..4000 {
+                let o = [
+                    b.min.x + rng.uniform() * (b.max.x - b.min.x),
+                    b.min.y + rng.uniform() * (b.max.y - b.min.y),
+                    0.05 + rng.uniform() * 1.5,
+                ];
+                let (az, el) = (
+                    rng.uniform() * std::f64::consts::TAU,
+                    (rng.uniform() - 0.5) * 3.0,
+                );
+                let d = [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()];
+                let (got, want) = (scene.trace(o, d), trace_items(&scene, o, d));
+                assert_eq!(got.t.to_bits(), want.t.to_bits(), "{name} {o:?} {d:?}");
+                assert_eq!(got.surface, want.surface, "{name} {o:?} {d:?}");
+            }
+        }
     }
 
     #[test]
