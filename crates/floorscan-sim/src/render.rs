@@ -96,72 +96,14 @@ pub(crate) fn render_with(
         &scene.solid_bounds,
         place.world_from_camera.translation(),
     );
-    let yaw = place.world_from_camera.yaw;
-
     let mut cache = ShadeCache::default();
-    // Every per-pixel array cut to n (so the loop indexes them without bounds checks).
-    let (dirs, azimuth, horizontal) = (&rays.dirs[..n], &rays.azimuth[..n], &rays.horizontal[..n]);
-    let (pixel_angle, footprint) = (&rays.pixel_angle[..n], &rays.floor_footprint[..n]);
-    let floor_t = &rays.floor_t[..n];
-    let (radiance, ids, labels) = (
-        &mut out.radiance[..n],
-        &mut out.ids[..n],
-        &mut out.labels[..n],
-    );
-    // One row at a time: trace and shade each pixel, the texture noise of carpets and walls
-    // left pending; evaluate the row's noise in lanes; finish the radiances.
-    let (batch, lights, pending) = (&mut out.noise, &mut out.lights, &mut out.pending);
-    for row in (0..n).step_by(w.max(1)) {
-        let end = (row + w).min(n);
-        // At most two noise requests a pixel (a carpet's fibres and mottling).
-        batch.start(2 * (end - row));
-        lights.start(end - row);
-        if pending.len() < end - row {
-            pending.resize(end - row, Pending::Done(0.0));
+    match shading {
+        #[cfg(target_arch = "x86_64")]
+        Shading::Lanes(NoiseKernel::Avx2) if std::arch::is_x86_feature_detected!("avx2") => {
+            // SAFETY: AVX2 is present (checked above).
+            unsafe { main_pass_avx2(scene, rays, &place, &clear, out, &mut cache, shading) }
         }
-        for (k, slot) in (row..end).zip(pending.iter_mut()) {
-            let d0 = dirs[k];
-            if d0[0].is_nan() {
-                *slot = Pending::Done(0.0);
-                ids[k] = ID_NOTHING;
-                labels[k] = PixelLabel::Nothing as u8;
-                continue;
-            }
-            let d = place.to_world(d0);
-            let sector = clear.sector(sector_of(azimuth[k] + yaw));
-            // The floor's t is the camera's, in any pose (o[2] is the mount height, d[2] d0[2]).
-            let limit = if floor_t[k].is_nan() {
-                scene.limit(place.origin, d)
-            } else {
-                (floor_t[k], Surface::Floor)
-            };
-            let hit = scene.trace_clear_from(place.origin, d, sector, horizontal[k], limit);
-            let (p, id, label) = match shading {
-                Shading::Lanes(_) => shade_pending(
-                    scene,
-                    &hit,
-                    pixel_angle[k],
-                    footprint[k],
-                    &mut cache,
-                    batch,
-                    lights,
-                ),
-                Shading::PerPixel => {
-                    let sample = shade(scene, &hit, pixel_angle[k], footprint[k], &mut cache);
-                    (Pending::Done(sample.radiance), sample.id, sample.label)
-                }
-            };
-            *slot = p;
-            ids[k] = id;
-            labels[k] = label as u8;
-        }
-        if let Shading::Lanes(kernel) = shading {
-            batch.evaluate(kernel);
-            scene.light.evaluate(kernel, lights);
-        }
-        for (r, p) in radiance[row..end].iter_mut().zip(pending.iter()) {
-            *r = p.finish(batch, lights);
-        }
+        _ => main_pass(scene, rays, &place, &clear, out, &mut cache, shading),
     }
 
     if cam.imaging.antialias {
@@ -212,6 +154,105 @@ pub(crate) fn render_with(
         }
     }
     Ok(())
+}
+
+/// The main pass: every pixel traced and shaded (one row at a time, see [`render_with`]).
+#[inline(always)]
+fn main_pass(
+    scene: &Scene,
+    rays: &CameraRays,
+    place: &CameraPlacement,
+    clear: &Clearance,
+    out: &mut RenderBuffers,
+    cache: &mut ShadeCache,
+    shading: Shading,
+) {
+    let yaw = place.world_from_camera.yaw;
+    let n = rays.camera.width * rays.camera.height;
+    let w = rays.camera.width;
+    // Every per-pixel array cut to n (so the loop indexes them without bounds checks).
+    let (dirs, azimuth, horizontal) = (&rays.dirs[..n], &rays.azimuth[..n], &rays.horizontal[..n]);
+    let (pixel_angle, footprint) = (&rays.pixel_angle[..n], &rays.floor_footprint[..n]);
+    let floor_t = &rays.floor_t[..n];
+    let (radiance, ids, labels) = (
+        &mut out.radiance[..n],
+        &mut out.ids[..n],
+        &mut out.labels[..n],
+    );
+    // One row at a time: trace and shade each pixel, the texture noise of carpets and walls
+    // left pending; evaluate the row's noise in lanes; finish the radiances.
+    let (batch, lights, pending) = (&mut out.noise, &mut out.lights, &mut out.pending);
+    for row in (0..n).step_by(w.max(1)) {
+        let end = (row + w).min(n);
+        // At most two noise requests a pixel (a carpet's fibres and mottling).
+        batch.start(2 * (end - row));
+        lights.start(end - row);
+        if pending.len() < end - row {
+            pending.resize(end - row, Pending::Done(0.0));
+        }
+        for (k, slot) in (row..end).zip(pending.iter_mut()) {
+            let d0 = dirs[k];
+            if d0[0].is_nan() {
+                *slot = Pending::Done(0.0);
+                ids[k] = ID_NOTHING;
+                labels[k] = PixelLabel::Nothing as u8;
+                continue;
+            }
+            let d = place.to_world(d0);
+            let sector = clear.sector(sector_of(azimuth[k] + yaw));
+            // The floor's t is the camera's, in any pose (o[2] is the mount height, d[2] d0[2]).
+            let limit = if floor_t[k].is_nan() {
+                scene.limit(place.origin, d)
+            } else {
+                (floor_t[k], Surface::Floor)
+            };
+            let hit = scene.trace_clear_from(place.origin, d, sector, horizontal[k], limit);
+            let (p, id, label) = match shading {
+                Shading::Lanes(_) => shade_pending(
+                    scene,
+                    &hit,
+                    pixel_angle[k],
+                    footprint[k],
+                    cache,
+                    batch,
+                    lights,
+                ),
+                Shading::PerPixel => {
+                    let sample = shade(scene, &hit, pixel_angle[k], footprint[k], cache);
+                    (Pending::Done(sample.radiance), sample.id, sample.label)
+                }
+            };
+            *slot = p;
+            ids[k] = id;
+            labels[k] = label as u8;
+        }
+        if let Shading::Lanes(kernel) = shading {
+            batch.evaluate(kernel);
+            scene.light.evaluate(kernel, lights);
+        }
+        for (r, p) in radiance[row..end].iter_mut().zip(pending.iter()) {
+            *r = p.finish(batch, lights);
+        }
+    }
+}
+
+/// [`main_pass`] compiled for AVX2 (the same operations in the same order, no fused
+/// multiply-add: AVX2 does not enable it, and Rust never contracts).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn main_pass_avx2(
+    scene: &Scene,
+    rays: &CameraRays,
+    place: &CameraPlacement,
+    clear: &Clearance,
+    out: &mut RenderBuffers,
+    cache: &mut ShadeCache,
+    shading: Shading,
+) {
+    main_pass(scene, rays, place, clear, out, cache, shading)
 }
 
 /// Offsets of the extra anti-aliasing samples [px]; with the pixel centre they sample four
