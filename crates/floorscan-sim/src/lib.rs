@@ -20,6 +20,7 @@ pub mod geometry;
 pub mod grid_index;
 pub mod lightmap;
 pub mod noise_cell;
+pub mod noise_lanes;
 pub mod occupancy;
 pub mod odometry;
 pub mod render;

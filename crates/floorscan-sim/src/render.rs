@@ -10,9 +10,11 @@ use floorscan_core::Pose2;
 use crate::camera::{CameraPlacement, CameraRays};
 use crate::clearance::{sector_of, Clearance};
 use crate::error::{invalid_option, Result};
+use crate::lightmap::LightBatch;
+use crate::noise_lanes::{NoiseBatch, NoiseKernel};
 use crate::rng::{derive_seed, Rng};
 use crate::scene::{Scene, Surface};
-use crate::shade::{shade, ShadeCache, ID_NOTHING};
+use crate::shade::{shade, shade_pending, Pending, ShadeCache, ID_NOTHING};
 use crate::truth::PixelLabel;
 
 /// Reusable buffers of a render (so rendering a run allocates once).
@@ -21,12 +23,30 @@ pub struct RenderBuffers {
     radiance: Vec<f32>,
     ids: Vec<u32>,
     scratch: Vec<f32>,
+    /// A row's texture noise requests and its pixels' pending radiances.
+    noise: NoiseBatch,
+    lights: LightBatch,
+    /// A row's anti-aliasing flags.
+    edges: Vec<bool>,
+    pending: Vec<Pending>,
     /// The rendered 8-bit image, row-major.
     pub image: Vec<u8>,
     /// The [`PixelLabel`] code of each pixel centre, row-major.
     pub labels: Vec<u8>,
     /// The exposure used for this frame (mean exposure times the jitter).
     pub exposure: f64,
+}
+
+/// How the main pass shades (the images are the same bits either way).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Shading {
+    /// Each pixel completely before the next (texture noise one point at a time): the
+    /// reference the tests compare the lanes with.
+    #[cfg_attr(not(test), allow(dead_code))]
+    PerPixel,
+    /// A row's texture noise and light of carpets and walls evaluated together with this
+    /// kernel.
+    Lanes(NoiseKernel),
 }
 
 /// Renders the view of a robot at `world_from_robot` into `out` (image and labels).
@@ -37,6 +57,28 @@ pub fn render_into(
     seed: u64,
     frame_index: u64,
     out: &mut RenderBuffers,
+) -> Result<()> {
+    let shading = Shading::Lanes(NoiseKernel::detect());
+    render_with(
+        scene,
+        rays,
+        world_from_robot,
+        seed,
+        frame_index,
+        out,
+        shading,
+    )
+}
+
+/// [`render_into`] shading the main pass as `shading` says.
+pub(crate) fn render_with(
+    scene: &Scene,
+    rays: &CameraRays,
+    world_from_robot: Pose2,
+    seed: u64,
+    frame_index: u64,
+    out: &mut RenderBuffers,
+    shading: Shading,
 ) -> Result<()> {
     if !world_from_robot.is_finite() {
         return Err(invalid_option("pose", "robot pose must be finite"));
@@ -54,39 +96,14 @@ pub fn render_into(
         &scene.solid_bounds,
         place.world_from_camera.translation(),
     );
-    let yaw = place.world_from_camera.yaw;
-
     let mut cache = ShadeCache::default();
-    // Every per-pixel array cut to n (so the loop indexes them without bounds checks).
-    let (dirs, azimuth, horizontal) = (&rays.dirs[..n], &rays.azimuth[..n], &rays.horizontal[..n]);
-    let (pixel_angle, footprint) = (&rays.pixel_angle[..n], &rays.floor_footprint[..n]);
-    let floor_t = &rays.floor_t[..n];
-    let (radiance, ids, labels) = (
-        &mut out.radiance[..n],
-        &mut out.ids[..n],
-        &mut out.labels[..n],
-    );
-    for k in 0..n {
-        let d0 = dirs[k];
-        if d0[0].is_nan() {
-            radiance[k] = 0.0;
-            ids[k] = ID_NOTHING;
-            labels[k] = PixelLabel::Nothing as u8;
-            continue;
+    match shading {
+        #[cfg(target_arch = "x86_64")]
+        Shading::Lanes(NoiseKernel::Avx2) if std::arch::is_x86_feature_detected!("avx2") => {
+            // SAFETY: AVX2 is present (checked above).
+            unsafe { main_pass_avx2(scene, rays, &place, &clear, out, &mut cache, shading) }
         }
-        let d = place.to_world(d0);
-        let sector = clear.sector(sector_of(azimuth[k] + yaw));
-        // The floor's t is the camera's, in any pose (o[2] is the mount height, d[2] d0[2]).
-        let limit = if floor_t[k].is_nan() {
-            scene.limit(place.origin, d)
-        } else {
-            (floor_t[k], Surface::Floor)
-        };
-        let hit = scene.trace_clear_from(place.origin, d, sector, horizontal[k], limit);
-        let sample = shade(scene, &hit, pixel_angle[k], footprint[k], &mut cache);
-        ids[k] = sample.id;
-        labels[k] = sample.label as u8;
-        radiance[k] = sample.radiance;
+        _ => main_pass(scene, rays, &place, &clear, out, &mut cache, shading),
     }
 
     if cam.imaging.antialias {
@@ -114,17 +131,128 @@ pub fn render_into(
     let read = cam.imaging.read_noise_dn as f32;
     let shot = cam.imaging.shot_noise_gain as f32;
     let noisy = read > 0.0 || shot > 0.0;
-    let pixels = out.image[..n].iter_mut().zip(&out.radiance[..n]);
-    for ((byte, &radiance), &gain) in pixels.zip(&rays.gain[..n]) {
-        let mut v = radiance * gain * scale;
-        if noisy {
-            let sigma = (read * read + shot * v.max(0.0)).sqrt();
-            v += sigma * rng.normal_fast();
+    let (image, radiance, gain) = (&mut out.image[..n], &out.radiance[..n], &rays.gain[..n]);
+    // Round half up (no libm call); the clamp keeps it in range.
+    let quantise = |v: f32| (v.clamp(0.0, 255.0) + 0.5) as u8;
+    if noisy {
+        // The generator's draws first (one per pixel, in pixel order, as it is sequential),
+        // then the pixels with no generator in the loop (vectorisable): the same values.
+        out.scratch.resize(n, 0.0);
+        let draws = &mut out.scratch[..n];
+        for z in draws.iter_mut() {
+            *z = rng.normal_fast();
         }
-        // Round half up (no libm call); the clamp keeps it in range.
-        *byte = (v.clamp(0.0, 255.0) + 0.5) as u8;
+        let pixels = image.iter_mut().zip(radiance).zip(gain).zip(&*draws);
+        for (((byte, &radiance), &gain), &z) in pixels {
+            let v = radiance * gain * scale;
+            let sigma = (read * read + shot * v.max(0.0)).sqrt();
+            *byte = quantise(v + sigma * z);
+        }
+    } else {
+        for ((byte, &radiance), &gain) in image.iter_mut().zip(radiance).zip(gain) {
+            *byte = quantise(radiance * gain * scale);
+        }
     }
     Ok(())
+}
+
+/// The main pass: every pixel traced and shaded (one row at a time, see [`render_with`]).
+#[inline(always)]
+fn main_pass(
+    scene: &Scene,
+    rays: &CameraRays,
+    place: &CameraPlacement,
+    clear: &Clearance,
+    out: &mut RenderBuffers,
+    cache: &mut ShadeCache,
+    shading: Shading,
+) {
+    let yaw = place.world_from_camera.yaw;
+    let n = rays.camera.width * rays.camera.height;
+    let w = rays.camera.width;
+    // Every per-pixel array cut to n (so the loop indexes them without bounds checks).
+    let (dirs, azimuth, horizontal) = (&rays.dirs[..n], &rays.azimuth[..n], &rays.horizontal[..n]);
+    let (pixel_angle, footprint) = (&rays.pixel_angle[..n], &rays.floor_footprint[..n]);
+    let floor_t = &rays.floor_t[..n];
+    let (radiance, ids, labels) = (
+        &mut out.radiance[..n],
+        &mut out.ids[..n],
+        &mut out.labels[..n],
+    );
+    // One row at a time: trace and shade each pixel, the texture noise of carpets and walls
+    // left pending; evaluate the row's noise in lanes; finish the radiances.
+    let (batch, lights, pending) = (&mut out.noise, &mut out.lights, &mut out.pending);
+    for row in (0..n).step_by(w.max(1)) {
+        let end = (row + w).min(n);
+        // At most two noise requests a pixel (a carpet's fibres and mottling).
+        batch.start(2 * (end - row));
+        lights.start(end - row);
+        if pending.len() < end - row {
+            pending.resize(end - row, Pending::Done(0.0));
+        }
+        for (k, slot) in (row..end).zip(pending.iter_mut()) {
+            let d0 = dirs[k];
+            if d0[0].is_nan() {
+                *slot = Pending::Done(0.0);
+                ids[k] = ID_NOTHING;
+                labels[k] = PixelLabel::Nothing as u8;
+                continue;
+            }
+            let d = place.to_world(d0);
+            let sector = clear.sector(sector_of(azimuth[k] + yaw));
+            // The floor's t is the camera's, in any pose (o[2] is the mount height, d[2] d0[2]).
+            let limit = if floor_t[k].is_nan() {
+                scene.limit(place.origin, d)
+            } else {
+                (floor_t[k], Surface::Floor)
+            };
+            let hit = scene.trace_clear_from(place.origin, d, sector, horizontal[k], limit);
+            let (p, id, label) = match shading {
+                Shading::Lanes(_) => shade_pending(
+                    scene,
+                    &hit,
+                    pixel_angle[k],
+                    footprint[k],
+                    cache,
+                    batch,
+                    lights,
+                ),
+                Shading::PerPixel => {
+                    let sample = shade(scene, &hit, pixel_angle[k], footprint[k], cache);
+                    (Pending::Done(sample.radiance), sample.id, sample.label)
+                }
+            };
+            *slot = p;
+            ids[k] = id;
+            labels[k] = label as u8;
+        }
+        if let Shading::Lanes(kernel) = shading {
+            batch.evaluate(kernel);
+            scene.light.evaluate(kernel, lights);
+        }
+        for (r, p) in radiance[row..end].iter_mut().zip(pending.iter()) {
+            *r = p.finish(batch, lights);
+        }
+    }
+}
+
+/// [`main_pass`] compiled for AVX2 (the same operations in the same order, no fused
+/// multiply-add: AVX2 does not enable it, and Rust never contracts).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn main_pass_avx2(
+    scene: &Scene,
+    rays: &CameraRays,
+    place: &CameraPlacement,
+    clear: &Clearance,
+    out: &mut RenderBuffers,
+    cache: &mut ShadeCache,
+    shading: Shading,
+) {
+    main_pass(scene, rays, place, clear, out, cache, shading)
 }
 
 /// Offsets of the extra anti-aliasing samples [px]; with the pixel centre they sample four
@@ -144,15 +272,12 @@ fn antialias(
     let (w, h) = (rays.camera.width, rays.camera.height);
     let yaw = place.world_from_camera.yaw;
     let ids = &out.ids;
+    let mut edges = std::mem::take(&mut out.edges);
     for v in 0..h {
-        for u in 0..w {
+        edge_flags(ids, w, h, v, &mut edges);
+        for u in (0..w).filter(|&u| edges[u]) {
             let k = v * w + u;
-            let id = ids[k];
-            let edge = (u + 1 < w && ids[k + 1] != id)
-                || (u > 0 && ids[k - 1] != id)
-                || (v + 1 < h && ids[k + w] != id)
-                || (v > 0 && ids[k - w] != id);
-            if !edge || rays.dirs[k][0].is_nan() {
+            if rays.dirs[k][0].is_nan() {
                 continue;
             }
             // Samples lie within 0.53 px of the pixel centre: their azimuths within 0.6 pixel
@@ -169,6 +294,42 @@ fn antialias(
             out.radiance[k] = sum / (AA_OFFSETS.len() + 1) as f32;
         }
     }
+    out.edges = edges;
+}
+
+/// Whether each pixel of row `v` differs in surface from a 4-neighbour (into `edges[..w]`):
+/// the interior of the row compares whole rows (vectorisable), the two ends one by one.
+fn edge_flags(ids: &[u32], w: usize, h: usize, v: usize, edges: &mut Vec<bool>) {
+    edges.clear();
+    edges.resize(w, false);
+    let at = |v: usize| &ids[v * w..(v + 1) * w];
+    let row = at(v);
+    // Above and below: the row itself at the image's top and bottom (no difference).
+    let up = if v > 0 { at(v - 1) } else { row };
+    let down = if v + 1 < h { at(v + 1) } else { row };
+    let one = |u: usize| {
+        let id = row[u];
+        (u + 1 < w && row[u + 1] != id)
+            || (u > 0 && row[u - 1] != id)
+            || up[u] != id
+            || down[u] != id
+    };
+    if w < 3 {
+        for (u, e) in edges.iter_mut().enumerate() {
+            *e = one(u);
+        }
+        return;
+    }
+    let inner = row[1..w - 1]
+        .iter()
+        .zip(&row[2..])
+        .zip(&row[..w - 2])
+        .zip(up[1..w - 1].iter().zip(&down[1..w - 1]));
+    for (e, (((id, right), left), (above, below))) in edges[1..w - 1].iter_mut().zip(inner) {
+        *e = (right != id) | (left != id) | (above != id) | (below != id);
+    }
+    edges[0] = one(0);
+    edges[w - 1] = one(w - 1);
 }
 
 /// Separable Gaussian blur with clamped borders.
@@ -217,7 +378,29 @@ fn gaussian_blur(img: &mut [f32], tmp: &mut Vec<f32>, w: usize, h: usize, sigma:
 
 #[cfg(test)]
 mod blur_tests {
-    use super::gaussian_blur;
+    use super::{edge_flags, gaussian_blur};
+
+    #[test]
+    fn edge_flags_are_the_four_neighbour_test() {
+        // Random ids of few values, in images of every small size.
+        let mut rng = crate::rng::Rng::new(2);
+        let mut edges = Vec::new();
+        for (w, h) in [(1, 1), (1, 4), (2, 3), (3, 1), (3, 3), (5, 2), (17, 9)] {
+            let ids: Vec<u32> = (0..w * h).map(|_| (rng.next_u64() % 3) as u32).collect();
+            for v in 0..h {
+                edge_flags(&ids, w, h, v, &mut edges);
+                for (u, &edge) in edges.iter().enumerate() {
+                    let k = v * w + u;
+                    let id = ids[k];
+                    let want = (u + 1 < w && ids[k + 1] != id)
+                        || (u > 0 && ids[k - 1] != id)
+                        || (v + 1 < h && ids[k + w] != id)
+                        || (v > 0 && ids[k - w] != id);
+                    assert_eq!(edge, want, "{w}x{h} ({u}, {v})");
+                }
+            }
+        }
+    }
 
     #[test]
     fn blur_keeps_constants_and_mass_and_spreads_a_point() {
@@ -348,6 +531,45 @@ mod tests {
                     assert_ne!(want, Surface::Floor);
                 } else {
                     assert_eq!((t.to_bits(), Surface::Floor), (want_t.to_bits(), want));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn lanes_render_exactly_as_per_pixel_shading_in_every_builtin_world() {
+        // The row batches of texture noise (the AVX2 lanes where the CPU has them, and the
+        // forced portable kernel) against shading each pixel completely: the same radiance
+        // bits before blur and noise, the same image bytes and labels, from random poses.
+        use crate::builtin::builtin_names;
+        use crate::rng::Rng;
+        let mut rng = Rng::new(5);
+        for (w, h) in [(96, 72), (61, 37)] {
+            let rays = CameraRays::new(Camera::wide_angle(w, h)).unwrap();
+            for name in builtin_names() {
+                let scene = Scene::new(builtin_world(name).unwrap());
+                let b = scene.world.bounds();
+                for i in 0..3 {
+                    let pose = Pose2::new(
+                        b.min.x + (b.max.x - b.min.x) * rng.uniform(),
+                        b.min.y + (b.max.y - b.min.y) * rng.uniform(),
+                        std::f64::consts::TAU * rng.uniform(),
+                    );
+                    let render = |shading| {
+                        let mut buf = RenderBuffers::default();
+                        render_with(&scene, &rays, pose, 3, i, &mut buf, shading).unwrap();
+                        buf
+                    };
+                    let want = render(Shading::PerPixel);
+                    for kernel in [NoiseKernel::Portable, NoiseKernel::detect()] {
+                        let got = render(Shading::Lanes(kernel));
+                        let bits = |b: &RenderBuffers| -> Vec<u32> {
+                            b.radiance.iter().map(|r| r.to_bits()).collect()
+                        };
+                        assert_eq!(bits(&got), bits(&want), "{name} {kernel:?} {pose:?}");
+                        assert_eq!(got.image, want.image, "{name} {kernel:?}");
+                        assert_eq!(got.labels, want.labels, "{name} {kernel:?}");
+                    }
                 }
             }
         }

@@ -80,14 +80,21 @@ impl Rng {
 fn mix(hx: u32, hy: u32, seed: u32) -> u32 {
     let mut h = hx ^ hy ^ seed;
     h ^= h >> 15;
-    h = h.wrapping_mul(0x2C1B_3C6D);
+    h = h.wrapping_mul(HASH_MIX[0]);
     h ^= h >> 12;
-    h = h.wrapping_mul(0x297A_2D39);
+    h = h.wrapping_mul(HASH_MIX[1]);
     h ^ (h >> 15)
 }
 
-const HX: u32 = 0x8DA6_B343;
-const HY: u32 = 0xD816_3841;
+/// The multipliers of [`mix`] and of the lattice coordinates (shared with the lane kernels of
+/// [`crate::noise_lanes`]).
+pub(crate) const HASH_MIX: [u32; 2] = [0x2C1B_3C6D, 0x297A_2D39];
+pub(crate) const HX: u32 = 0x8DA6_B343;
+pub(crate) const HY: u32 = 0xD816_3841;
+/// The scale of [`to_unit`]: 24 hash bits to [0, 2).
+pub(crate) const UNIT_SCALE: f32 = 2.0 / (1u32 << 24) as f32;
+/// 1.5 * 2^52: adding it rounds an f64 to an integer held in the low mantissa bits.
+pub(crate) const FLOOR_MAGIC: f64 = 6_755_399_441_055_744.0;
 
 #[inline(always)]
 pub(crate) fn seed32(seed: u64) -> u32 {
@@ -97,7 +104,7 @@ pub(crate) fn seed32(seed: u64) -> u32 {
 #[inline(always)]
 fn to_unit(h: u32) -> f32 {
     // Through i32: a signed conversion is one instruction, an unsigned one is several.
-    ((h >> 8) as i32) as f32 * (2.0 / (1u32 << 24) as f32) - 1.0
+    ((h >> 8) as i32) as f32 * UNIT_SCALE - 1.0
 }
 
 /// A hash of a lattice point and a seed, mapped to [-1, 1].
@@ -116,10 +123,9 @@ pub fn hash2(ix: i64, iy: i64, seed: u64) -> f32 {
 /// behaviour) beyond, which callers avoid (texture lattices, grid cells, sectors).
 #[inline(always)]
 pub fn fast_floor(x: f64) -> i64 {
-    const MAGIC: f64 = 6_755_399_441_055_744.0;
-    let t = x + MAGIC;
+    let t = x + FLOOR_MAGIC;
     let nearest = t.to_bits() as i32 as i64;
-    nearest - ((t - MAGIC) > x) as i64
+    nearest - ((t - FLOOR_MAGIC) > x) as i64
 }
 
 /// Smooth value noise in [-1, 1] at (x, y) in lattice units: hashed lattice values, blended with

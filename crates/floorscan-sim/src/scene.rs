@@ -90,6 +90,174 @@ impl Hit {
     }
 }
 
+/// Four side faces' end points, lane by lane (padding lanes NaN: never met).
+#[derive(Debug, Clone, Copy)]
+struct FaceQuad {
+    ax: [f64; 4],
+    ay: [f64; 4],
+    bx: [f64; 4],
+    by: [f64; 4],
+}
+
+impl FaceQuad {
+    /// The first four of `faces` (NaN lanes after the last).
+    fn of(faces: &[SideFace]) -> FaceQuad {
+        let mut q = FaceQuad {
+            ax: [f64::NAN; 4],
+            ay: [f64::NAN; 4],
+            bx: [f64::NAN; 4],
+            by: [f64::NAN; 4],
+        };
+        for (lane, f) in faces.iter().take(4).enumerate() {
+            (q.ax[lane], q.ay[lane]) = (f.a.x, f.a.y);
+            (q.bx[lane], q.by[lane]) = (f.b.x, f.b.y);
+        }
+        q
+    }
+
+    /// [`ray_segment`] of the ground track o + t d with the four faces: a bit per lane
+    /// whose face the track meets, and each lane's (t, s) (meaningful where met). Each
+    /// lane does ray_segment's operations in its order (IEEE operations, no fused
+    /// multiply-add), so the same bits.
+    #[inline(always)]
+    fn ray(&self, o: Point2, d: Point2) -> (u32, [f64; 4], [f64; 4]) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SSE2 is part of x86-64.
+            self.ray_sse2(o, d)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            self.ray_portable(o, d)
+        }
+    }
+
+    /// [`Self::ray`] one lane at a time.
+    #[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+    fn ray_portable(&self, o: Point2, d: Point2) -> (u32, [f64; 4], [f64; 4]) {
+        let mut met = 0u32;
+        let (mut ts, mut ss) = ([0.0; 4], [0.0; 4]);
+        for lane in 0..4 {
+            let (a, b) = (
+                Point2::new(self.ax[lane], self.ay[lane]),
+                Point2::new(self.bx[lane], self.by[lane]),
+            );
+            if let Some((t, s)) = ray_segment(o, d, a, b) {
+                met |= 1 << lane;
+                (ts[lane], ss[lane]) = (t, s);
+            }
+        }
+        (met, ts, ss)
+    }
+
+    /// [`Self::ray`] in two SSE2 registers of two lanes.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn ray_sse2(&self, o: Point2, d: Point2) -> (u32, [f64; 4], [f64; 4]) {
+        use std::arch::x86_64::*;
+        // SAFETY (every block below): SSE2 is part of x86-64; the loads and stores are of
+        // [f64; 4] arrays at offsets 0 and 2 (two f64 each, unaligned).
+        unsafe {
+            let (ox, oy) = (_mm_set1_pd(o.x), _mm_set1_pd(o.y));
+            let (dx, dy) = (_mm_set1_pd(d.x), _mm_set1_pd(d.y));
+            let sign = _mm_set1_pd(-0.0);
+            let (zero, tiny) = (_mm_setzero_pd(), _mm_set1_pd(1e-300));
+            let mut met = 0u32;
+            let (mut ts, mut ss) = ([0.0f64; 4], [0.0f64; 4]);
+            let mut parts = [(zero, zero, zero); 2];
+            for (half, part) in parts.iter_mut().enumerate() {
+                let at = |v: &[f64; 4]| _mm_loadu_pd(v.as_ptr().add(2 * half));
+                let (ax, ay, bx, by) = (at(&self.ax), at(&self.ay), at(&self.bx), at(&self.by));
+                let (ex, ey) = (_mm_sub_pd(bx, ax), _mm_sub_pd(by, ay));
+                let denom = _mm_sub_pd(_mm_mul_pd(dx, ey), _mm_mul_pd(dy, ex));
+                let (wx, wy) = (_mm_sub_pd(ax, ox), _mm_sub_pd(ay, oy));
+                let tn = _mm_sub_pd(_mm_mul_pd(wx, ey), _mm_mul_pd(wy, ex));
+                let sn = _mm_sub_pd(_mm_mul_pd(wx, dy), _mm_mul_pd(wy, dx));
+                // Negated (the sign bit flipped) where denom < 0.
+                let flip = _mm_and_pd(_mm_cmplt_pd(denom, zero), sign);
+                let (tn, sn, dn) = (
+                    _mm_xor_pd(tn, flip),
+                    _mm_xor_pd(sn, flip),
+                    _mm_xor_pd(denom, flip),
+                );
+                let ok = _mm_and_pd(
+                    _mm_and_pd(_mm_cmpgt_pd(dn, tiny), _mm_cmpge_pd(tn, zero)),
+                    _mm_and_pd(_mm_cmpge_pd(sn, zero), _mm_cmple_pd(sn, dn)),
+                );
+                met |= (_mm_movemask_pd(ok) as u32) << (2 * half);
+                *part = (tn, sn, dn);
+            }
+            if met != 0 {
+                let one = _mm_set1_pd(1.0);
+                for (half, &(tn, sn, dn)) in parts.iter().enumerate() {
+                    let inv = _mm_div_pd(one, dn);
+                    _mm_storeu_pd(ts.as_mut_ptr().add(2 * half), _mm_mul_pd(tn, inv));
+                    _mm_storeu_pd(ss.as_mut_ptr().add(2 * half), _mm_mul_pd(sn, inv));
+                }
+            }
+            (met, ts, ss)
+        }
+    }
+}
+
+/// A run of a grid cell's items: up to four side faces in a row (`ids`; the quad's lanes
+/// beyond them NaN, never met), or the cap of a solid.
+#[derive(Debug, Clone, Copy)]
+enum CellRun {
+    Faces { quad: FaceQuad, ids: [u32; 4] },
+    Cap(u32),
+}
+
+/// Each grid cell's items as runs, in the cell's order (faces grouped four by four between
+/// caps).
+#[derive(Debug, Clone)]
+struct CellRuns {
+    offsets: Vec<u32>,
+    runs: Vec<CellRun>,
+}
+
+impl CellRuns {
+    fn build(cells: &CellLists, sides: &[SideFace], cell_count: usize) -> CellRuns {
+        let mut offsets = Vec::with_capacity(cell_count + 1);
+        let mut runs = Vec::new();
+        offsets.push(0);
+        for cell in 0..cell_count {
+            let mut faces: Vec<u32> = Vec::with_capacity(4);
+            let flush = |faces: &mut Vec<u32>, runs: &mut Vec<CellRun>| {
+                if !faces.is_empty() {
+                    let group: Vec<SideFace> = faces.iter().map(|&id| sides[id as usize]).collect();
+                    let mut ids = [u32::MAX; 4];
+                    ids[..faces.len()].copy_from_slice(faces);
+                    runs.push(CellRun::Faces {
+                        quad: FaceQuad::of(&group),
+                        ids,
+                    });
+                    faces.clear();
+                }
+            };
+            for &item in cells.get(cell) {
+                if item & CAP_BIT == 0 {
+                    faces.push(item);
+                    if faces.len() == 4 {
+                        flush(&mut faces, &mut runs);
+                    }
+                } else {
+                    flush(&mut faces, &mut runs);
+                    runs.push(CellRun::Cap(item & !CAP_BIT));
+                }
+            }
+            flush(&mut faces, &mut runs);
+            offsets.push(runs.len() as u32);
+        }
+        CellRuns { offsets, runs }
+    }
+
+    #[inline]
+    fn get(&self, cell: usize) -> &[CellRun] {
+        &self.runs[self.offsets[cell] as usize..self.offsets[cell + 1] as usize]
+    }
+}
+
 /// Grid items: side faces are stored as their index, caps with this bit set.
 const CAP_BIT: u32 = 1 << 31;
 
@@ -102,6 +270,10 @@ pub struct Scene {
     pub world: World,
     pub sides: Vec<SideFace>,
     pub shape: GridShape,
+    /// Each grid cell's side faces and caps, as runs for the grid walk (faces four at a time).
+    cell_runs: CellRuns,
+    /// The items of each cell one by one (the tests' reference for `cell_runs`).
+    #[cfg(test)]
     faces: CellLists,
     regions: CellLists,
     /// Per cell: the covering of the whole cell when one region (or none) decides it, else -1.
@@ -111,6 +283,11 @@ pub struct Scene {
     pub solid_bounds: Vec<Aabb>,
     /// Side faces of each solid (indices into `sides`).
     solid_sides: Vec<std::ops::Range<u32>>,
+    /// The side faces' end points in groups of four (each solid's faces in its own groups,
+    /// the last one padded with NaN), for meeting a ray with four faces at once.
+    face_quads: Vec<FaceQuad>,
+    /// Each solid's groups (indices into `face_quads`).
+    solid_quads: Vec<std::ops::Range<u32>>,
     /// 1 / the grid's cell size [1/m].
     inv_cell_m: f64,
     /// The grid's (nx, ny) as floats (a conversion per lookup otherwise).
@@ -183,8 +360,25 @@ impl Scene {
         let cell_covering = (0..shape.cell_count())
             .map(|cell| uniform_covering(&world, &shape, &regions, cell))
             .collect();
+        let mut face_quads = Vec::new();
+        let solid_quads = solid_sides
+            .iter()
+            .map(|r| {
+                let first = face_quads.len() as u32;
+                for chunk in sides[r.start as usize..r.end as usize].chunks(4) {
+                    face_quads.push(FaceQuad::of(chunk));
+                }
+                first..face_quads.len() as u32
+            })
+            .collect();
+        let faces = CellLists::build(shape.cell_count(), &face_pairs);
+        let cell_runs = CellRuns::build(&faces, &sides, shape.cell_count());
         Scene {
-            faces: CellLists::build(shape.cell_count(), &face_pairs),
+            cell_runs,
+            #[cfg(test)]
+            faces,
+            face_quads,
+            solid_quads,
             regions,
             cell_covering,
             sides,
@@ -205,13 +399,19 @@ impl Scene {
     }
 
     /// [`Self::covering_at`], remembering the last cell of one covering in `memo`.
-    #[inline]
+    #[inline(always)]
     pub fn covering_cached(&self, p: Point2, memo: &mut CellMemo<usize>) -> usize {
         let gx = (p.x - self.shape.origin.x) * self.inv_cell_m;
         let gy = (p.y - self.shape.origin.y) * self.inv_cell_m;
-        if let Some(c) = memo.get(gx, gy) {
-            return c;
+        match memo.get(gx, gy) {
+            Some(c) => c,
+            None => self.covering_enter(p, gx, gy, memo),
         }
+    }
+
+    /// [`Self::covering_cached`] outside the remembered cell (out of line: the rarer path).
+    #[inline(never)]
+    fn covering_enter(&self, p: Point2, gx: f64, gy: f64, memo: &mut CellMemo<usize>) -> usize {
         if gx >= 0.0 && gy >= 0.0 && gx < self.extent.0 && gy < self.extent.1 {
             // In range (checked above): the fast floor is exact.
             let (ix, iy) = (fast_floor(gx), fast_floor(gy));
@@ -304,20 +504,30 @@ impl Scene {
         let o2 = Point2::new(o[0], o[1]);
         let d2 = Point2::new(d[0], d[1]);
         let mut best = (f64::INFINITY, Surface::Nothing);
-        for id in self.solid_sides[k].clone() {
-            let f = &self.sides[id as usize];
-            if let Some((t, s)) = ray_segment(o2, d2, f.a, f.b) {
-                let z = o[2] + t * d[2];
-                if t < best.0 && z >= f.z0 && z <= f.z1 {
-                    best = (
-                        t,
-                        Surface::Side {
-                            face: id,
-                            s: s * f.length,
-                        },
-                    );
+        // The faces four at a time (ray_segment in lanes), then each face that the ray meets
+        // in their order, as one face at a time would.
+        let mut id = self.solid_sides[k].start;
+        for quad in
+            &self.face_quads[self.solid_quads[k].start as usize..self.solid_quads[k].end as usize]
+        {
+            let (met, ts, ss) = quad.ray(o2, d2);
+            for lane in 0..4 {
+                if met & 1 << lane != 0 {
+                    let f = &self.sides[id as usize + lane];
+                    let t = ts[lane];
+                    let z = o[2] + t * d[2];
+                    if t < best.0 && z >= f.z0 && z <= f.z1 {
+                        best = (
+                            t,
+                            Surface::Side {
+                                face: id + lane as u32,
+                                s: ss[lane] * f.length,
+                            },
+                        );
+                    }
                 }
             }
+            id += 4;
         }
         let s = &self.world.solids[k];
         let (z, up) = if o[2] > s.top_m && d[2] < 0.0 {
@@ -358,41 +568,50 @@ impl Scene {
         let mut best = limit_surface;
         let mut walk = CellWalk::starting_at(&self.shape, o2, d2, t0);
         while let Some((cell, t_exit)) = walk.next_cell() {
-            for &item in self.faces.get(cell) {
-                if item & CAP_BIT == 0 {
-                    let f = &self.sides[item as usize];
-                    if let Some((t, s)) = ray_segment(o2, d2, f.a, f.b) {
-                        if t < best_t {
-                            let z = o[2] + t * d[2];
-                            if z >= f.z0 && z <= f.z1 {
-                                best_t = t;
-                                best = Surface::Side {
-                                    face: item,
-                                    s: s * f.length,
-                                };
+            // The cell's items in their order: side faces four at a time (lanes), caps.
+            for run in self.cell_runs.get(cell) {
+                match *run {
+                    CellRun::Faces { ref quad, ids } => {
+                        let (met, ts, ss) = quad.ray(o2, d2);
+                        if met == 0 {
+                            continue;
+                        }
+                        for lane in 0..4 {
+                            let t = ts[lane];
+                            if met & 1 << lane != 0 && t < best_t {
+                                let f = &self.sides[ids[lane] as usize];
+                                let z = o[2] + t * d[2];
+                                if z >= f.z0 && z <= f.z1 {
+                                    best_t = t;
+                                    best = Surface::Side {
+                                        face: ids[lane],
+                                        s: ss[lane] * f.length,
+                                    };
+                                }
                             }
                         }
                     }
-                } else {
-                    let k = (item & !CAP_BIT) as usize;
-                    let s = &self.world.solids[k];
-                    // A top face is seen from above, a bottom face (overhangs) from below.
-                    let (z, up) = if o[2] > s.top_m && d[2] < 0.0 {
-                        (s.top_m, true)
-                    } else if o[2] < s.base_m && s.base_m > 0.0 && d[2] > 0.0 {
-                        (s.base_m, false)
-                    } else {
-                        continue;
-                    };
-                    let t = (z - o[2]) / d[2];
-                    if t < best_t {
-                        let p = Point2::new(o[0] + t * d[0], o[1] + t * d[1]);
-                        if self.solid_bounds[k].contains(p) && point_in_polygon(p, &s.polygon) {
-                            best_t = t;
-                            best = Surface::Cap {
-                                solid: k as u32,
-                                up,
-                            };
+                    CellRun::Cap(k) => {
+                        let k = k as usize;
+                        let s = &self.world.solids[k];
+                        // A top face is seen from above, a bottom face (overhangs) from below.
+                        let (z, up) = if o[2] > s.top_m && d[2] < 0.0 {
+                            (s.top_m, true)
+                        } else if o[2] < s.base_m && s.base_m > 0.0 && d[2] > 0.0 {
+                            (s.base_m, false)
+                        } else {
+                            continue;
+                        };
+                        let t = (z - o[2]) / d[2];
+                        if t < best_t {
+                            let p = Point2::new(o[0] + t * d[0], o[1] + t * d[1]);
+                            if self.solid_bounds[k].contains(p) && point_in_polygon(p, &s.polygon) {
+                                best_t = t;
+                                best = Surface::Cap {
+                                    solid: k as u32,
+                                    up,
+                                };
+                            }
                         }
                     }
                 }
@@ -494,6 +713,158 @@ mod tests {
     use super::*;
     use crate::builtin::builtin_world;
     use crate::rng::Rng;
+
+    #[test]
+    fn face_quads_meet_rays_as_ray_segment_bit_for_bit() {
+        // Random faces and rays, with rays through end points, along a face, from a point on
+        // it, parallel to it, and quads padded with NaN lanes; the SSE2 lanes (x86-64) and
+        // the portable loop against ray_segment, face by face.
+        let mut rng = Rng::new(12);
+        let p = |rng: &mut Rng| Point2::new(8.0 * rng.uniform() - 4.0, 8.0 * rng.uniform() - 4.0);
+        let face = |a: Point2, b: Point2| SideFace {
+            a,
+            b,
+            z0: 0.0,
+            z1: 1.0,
+            solid: 0,
+            length: 1.0,
+            seed: 0,
+            turn: 1.0,
+        };
+        let mut checked = [0usize; 2];
+        for i in 0..20_000 {
+            let n = 1 + i % 4;
+            let faces: Vec<SideFace> = (0..n).map(|_| face(p(&mut rng), p(&mut rng))).collect();
+            let o = p(&mut rng);
+            let target = match i % 5 {
+                0 => faces[0].a,
+                1 => faces[0].b,
+                _ => p(&mut rng),
+            };
+            let mut d = Point2::new(target.x - o.x, target.y - o.y);
+            if i % 7 == 0 {
+                // Parallel to the first face.
+                d = Point2::new(faces[0].b.x - faces[0].a.x, faces[0].b.y - faces[0].a.y);
+            }
+            let o = if i % 11 == 0 { faces[0].a } else { o };
+            let quad = FaceQuad::of(&faces);
+            let mut results = vec![quad.ray_portable(o, d)];
+            #[cfg(target_arch = "x86_64")]
+            results.push(quad.ray_sse2(o, d));
+            for (met, ts, ss) in results {
+                for lane in 0..4 {
+                    let want = faces.get(lane).and_then(|f| ray_segment(o, d, f.a, f.b));
+                    match want {
+                        Some((t, s)) => {
+                            assert!(met & 1 << lane != 0, "{i} lane {lane}");
+                            assert_eq!(
+                                (ts[lane].to_bits(), ss[lane].to_bits()),
+                                (t.to_bits(), s.to_bits())
+                            );
+                            checked[0] += 1;
+                        }
+                        None => {
+                            assert!(met & 1 << lane == 0, "{i} lane {lane}");
+                            checked[1] += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked[0] > 5_000 && checked[1] > 5_000, "{checked:?}");
+    }
+
+    /// The grid walk testing the cell's items one by one (the code before the runs).
+    fn trace_items(scene: &Scene, o: [f64; 3], d: [f64; 3]) -> Hit {
+        let (t_limit, limit_surface) = scene.limit(o, d);
+        let o2 = Point2::new(o[0], o[1]);
+        let d2 = Point2::new(d[0], d[1]);
+        let (mut best_t, mut best) = (t_limit, limit_surface);
+        let mut walk = CellWalk::starting_at(&scene.shape, o2, d2, 0.0);
+        while let Some((cell, t_exit)) = walk.next_cell() {
+            for &item in scene.faces.get(cell) {
+                if item & CAP_BIT == 0 {
+                    let f = &scene.sides[item as usize];
+                    if let Some((t, s)) = ray_segment(o2, d2, f.a, f.b) {
+                        let z = o[2] + t * d[2];
+                        if t < best_t && z >= f.z0 && z <= f.z1 {
+                            best_t = t;
+                            best = Surface::Side {
+                                face: item,
+                                s: s * f.length,
+                            };
+                        }
+                    }
+                } else {
+                    let k = (item & !CAP_BIT) as usize;
+                    let s = &scene.world.solids[k];
+                    let (z, up) = if o[2] > s.top_m && d[2] < 0.0 {
+                        (s.top_m, true)
+                    } else if o[2] < s.base_m && s.base_m > 0.0 && d[2] > 0.0 {
+                        (s.base_m, false)
+                    } else {
+                        continue;
+                    };
+                    let t = (z - o[2]) / d[2];
+                    let p = Point2::new(o[0] + t * d[0], o[1] + t * d[1]);
+                    if t < best_t
+                        && scene.solid_bounds[k].contains(p)
+                        && point_in_polygon(p, &s.polygon)
+                    {
+                        best_t = t;
+                        best = Surface::Cap {
+                            solid: k as u32,
+                            up,
+                        };
+                    }
+                }
+            }
+            if best_t <= t_exit {
+                break;
+            }
+        }
+        Hit::at(o, d, best_t, best)
+    }
+
+    #[test]
+    fn cell_runs_walk_as_the_items_one_by_one_bit_for_bit() {
+        for name in crate::builtin::builtin_names() {
+            let scene = Scene::new(builtin_world(name).unwrap());
+            // The runs hold each cell's items in order.
+            for cell in 0..scene.shape.cell_count() {
+                let items: Vec<u32> = scene
+                    .cell_runs
+                    .get(cell)
+                    .iter()
+                    .flat_map(|run| match *run {
+                        CellRun::Faces { ids, .. } => {
+                            ids.into_iter().filter(|&id| id != u32::MAX).collect()
+                        }
+                        CellRun::Cap(k) => vec![k | CAP_BIT],
+                    })
+                    .collect();
+                assert_eq!(items, scene.faces.get(cell), "{name} cell {cell}");
+            }
+            // Random rays (from the camera heights, looking anywhere): the same hit, bits.
+            let b = scene.world.bounds();
+            let mut rng = Rng::new(8);
+            for _ in 0..4000 {
+                let o = [
+                    b.min.x + rng.uniform() * (b.max.x - b.min.x),
+                    b.min.y + rng.uniform() * (b.max.y - b.min.y),
+                    0.05 + rng.uniform() * 1.5,
+                ];
+                let (az, el) = (
+                    rng.uniform() * std::f64::consts::TAU,
+                    (rng.uniform() - 0.5) * 3.0,
+                );
+                let d = [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()];
+                let (got, want) = (scene.trace(o, d), trace_items(&scene, o, d));
+                assert_eq!(got.t.to_bits(), want.t.to_bits(), "{name} {o:?} {d:?}");
+                assert_eq!(got.surface, want.surface, "{name} {o:?} {d:?}");
+            }
+        }
+    }
 
     #[test]
     fn grid_trace_agrees_with_brute_force_in_every_builtin_world() {

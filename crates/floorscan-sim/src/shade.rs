@@ -4,9 +4,11 @@
 use floorscan_core::Point2;
 
 use crate::cell_memo::CellMemo;
+use crate::lightmap::LightBatch;
 use crate::noise_cell::NoiseCell;
+use crate::noise_lanes::NoiseBatch;
 use crate::scene::{Hit, Scene, Surface};
-use crate::texture::{CarpetCells, CoveringClass, Footprint};
+use crate::texture::{CarpetAlbedo, CarpetCells, CoveringClass, Footprint, WallAlbedo};
 use crate::truth::PixelLabel;
 
 pub(crate) const ID_NOTHING: u32 = 0;
@@ -58,11 +60,7 @@ pub(crate) fn shade(
             let c = scene.covering_cached(p, &mut cache.covering);
             let covering = &scene.coverings[c];
             let albedo = covering.albedo_cached(p, floor_footprint, &mut cache.carpet);
-            let label = match covering.covering.class {
-                CoveringClass::Carpet => PixelLabel::Carpet,
-                CoveringClass::Other => PixelLabel::OtherCovering,
-                CoveringClass::Paper => PixelLabel::Paper,
-            };
+            let label = floor_label(covering.covering.class);
             Sample {
                 radiance: albedo * scene.light.at_cached(p, &mut cache.light),
                 id: 2 + c as u32,
@@ -106,6 +104,99 @@ pub(crate) fn shade(
                 label: PixelLabel::Obstacle,
             }
         }
+    }
+}
+
+/// A shaded sample's radiance, possibly waiting for texture noise and light that batches
+/// evaluate for many pixels at once (see [`shade_pending`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Pending {
+    Done(f32),
+    /// Carpet: albedo times the light (request `light` of the light batch).
+    Carpet {
+        albedo: CarpetAlbedo,
+        light: u32,
+    },
+    /// A wall: albedo times the light, times the wall factor and the face's turn.
+    Wall {
+        albedo: WallAlbedo,
+        light: u32,
+        wall_factor: f32,
+        turn: f32,
+    },
+}
+
+impl Pending {
+    /// The radiance, once `noise` and `lights` are evaluated: [`shade`]'s, bit for bit.
+    #[inline(always)]
+    pub(crate) fn finish(&self, noise: &NoiseBatch, lights: &LightBatch) -> f32 {
+        match *self {
+            Pending::Done(radiance) => radiance,
+            Pending::Carpet { albedo, light } => albedo.finish(noise) * lights.value(light),
+            Pending::Wall {
+                albedo,
+                light,
+                wall_factor,
+                turn,
+            } => albedo.finish(noise) * lights.value(light) * wall_factor * turn,
+        }
+    }
+}
+
+/// [`shade`] with the smooth texture noise of plain carpets and of walls asked of `noise`
+/// and their light asked of `lights` instead of computed: the radiance is
+/// [`Pending::finish`]ed once the batches are evaluated (the same bits). Returns it with the
+/// sample's identity and label.
+#[inline]
+pub(crate) fn shade_pending(
+    scene: &Scene,
+    hit: &Hit,
+    pixel_angle: f32,
+    floor_footprint: Footprint,
+    cache: &mut ShadeCache,
+    noise: &mut NoiseBatch,
+    lights: &mut LightBatch,
+) -> (Pending, u32, PixelLabel) {
+    let world = &scene.world;
+    let p = Point2::new(hit.point[0], hit.point[1]);
+    match hit.surface {
+        Surface::Floor => {
+            let c = scene.covering_cached(p, &mut cache.covering);
+            let covering = &scene.coverings[c];
+            if let Some(albedo) = covering.carpet_albedo(p, floor_footprint, noise) {
+                let label = floor_label(covering.covering.class);
+                let light = lights.push(p);
+                return (Pending::Carpet { albedo, light }, 2 + c as u32, label);
+            }
+        }
+        Surface::Side { face, s } => {
+            let f = &scene.sides[face as usize];
+            let solid = &world.solids[f.solid as usize];
+            let app = &world.appearances[solid.appearance];
+            let fp = Footprint::new(hit.t * pixel_angle as f64);
+            if let Ok(albedo) = app.wall_albedo(s, hit.point[2], fp, f.seed, noise) {
+                let pending = Pending::Wall {
+                    albedo,
+                    light: lights.push(p),
+                    wall_factor: world.lighting.wall_factor as f32,
+                    turn: f.turn,
+                };
+                return (pending, ID_SIDE | face, PixelLabel::Obstacle);
+            }
+        }
+        _ => {}
+    }
+    let sample = shade(scene, hit, pixel_angle, floor_footprint, cache);
+    (Pending::Done(sample.radiance), sample.id, sample.label)
+}
+
+/// The label of a floor covering's class.
+#[inline(always)]
+fn floor_label(class: CoveringClass) -> PixelLabel {
+    match class {
+        CoveringClass::Carpet => PixelLabel::Carpet,
+        CoveringClass::Other => PixelLabel::OtherCovering,
+        CoveringClass::Paper => PixelLabel::Paper,
     }
 }
 

@@ -10,7 +10,8 @@ use floorscan_core::Point2;
 use serde::{Deserialize, Serialize};
 
 use crate::noise_cell::NoiseCell;
-use crate::rng::{fast_floor, hash2, value_noise};
+use crate::noise_lanes::NoiseBatch;
+use crate::rng::{fast_floor, hash2, seed32, value_noise};
 
 /// How a floor covering is labelled in the ground truth.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -187,6 +188,51 @@ pub struct CarpetCells {
     coarse: NoiseCell,
 }
 
+/// No noise request: the value is given.
+pub(crate) const NO_LANE: u32 = u32::MAX;
+
+/// A carpet's albedo waiting for its noise values (see [`PreparedCovering::carpet_albedo`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct CarpetAlbedo {
+    albedo: f32,
+    fine_weight: f32,
+    /// The fine term's value when `fine_lane` is [`NO_LANE`] (hashed fibres, or none).
+    fine: f32,
+    fine_lane: u32,
+    coarse_weight: f32,
+    coarse_lane: u32,
+}
+
+impl CarpetAlbedo {
+    /// The albedo, once `batch` has evaluated the noise.
+    #[inline(always)]
+    pub(crate) fn finish(&self, batch: &NoiseBatch) -> f32 {
+        let fine = if self.fine_lane == NO_LANE {
+            self.fine
+        } else {
+            batch.value(self.fine_lane)
+        };
+        let coarse = batch.value(self.coarse_lane);
+        self.albedo * (1.0 + self.fine_weight * fine + self.coarse_weight * coarse)
+    }
+}
+
+/// A wall's textured albedo waiting for its noise value (see [`Appearance::wall_albedo`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct WallAlbedo {
+    albedo: f32,
+    weight: f32,
+    lane: u32,
+}
+
+impl WallAlbedo {
+    /// The albedo, once `batch` has evaluated the noise.
+    #[inline(always)]
+    pub(crate) fn finish(&self, batch: &NoiseBatch) -> f32 {
+        self.albedo * (1.0 + self.weight * batch.value(self.lane))
+    }
+}
+
 /// A [`Covering`] with inverted scales (see [`Covering::prepare`]).
 #[derive(Debug, Clone)]
 pub struct PreparedCovering {
@@ -230,6 +276,48 @@ impl PreparedCovering {
     /// Albedo at world point `p` for a pixel footprint `fp`.
     pub fn albedo_at(&self, p: Point2, fp: Footprint) -> f32 {
         self.albedo_cached(p, fp, &mut CarpetCells::default())
+    }
+
+    /// For a plain carpet ([`FloorPattern::Carpet`]), its albedo at `p` with the smooth noise
+    /// asked of `batch` (evaluated later, for many pixels at once): the same terms as
+    /// [`Self::albedo_cached`], finished by [`CarpetAlbedo::finish`]. None for other patterns.
+    #[inline]
+    pub(crate) fn carpet_albedo(
+        &self,
+        p: Point2,
+        fp: Footprint,
+        batch: &mut NoiseBatch,
+    ) -> Option<CarpetAlbedo> {
+        let FloorPattern::Carpet {
+            contrast,
+            grain_m,
+            mottle,
+            ..
+        } = &self.covering.pattern
+        else {
+            return None;
+        };
+        // As carpet_texture, term by term.
+        let seed = self.covering.seed;
+        let k = detail(*grain_m, fp);
+        let (gx, gy) = (p.x * self.inv_a, p.y * self.inv_a);
+        let (fine, fine_lane) = if k >= 0.5 {
+            (0.0, batch.push(gx, gy, seed32(seed)))
+        } else if k > 0.02 {
+            let v = VALUE_NOISE_STD / HASH_STD * hash2(fast_floor(gx), fast_floor(gy), seed);
+            (v, NO_LANE)
+        } else {
+            (0.0, NO_LANE)
+        };
+        let coarse_lane = batch.push(p.x * self.inv_b, p.y * self.inv_b, seed32(seed ^ 0xAA));
+        Some(CarpetAlbedo {
+            albedo: self.covering.albedo as f32,
+            fine_weight: *contrast as f32 * 2.4 * k,
+            fine,
+            fine_lane,
+            coarse_weight: *mottle as f32 * 2.4,
+            coarse_lane,
+        })
     }
 
     /// [`Self::albedo_at`], the carpet noise's lattice cells kept in `cells` between calls.
@@ -449,6 +537,31 @@ impl Appearance {
         let inv = 1.0 / self.texture_m;
         let n = cell.value_noise(s * inv, z * inv, self.seed ^ face_seed);
         self.albedo as f32 * (1.0 + self.texture as f32 * 2.4 * k * n)
+    }
+
+    /// [`Self::albedo_cached`] with the texture noise asked of `batch` (evaluated later, for
+    /// many pixels at once): Err(albedo) on the baseboard (no noise), else the terms that
+    /// [`WallAlbedo::finish`] completes.
+    #[inline]
+    pub(crate) fn wall_albedo(
+        &self,
+        s: f64,
+        z: f64,
+        fp: Footprint,
+        face_seed: u64,
+        batch: &mut NoiseBatch,
+    ) -> Result<WallAlbedo, f32> {
+        if z < self.baseboard_m {
+            return Err(self.baseboard_albedo as f32);
+        }
+        let k = detail(self.texture_m, fp);
+        let inv = 1.0 / self.texture_m;
+        let lane = batch.push(s * inv, z * inv, seed32(self.seed ^ face_seed));
+        Ok(WallAlbedo {
+            albedo: self.albedo as f32,
+            weight: self.texture as f32 * 2.4 * k,
+            lane,
+        })
     }
 
     /// Albedo of a horizontal face (table tops, undersides) at `p`.
