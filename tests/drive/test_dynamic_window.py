@@ -90,57 +90,29 @@ def test_straight_and_curved_roll_outs_meet_a_wall_where_geometry_says():
 def test_bad_rasters_raise_floorscan_errors():
     from floorscan._native.drive import best_velocity_sample
 
-    cost = np.zeros((4, 4), np.uint8)
-    nav = np.zeros((2, 2))
-    a = np.array([0.1])
-    with pytest.raises(FloorscanError):
-        best_velocity_sample(
+    def call(cell_m=0.1, unknown=None, vs=None):
+        a = np.array([0.1])
+        vs = a if vs is None else vs
+        cost, nav = np.zeros((4, 4), np.uint8), np.zeros((2, 2))
+        scoring = (1.0, 1.0, 1.0, 1.0, 1.0)
+        return best_velocity_sample(
             (0, 0, 0),
-            a,
+            vs,
             a,
             a,
             cost,
             (0, 0),
-            0.0,
-            None,
+            cell_m,
+            unknown,
             nav,
             (0, 0),
             0.1,
             (1, 1),
-            (1, 1, 1, 1, 1),
+            scoring,
             253,
         )
-    with pytest.raises(FloorscanError):
-        best_velocity_sample(
-            (0, 0, 0),
-            a,
-            a,
-            a,
-            cost,
-            (0, 0),
-            0.1,
-            np.zeros((3, 3), bool),
-            nav,
-            (0, 0),
-            0.1,
-            (1, 1),
-            (1, 1, 1, 1, 1),
-            253,
-        )
-    with pytest.raises(FloorscanError):
-        best_velocity_sample(
-            (0, 0, 0),
-            a[:0],
-            a,
-            a,
-            cost,
-            (0, 0),
-            0.1,
-            None,
-            nav,
-            (0, 0),
-            0.1,
-            (1, 1),
-            (1, 1, 1, 1, 1),
-            253,
-        )
+
+    assert call() is not None  # the well-formed call chooses its one sample
+    for bad in ({"cell_m": 0.0}, {"unknown": np.zeros((3, 3), bool)}, {"vs": np.zeros(0)}):
+        with pytest.raises(FloorscanError):
+            call(**bad)
