@@ -129,3 +129,32 @@ def test_frames_to_reliable_names_its_local_map():
         frames_to_reliable(
             [], None, {}, local_size_m=4.0, max_range_m=3.0, starts=[0], local_map="x"
         )
+
+
+def test_covered_range_stops_at_the_first_row_without_ground():
+    """A table whose ground is x = 1 + 0.01 (h - 1 - v) m straight ahead, with no ground from
+    node row 2 up in the left half and none at all in one column: the covered range is the
+    range at the highest row of the ground run from the bottom (bilinear between nodes, so
+    the last full node row below the gap), 0 where the bottom has none."""
+    import numpy as np
+    from floorscan.evaluation.map_metrics import covered_range_m
+    from floorscan.ranging.ground_table import GroundTable
+
+    w, h, sp = 65, 49, 8
+    nu, nv = GroundTable.node_shape_for(image_width=w, image_height=h, spacing_px=sp)
+    v = np.arange(nv)[:, None] * sp + 0 * np.arange(nu)[None, :]
+    x = 1.0 + 0.01 * (h - 1 - v)
+    y = np.zeros_like(x)
+    x[:3, : nu // 2] = np.nan  # node rows 0-2 (v <= 16) of the left half: no ground
+    x[:, -1] = np.nan  # the rightmost node column: no ground at all
+    t = GroundTable.from_arrays(x, y, image_width=w, image_height=h, spacing_px=sp)
+    cols = np.array([0.0, 8.0, 40.0, 56.0, 64.0])
+    got = covered_range_m(t, cols, row_step_px=1.0)
+    # left half: ground from v = 24 (node row 3) down; v in (16, 24) interpolates with NaN
+    assert got[0] == pytest.approx(1.0 + 0.01 * (h - 1 - 24))
+    assert got[1] == pytest.approx(1.0 + 0.01 * (h - 1 - 24))
+    # right half: ground to the top row
+    assert got[2] == pytest.approx(1.0 + 0.01 * (h - 1))
+    # next to and on the column without ground
+    assert got[4] == 0.0
+    assert 0.0 <= got[3] <= 1.0 + 0.01 * (h - 1)

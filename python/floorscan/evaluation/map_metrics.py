@@ -67,6 +67,20 @@ def compose(a: Sequence[float], b: Sequence[float]) -> Tuple[float, float, float
     return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
 
 
+def covered_range_m(table, columns: np.ndarray, *, row_step_px: float = 2.0) -> np.ndarray:
+    """Per image column: the farthest ground range [m] the table gives going up the column
+    from its bottom row until the first row without ground (0 where the bottom has none)."""
+    h = table.image_height
+    rows = np.arange(h - 1.0, -1.0, -row_step_px)
+    u = np.repeat(np.asarray(columns, np.float64)[:, None], rows.size, 1)
+    x, y = table.lookup(u, np.broadcast_to(rows, u.shape))
+    r = np.hypot(x, y)
+    ground = np.isfinite(r)
+    # rows up to the first one without ground, from the bottom
+    run = np.cumprod(ground, axis=1).astype(bool)
+    return np.where(run, r, 0.0).max(axis=1, initial=0.0)
+
+
 def view_cells(
     true_status: np.ndarray,
     true_points: np.ndarray,
@@ -79,13 +93,15 @@ def view_cells(
 ) -> Tuple[np.ndarray, np.ndarray]:
     """Centres (x, y) [m, world] of the map cells one frame views: along every column with a
     true boundary, the floor from the lowest visible ground point to the boundary (or the range
-    limit), and the boundary's own cell when within range. ``window`` ((x0, y0), (x1, y1))
+    limit, or the farthest floor the ground table covers in that column: the sensor sees no
+    farther), and the boundary's own cell when within them. ``window`` ((x0, y0), (x1, y1))
     keeps only cells inside it."""
     h = table.image_height
     boundary = np.nonzero(true_status == ColumnStatus.BOUNDARY)[0]
     if boundary.size == 0:
         return np.zeros(0), np.zeros(0)
     near_x, near_y = table.lookup(boundary.astype(np.float64), np.full(boundary.size, h - 3.0))
+    covered = covered_range_m(table, boundary)
     xs: List[np.ndarray] = []
     ys: List[np.ndarray] = []
     step = cell_size_m / 2
@@ -95,9 +111,10 @@ def view_cells(
         r0 = float(np.hypot(near_x[k], near_y[k]))
         if not np.isfinite(r) or not np.isfinite(r0) or r <= r0:
             continue
-        end = min(r, max_range_m)
+        reach = min(max_range_m, covered[k])
+        end = min(r, reach)
         t = np.arange(r0, end + 1e-9, step)
-        if r <= max_range_m:
+        if r <= reach:
             t = np.append(t, r + step / 2)  # just behind the base: the obstacle's cell
         xs.append(px * t / r)
         ys.append(py * t / r)
