@@ -343,7 +343,7 @@ fn row_by_row_scan_gives_the_column_by_column_readings() {
 /// brute-force scan of the true mask.
 #[test]
 fn a_centred_reference_band_does_not_learn_furniture_at_the_bottom_corners() {
-    let corners = |u: usize, _v: usize| u < 24 || u >= W - 24;
+    let corners = |u: usize, _v: usize| !(24..W - 24).contains(&u);
     let img = tiled_image(&corners, 3);
     let view = ColourView::interleaved(&img, W, H).unwrap();
     let o = options(AppearanceFeatures::Colour);
