@@ -35,13 +35,17 @@ def _box(counts: np.ndarray, axis: int, reach: int) -> np.ndarray:
     return np.moveaxis(c[hi] - c[lo], 0, axis)
 
 
-def floor_lookup(rgb, start_row, band_rows, min_share, intensity_reach):
-    """Boolean floor tables (colour bins, texture bins) learned from one frame's reference."""
+def floor_lookup(rgb, start_row, band_rows, min_share, intensity_reach, width_fraction=0.5):
+    """Boolean floor tables (colour bins, texture bins) learned from one frame's reference:
+    every second row of the band and every second (even) column of its centred span."""
     h, w = rgb.shape[:2]
     rows = np.arange(start_row, max(start_row + 1 - band_rows, 0) - 1, -2)
-    ref = rgb[rows][:, ::2]
+    n_cols = min(max(int(np.floor(width_fraction * w + 0.5)), 1), w)
+    lo = (w - n_cols) // 2
+    cols = np.array([u for u in range(0, w, 2) if lo <= u < lo + n_cols])
+    ref = rgb[rows][:, cols]
     cb = colour_bins(ref).ravel()
-    tb = texture_bins(rgb)[rows][:, ::2].ravel()
+    tb = texture_bins(rgb)[rows][:, cols].ravel()
     n = cb.size
     hist = np.bincount(cb, minlength=I_BINS * C_BINS * C_BINS).reshape(I_BINS, C_BINS, C_BINS)
     hist = _box(_box(_box(hist, 2, 1), 1, 1), 0, intensity_reach)
@@ -57,6 +61,7 @@ def appearance_scan(
     *,
     start_row: int,
     reference_fraction: float = 0.1,
+    reference_width_fraction: float = 0.5,
     min_share: float = 0.003,
     intensity_reach: int = 1,
     patch_half_width: int = 2,
@@ -67,7 +72,9 @@ def appearance_scan(
     1 no_boundary (row 0), 2 too_close (row = start_row)."""
     h, w = rgb.shape[:2]
     band = max(int(round(reference_fraction * h)), 1)
-    lut_c, lut_t = floor_lookup(rgb, start_row, band, min_share, intensity_reach)
+    lut_c, lut_t = floor_lookup(
+        rgb, start_row, band, min_share, intensity_reach, reference_width_fraction
+    )
     floor = lut_c[colour_bins(rgb)]
     if texture:
         floor &= lut_t[texture_bins(rgb)]

@@ -41,6 +41,7 @@ def textured_scene(seed: int):
 def test_matches_an_independent_numpy_implementation(seed, features):
     img = textured_scene(seed)
     opts = dict(min_floor_share=0.01, intensity_reach_bins=1 + seed % 2, min_run_px=2 + seed % 3)
+    width_fraction = (1.0, 0.5, 0.3)[seed % 3]
     r = fs.AppearanceRanger(
         image_row_table(W, H),
         columns=W,
@@ -48,6 +49,7 @@ def test_matches_an_independent_numpy_implementation(seed, features):
         max_range_m=None,
         features=features,
         reference_fraction=0.15,
+        reference_width_fraction=width_fraction,
         patch_half_width_px=seed % 3,
         **opts,
     )
@@ -57,6 +59,7 @@ def test_matches_an_independent_numpy_implementation(seed, features):
         np.arange(W),
         start_row=H - 1,
         reference_fraction=0.15,
+        reference_width_fraction=width_fraction,
         min_share=opts["min_floor_share"],
         intensity_reach=opts["intensity_reach_bins"],
         patch_half_width=seed % 3,

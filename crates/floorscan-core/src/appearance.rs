@@ -145,11 +145,13 @@ impl AppearanceRanger {
             }
         };
         let band = ((options.reference_fraction * height as f64).round() as usize).max(1);
+        let span = reference_span(width, options.reference_width_fraction);
         let reference = (0..width)
             .map(|u| {
                 let s = starts[u];
                 table
                     .lookup(u as f64, s as f64)
+                    .filter(|_| span.contains(&u))
                     .map(|_| ((s + 1).saturating_sub(band), s))
             })
             .collect();
@@ -445,6 +447,14 @@ impl AppearanceRanger {
             None => ColumnOutcome::Invalid { row: Some(row) },
         }
     }
+}
+
+/// The image columns of the reference band: `fraction` of the width, centred, at least one
+/// column.
+fn reference_span(width: usize, fraction: f64) -> std::ops::Range<usize> {
+    let n = ((fraction * width as f64).round() as usize).clamp(1, width);
+    let lo = (width - n) / 2;
+    lo..lo + n
 }
 
 /// A share s in [0.5, 1] as a margin in [0, 1]: 2s - 1.

@@ -36,6 +36,13 @@ pub struct AppearanceOptions {
     /// Height of the reference band of floor, just above each column's start row, as a share
     /// of the image height, in (0, 0.5]. Default 0.1 (the floor nearest the robot).
     pub reference_fraction: f64,
+    /// Width of the reference band, centred on the image, as a share of the image width, in
+    /// (0, 1]: the floor straight ahead of the robot (Ulrich & Nourbakhsh's reference area in
+    /// front of the robot), so furniture and walls that reach the bottom corners of the image
+    /// are not learned as floor and their columns can read `too_close`. Default 0.5
+    /// (EVALUATION.md, "Real floors": the real floor set, clip-wise cross-validated, and the
+    /// simulated suite).
+    pub reference_width_fraction: f64,
     /// Statistics compared. Default: colour and texture.
     pub features: AppearanceFeatures,
     /// A pixel looks like floor when at least this share of the reference lies within one bin
@@ -63,6 +70,7 @@ impl Default for AppearanceOptions {
             start: edge.start,
             max_range_m: edge.max_range_m,
             reference_fraction: 0.1,
+            reference_width_fraction: 0.5,
             features: AppearanceFeatures::ColourAndTexture,
             min_floor_share: 0.003,
             intensity_reach_bins: 1,
@@ -102,6 +110,11 @@ impl AppearanceOptions {
                 format!("must be in (0, 0.5], got {}", self.reference_fraction),
             ));
         }
+        share(
+            "reference_width_fraction",
+            self.reference_width_fraction,
+            true,
+        )?;
         share("min_floor_share", self.min_floor_share, false)?;
         share("adaptation_rate", self.adaptation_rate, true)?;
         if !(1..INTENSITY_BINS).contains(&self.intensity_reach_bins) {
@@ -163,6 +176,14 @@ mod tests {
             },
             AppearanceOptions {
                 reference_fraction: 0.7,
+                ..d()
+            },
+            AppearanceOptions {
+                reference_width_fraction: 0.0,
+                ..d()
+            },
+            AppearanceOptions {
+                reference_width_fraction: 1.5,
                 ..d()
             },
             AppearanceOptions {

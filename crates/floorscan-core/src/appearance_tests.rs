@@ -335,3 +335,37 @@ fn row_by_row_scan_gives_the_column_by_column_readings() {
         }
     }
 }
+
+/// Furniture that reaches the bottom corners of the very first frame (a camera that starts
+/// beside a cabinet): with the reference band across the whole width its colour is learned as
+/// floor and its columns read floor to the top; a band over the centre half learns only the
+/// floor straight ahead, so those columns read `too_close` and every other column matches the
+/// brute-force scan of the true mask.
+#[test]
+fn a_centred_reference_band_does_not_learn_furniture_at_the_bottom_corners() {
+    let corners = |u: usize, _v: usize| !(24..W - 24).contains(&u);
+    let img = tiled_image(&corners, 3);
+    let view = ColourView::interleaved(&img, W, H).unwrap();
+    let o = options(AppearanceFeatures::Colour);
+    let scan_with = |fraction: f64| {
+        let o = AppearanceOptions {
+            reference_width_fraction: fraction,
+            min_floor_share: 0.01,
+            ..o.clone()
+        };
+        AppearanceRanger::new(table(0.0), o)
+            .unwrap()
+            .scan(&view, 0.0)
+            .unwrap()
+    };
+    let centred = scan_with(0.5);
+    for reading in &centred.readings {
+        let u = reading.column as usize;
+        let want = expected(&corners, u, o.patch_half_width_px, o.min_run_px);
+        assert_eq!(observed(&reading.outcome), want, "column {u}");
+    }
+    let whole = scan_with(1.0);
+    let corner_reading = |s: &crate::scan::Scan| observed(&s.readings[5].outcome);
+    assert_eq!(corner_reading(&centred), ColumnStatus2::TooClose);
+    assert_eq!(corner_reading(&whole), ColumnStatus2::NoBoundary);
+}

@@ -27,6 +27,7 @@ CV_GRIDS: Dict[str, Dict[str, Sequence[object]]] = {
         "appearance.intensity_reach_bins": [1, 2],
         "appearance.min_run_px": [3, 8],
         "appearance.reference_fraction": [0.1, 0.2],
+        "appearance.reference_width_fraction": [0.5, 1.0],
     },
 }
 CV_GRIDS["fused"] = dict(CV_GRIDS["appearance"])

@@ -32,6 +32,7 @@ class AppearanceRanger:
         **options: any field of the core's ``AppearanceOptions`` (its serde form; the others
             take their defaults, ``floorscan.options.defaults("appearance")``): ``columns``,
             ``start``, ``max_range_m`` (as the edge ranger's), ``reference_fraction``,
+            ``reference_width_fraction``,
             ``features`` (``"colour_and_texture"`` or ``"colour"``), ``min_floor_share``,
             ``intensity_reach_bins``, ``patch_half_width_px``, ``min_run_px``,
             ``adaptation_rate``. ``floorscan config --default`` prints each with its doc and
