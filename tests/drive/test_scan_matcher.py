@@ -112,11 +112,15 @@ def test_a_drifted_return_is_pulled_back_to_the_first_view():
     truth = (1.5, 1.2, 0.3)
     m.correct(_room_scan(truth), truth)
     estimate = truth
+    errors = []
     for _ in range(12):
         # odometry says the robot turned 0.01 rad more than it did, each frame
         estimate = (estimate[0], estimate[1], estimate[2] + 0.01)
         estimate = m.correct(_room_scan(truth), estimate).pose
-    assert abs(estimate[2] - truth[2]) <= m.options.yaw_step_rad
+        errors.append(abs(estimate[2] - truth[2]))
+    # fused with odometry, the estimate lags by about a frame's false turn, no more
+    assert max(errors[6:]) <= 2 * m.options.yaw_step_rad
+    assert errors[-1] <= errors[5] + 0.002
 
 
 def test_the_cached_field_with_new_hits_stamped_equals_a_fresh_field():
@@ -245,7 +249,7 @@ def test_fusion_corrects_across_a_wall_and_keeps_odometry_along_it():
     truth_view = np.stack([np.linspace(-3, 1, 81), np.full(81, 1.0)], 1)  # from x = 1 m
     r = m.correct(truth_view, prior)
     assert r.accepted
-    assert abs(r.pose[1] - 0.0) < 0.3 * 0.08  # across: mostly corrected
+    assert abs(r.pose[1] - 0.0) < 0.5 * 0.08  # across: mostly corrected
     assert abs(r.pose[0] - prior[0]) < 0.02  # along: odometry's
 
 
