@@ -83,14 +83,12 @@ class ScanMatcherOptions:
       the points over (x, y, yaw) at the pose found (each point on a wall counts as an
       observation with the field's width as its error, and only across the wall: a
       corridor tells nothing along itself, a narrow view of near walls little of the
-      heading); its covariance is that matrix's inverse times this scale. Default 4 (a
-      point's error twice the field's width, or a quarter of the points independent: the
-      camera's boundary points are within 1-2 cm of the true wall up to 3 m, but the map's
-      own errors are shared by all of them). Chosen among 1, 4 and 10 on the corridor's full
-      tour (0.3 m/s, seeds 0 and 1): 1 took the turn scale estimate to the wrong sign
-      (-0.012 against the simulator's +0.010; -0.14 on the held-out open plan, looked at
-      while diagnosing), 10 recovered it best (+0.006) but met obstacles 3-4 times a run,
-      4 kept 0 contacts and the pose within 0.23 / 0.50 m (EVALUATION.md, "Long tours").
+      heading); its covariance is that matrix's inverse times this scale. Default 1 (the
+      field's width as each point's error). Tried: 4 and 10 (a quarter or a tenth of the
+      points independent) estimate the turn scale better on the corridor (+0.002-0.007
+      against the simulator's +0.010; 1 gives -0.012) but 10 met obstacles 3-4 times a
+      corridor run and 4 let the Freiburg 079 log's largest error reach 1.22 m (0.31 m
+      with 1; EVALUATION.md, "Long tours").
     - ``odometry_wheel_sigma``: the random error of each wheel's travel [m/sqrt(m)] the
       prediction's variance grows with, in [0, 1]. Default 0.01 (the simulator's default
       ``OdometryNoise``; a real base's figure belongs here).
@@ -124,7 +122,7 @@ class ScanMatcherOptions:
     range_max_m: float = 3.0
     novelty_m: float = 0.1
     max_points: int = 400
-    match_variance_scale: float = 4.0
+    match_variance_scale: float = 1.0
     calibrate_odometry: bool = True
     turn_error_prior: float = 0.05
     drift_prior_rad_per_m: float = 0.03
