@@ -14,6 +14,17 @@ new keeps the map as it was first seen: a robot that comes back with drifted odo
 the walls as they were, not its own latest, drifted copies of them (which would let the error
 stay, as a matcher against its last few frames does).
 
+The pose kept is not the best pose as it is: the match is fused with the odometry
+prediction as an extended Kalman filter (``predict``, ``information``, ``fuse``). The
+prediction's covariance grows with each wheel's travel; the match's information is the
+curvature of the summed field values over (x, y, yaw) at the pose found, so a corridor
+corrects across itself and not along, and a narrow view of near walls corrects the heading
+little; two more states estimate odometry's systematic errors (turn scale, heading drift per
+metre) from the matches, as robots calibrate their odometry, and correct each prediction.
+Kept as it was, each frame's match (the best of a flat-topped score) scattered by about
+0.015 rad, and the points stored at it turned that scatter into a rotated map of each
+unseen room (EVALUATION.md, "Long tours").
+
 Storing (the novelty test and the stamps into the cached field) runs in the Rust core
 (``floorscan_core::hit_map``), in place on the numpy counts and field kept here, as does the
 search (``floorscan_core::scan_matcher``).
