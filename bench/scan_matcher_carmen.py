@@ -5,7 +5,7 @@ wheel difference; seeded), and the matcher corrects it scan by scan as `floorsca
 does. Prints the largest and median position error and the final heading error, odometry
 alone against scan matching.
 
-    .venv/bin/python bench/scan_matcher_carmen.py [--log intel] [--seeds 3] [--range 8]
+    .venv/bin/python bench/scan_matcher_carmen.py [--log intel] [--seeds 3] [--range 8] [--no-fusion]
 """
 
 from __future__ import annotations
@@ -58,11 +58,16 @@ def noisy(inc, rng, wheelbase=0.3):
     )
 
 
-def run(scans, seed: int, range_m: float, matching: bool):
+def run(scans, seed: int, range_m: float, matching: bool, fusion: bool = True):
     rng = np.random.default_rng(seed)
     truth = [tuple(s.laser_pose) for s in scans]
     matcher = ScanMatcher(
-        ScanMatcherOptions(size_m=120.0, range_max_m=range_m), center=truth[0][:2]
+        ScanMatcherOptions(size_m=120.0, range_max_m=range_m)
+        if fusion
+        else ScanMatcherOptions(
+            size_m=120.0, range_max_m=range_m, match_variance_scale=0.0, calibrate_odometry=False
+        ),
+        center=truth[0][:2],
     )
     est = truth[0]
     errors = []
@@ -86,6 +91,11 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--range", type=float, default=8.0, help="laser points used [m]")
     ap.add_argument("--scans", type=int, default=0, help="first N scans (0: all)")
+    ap.add_argument(
+        "--no-fusion",
+        action="store_true",
+        help="keep each match as it is (the matcher before the filter and odometry calibration)",
+    )
     a = ap.parse_args()
     path = DATA / LOGS[a.log]
     if not path.exists():
@@ -102,7 +112,7 @@ def main() -> None:
     print("| --- | --- | --- |")
     for seed in range(a.seeds):
         o = run(scans, seed, a.range, False)
-        m = run(scans, seed, a.range, True)
+        m = run(scans, seed, a.range, True, fusion=not a.no_fusion)
         print(
             f"| {seed} | {o[0]:.2f} / {o[1]:.2f}, {o[2]:.3f} | {m[0]:.2f} / {m[1]:.2f}, {m[2]:.3f} |"
         )

@@ -112,11 +112,15 @@ def test_a_drifted_return_is_pulled_back_to_the_first_view():
     truth = (1.5, 1.2, 0.3)
     m.correct(_room_scan(truth), truth)
     estimate = truth
+    errors = []
     for _ in range(12):
         # odometry says the robot turned 0.01 rad more than it did, each frame
         estimate = (estimate[0], estimate[1], estimate[2] + 0.01)
         estimate = m.correct(_room_scan(truth), estimate).pose
-    assert abs(estimate[2] - truth[2]) <= m.options.yaw_step_rad
+        errors.append(abs(estimate[2] - truth[2]))
+    # fused with odometry, the estimate lags by about a frame's false turn, no more
+    assert max(errors[6:]) <= 2 * m.options.yaw_step_rad
+    assert errors[-1] <= errors[5] + 0.002
 
 
 def test_the_cached_field_with_new_hits_stamped_equals_a_fresh_field():
@@ -140,3 +144,120 @@ def test_refinement_recovers_a_shift_smaller_than_a_cell():
     assert r.accepted
     assert math.hypot(r.pose[0] - truth[0], r.pose[1] - truth[1]) < 0.006
     assert abs(r.pose[2] - truth[2]) < 0.003
+
+
+LEGS = [(0.0, 1.0), (0.2, 0.0), (0.0, -1.2), (0.15, 0.3), (0.0, 1.5), (-0.15, 0.0)]
+
+
+def _calibration_run(noise, legs, seconds_per_leg=2.0):
+    """Drives the 4 x 3 room with the simulator's kinematics and the given odometry errors
+    (``legs``: (v [m/s], omega [rad/s]) for ``seconds_per_leg`` each), corrects odometry with the matcher scan by scan;
+    returns the matcher, the true poses and the estimates."""
+    from floorscan.sim import Robot
+
+    robot = Robot(frame_rate_hz=10, odometry=noise)
+    commands = [[seconds_per_leg, v, w] for v, w in legs]
+    tr = robot.drive(start=(2.0, 1.5, 0.0), seconds=len(legs) * seconds_per_leg, commands=commands)
+    m = ScanMatcher(center=(2.0, 1.5))
+    est = tuple(tr.poses[0])
+    estimates = []
+    for k in range(len(tr.poses)):
+        if k > 0:
+            a, b = tr.odometry[k - 1], tr.odometry[k]
+            c, s = math.cos(a[2]), math.sin(a[2])
+            dx, dy = b[0] - a[0], b[1] - a[1]
+            inc = (c * dx + s * dy, -s * dx + c * dy, b[2] - a[2])
+            c, s = math.cos(est[2]), math.sin(est[2])
+            est = (
+                est[0] + c * inc[0] - s * inc[1],
+                est[1] + s * inc[0] + c * inc[1],
+                est[2] + inc[2],
+            )
+        est = m.correct(_room_scan(tuple(tr.poses[k])), est).pose
+        estimates.append(est)
+    return m, np.asarray(tr.poses), np.asarray(tr.odometry), np.asarray(estimates)
+
+
+def _no_noise(**kw):
+    from floorscan.sim.robot import OdometryNoise
+
+    base = dict(
+        wheel_sigma_per_sqrt_m=0.0,
+        radius_scale_error=0.0,
+        radius_difference=0.0,
+        wheelbase_error=0.0,
+    )
+    return OdometryNoise(**{**base, **kw})
+
+
+def test_a_wheelbase_error_is_estimated_from_the_matches():
+    """Odometry whose wheelbase is 5 % off reads every turn 1 / 1.05 of its angle: the turn
+    scale the matcher estimates converges to the ratio of true to odometry turning measured on
+    the trajectory itself."""
+    m, poses, odo, _ = _calibration_run(_no_noise(wheelbase_error=0.05), LEGS * 3)
+    true_turn = np.abs(np.diff(np.unwrap(poses[:, 2]))).sum()
+    odo_turn = np.abs(np.diff(np.unwrap(odo[:, 2]))).sum()
+    expected = true_turn / odo_turn - 1.0  # 0.05
+    assert abs(expected - 0.05) < 1e-3
+    assert abs(m.calibration[0] - expected) < 0.01
+
+
+def test_a_wheel_radius_difference_is_estimated_as_heading_drift_per_metre():
+    """Wheels 0.6 % different in radius: straight driving reads as a curve of 0.006 / wheelbase
+    = 0.02 rad per metre (the regression of the true heading's increments on odometry's over
+    the trajectory gives the same); from 0, the estimate gets its sign and comes within
+    0.015 rad/m (half its prior's width) over 7.6 m of driving, and the heading stays within
+    a yaw step of the truth while odometry's ends 0.15 rad off."""
+    m, poses, odo, est = _calibration_run(
+        _no_noise(radius_difference=0.006),
+        [(0.15, 0.0), (0.0, 1.0), (0.15, 0.0), (0.0, -1.0)] * 8,
+        seconds_per_leg=math.pi,
+    )
+    expected = -0.006 / 0.3
+    turn = np.diff(np.unwrap(poses[:, 2])) - np.diff(np.unwrap(odo[:, 2]))
+    dist = np.hypot(*np.diff(odo[:, :2], axis=0).T)
+    assert abs(np.sum(turn * dist) / np.sum(dist * dist) - expected) < 1e-4
+    assert m.calibration[1] < 0 and abs(m.calibration[1] - expected) < 0.015
+    assert abs(math.remainder(est[-1, 2] - poses[-1, 2], 2 * math.pi)) < m.options.yaw_step_rad
+    assert abs(odo[-1, 2] - poses[-1, 2]) > 0.1
+
+
+def test_a_lone_wall_informs_across_it_only():
+    """The match's information matrix for N points of a straight wall mapped beyond them:
+    about N / sigma^2 across it (each point's error the field's width), next to nothing
+    along it."""
+    wall = np.stack([np.linspace(-2, 2, 81), np.full(81, 1.0)], 1)  # y = 1 m, robot frame
+    m = ScanMatcher()
+    m.insert(np.stack([np.linspace(-3, 3, 241), np.full(241, 1.0)], 1), (0.0, 0.0, 0.0))
+    r = m.match(wall, (0.0, 0.0, 0.0))
+    info = m.information(wall, r.pose)
+    across = len(wall) / m.options.sigma_m**2
+    assert 0.75 * across < info[1, 1] < 1.25 * across
+    assert info[0, 0] < 0.05 * across
+
+
+def test_fusion_corrects_across_a_wall_and_keeps_odometry_along_it():
+    """After 1 m of odometry (its covariance grown), a wall 8 cm nearer than predicted and
+    nothing to say along it: the fused pose moves across, not along."""
+    wall = np.stack([np.linspace(-2, 2, 81), np.full(81, 1.0)], 1)
+    m = ScanMatcher()
+    m.correct(wall, (0.0, 0.0, 0.0))
+    for k in range(1, 11):  # odometry drives 1 m along x, straight
+        m.predict((0.1 * k, 0.0, 0.0))
+    prior = (1.0 + 0.1, -0.08, 0.0)  # 10 cm along the wall, 8 cm away from it
+    m._last = (1.0, 0.0, 0.0)
+    truth_view = np.stack([np.linspace(-3, 1, 81), np.full(81, 1.0)], 1)  # from x = 1 m
+    r = m.correct(truth_view, prior)
+    assert r.accepted
+    assert abs(r.pose[1] - 0.0) < 0.5 * 0.08  # across: mostly corrected
+    assert abs(r.pose[0] - prior[0]) < 0.02  # along: odometry's
+
+
+def test_without_fusion_the_match_is_kept_as_it_is():
+    opts = ScanMatcherOptions(match_variance_scale=0.0, calibrate_odometry=False)
+    a, b = ScanMatcher(opts, center=(2, 1.5)), ScanMatcher(opts, center=(2, 1.5))
+    truth = (1.5, 1.2, 0.3)
+    a.correct(_room_scan(truth), truth)
+    b.insert(_room_scan(truth), truth)
+    prior = (1.55, 1.15, 0.33)
+    assert a.correct(_room_scan(truth), prior).pose == b.match(_room_scan(truth), prior).pose

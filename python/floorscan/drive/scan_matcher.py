@@ -14,6 +14,17 @@ new keeps the map as it was first seen: a robot that comes back with drifted odo
 the walls as they were, not its own latest, drifted copies of them (which would let the error
 stay, as a matcher against its last few frames does).
 
+The pose kept is not the best pose as it is: the match is fused with the odometry
+prediction as an extended Kalman filter (``predict``, ``information``, ``fuse``). The
+prediction's covariance grows with each wheel's travel; the match's information is the
+curvature of the summed field values over (x, y, yaw) at the pose found, so a corridor
+corrects across itself and not along, and a narrow view of near walls corrects the heading
+little; two more states estimate odometry's systematic errors (turn scale, heading drift per
+metre) from the matches, as robots calibrate their odometry, and correct each prediction.
+Kept as it was, each frame's match (the best of a flat-topped score) scattered by about
+0.015 rad, and the points stored at it turned that scatter into a rotated map of each
+unseen room (EVALUATION.md, "Long tours").
+
 Storing (the novelty test and the stamps into the cached field) runs in the Rust core
 (``floorscan_core::hit_map``), in place on the numpy counts and field kept here, as does the
 search (``floorscan_core::scan_matcher``).
@@ -77,6 +88,36 @@ class ScanMatcherOptions:
       against 0.10 m largest pose error on the corridor test drive).
     - ``novelty_m``: a scan point joins the map only when no stored hit lies within this
       distance [m] of it, in [0, 1]; 0 stores every point. Default 0.1 (2 sigma).
+    - ``match_variance_scale``: the match is fused with the odometry prediction as an
+      extended Kalman filter does, >= 0; 0 keeps the match as it is (the matcher before
+      fusion). The match's information matrix is the curvature of the sum of field values at
+      the points over (x, y, yaw) at the pose found (each point on a wall counts as an
+      observation with the field's width as its error, and only across the wall: a
+      corridor tells nothing along itself, a narrow view of near walls little of the
+      heading); its covariance is that matrix's inverse times this scale. Default 1 (the
+      field's width as each point's error). Tried: 4 and 10 (a quarter or a tenth of the
+      points independent) estimate the turn scale better on the corridor (+0.002-0.007
+      against the simulator's +0.010; 1 gives -0.012) but 10 met obstacles 3-4 times a
+      corridor run and 4 let the Freiburg 079 log's largest error reach 1.22 m (0.31 m
+      with 1; EVALUATION.md, "Long tours").
+    - ``odometry_wheel_sigma``: the random error of each wheel's travel [m/sqrt(m)] the
+      prediction's variance grows with, in [0, 1]. Default 0.01 (the simulator's default
+      ``OdometryNoise``; a real base's figure belongs here).
+    - ``odometry_wheelbase_m``: the wheelbase [m] turning that error into heading, in (0, 5].
+      Default 0.3 (the simulator's ``Robot``).
+    - ``calibrate_odometry``: estimate odometry's systematic errors online, as two more
+      states of the filter: the turn scale error g (true turn = (1 + g) x odometry's, a
+      wheelbase error) and the heading drift k per metre driven (a wheel radius difference);
+      each prediction's turn is corrected by g dtheta + k d. Default True (only with
+      ``match_variance_scale`` > 0).
+    - ``turn_error_prior``: the standard deviation of g before any match, in [0, 0.5].
+      Default 0.05 (a wheelbase known to 5 %; the simulator's default error is 2 %).
+    - ``drift_prior_rad_per_m``: the standard deviation of k before any match [rad/m], in
+      [0, 1]. Default 0.03 (wheel radii equal to 1 % on a 0.3 m wheelbase; the simulator's
+      default is 0.013).
+    - ``calibration_drift``: how fast g and k may change, in [0, 0.1]: their variances grow
+      by its square per radian turned and per metre driven. Default 1e-4 (they stay put
+      over a building's tour unless the matches say otherwise).
     """
 
     size_m: float = 80.0
@@ -92,6 +133,13 @@ class ScanMatcherOptions:
     range_max_m: float = 3.0
     novelty_m: float = 0.1
     max_points: int = 400
+    match_variance_scale: float = 1.0
+    calibrate_odometry: bool = True
+    turn_error_prior: float = 0.05
+    drift_prior_rad_per_m: float = 0.03
+    calibration_drift: float = 1e-4
+    odometry_wheel_sigma: float = 0.01
+    odometry_wheelbase_m: float = 0.3
 
     def __post_init__(self) -> None:
         checks = {
@@ -108,6 +156,12 @@ class ScanMatcherOptions:
             "range_max_m": 0 < self.range_max_m <= 100,
             "novelty_m": 0 <= self.novelty_m <= 1,
             "max_points": int(self.min_points) <= int(self.max_points) <= 100_000,
+            "match_variance_scale": 0 <= self.match_variance_scale <= 1e6,
+            "turn_error_prior": 0 <= self.turn_error_prior <= 0.5,
+            "drift_prior_rad_per_m": 0 <= self.drift_prior_rad_per_m <= 1,
+            "calibration_drift": 0 <= self.calibration_drift <= 0.1,
+            "odometry_wheel_sigma": 0 <= self.odometry_wheel_sigma <= 1,
+            "odometry_wheelbase_m": 0 < self.odometry_wheelbase_m <= 5,
         }
         for name, ok in checks.items():
             if not (ok and math.isfinite(float(getattr(self, name)))):
@@ -162,6 +216,16 @@ class ScanMatcher:
         # newly stored hits are stamped into it; whether it holds any non-zero value
         self._cache: Optional[Tuple[np.ndarray, int, int]] = None
         self._cache_nonzero = False
+        # the pose kept last and the covariance of its error (x [m], y [m], yaw [rad])
+        self._last: Optional[Tuple[float, float, float]] = None
+        # state: the pose and odometry's estimated errors (turn scale error, heading drift
+        # per metre); the covariance of its error
+        self.calibration = (0.0, 0.0)
+        self.covariance = np.zeros((5, 5))
+        if options.calibrate_odometry:
+            self.covariance[3, 3] = options.turn_error_prior**2
+            self.covariance[4, 4] = options.drift_prior_rad_per_m**2
+        self._origin = (0.0, 0.0)  # of the field the last match used
 
     def _window(self, x0: float, y0: float, half_m: float) -> Tuple[int, int, int, int]:
         """Cells (i0, j0, i1, j1), end exclusive, of the square of half-side ``half_m``
@@ -264,9 +328,155 @@ class ScanMatcher:
         self.frames += 1
         return stored
 
+    def predict(self, prior):
+        """The prediction for the frame whose odometry pose, carried by the last correction,
+        is ``prior`` (world_from_robot, the pose kept last composed with odometry's
+        increment): the increment's turn corrected by the estimated turn scale error and
+        heading drift per metre, the state's covariance grown as an extended Kalman filter
+        predicts (each wheel's travel errs by ``odometry_wheel_sigma`` sqrt(|travel|), their
+        mean is the distance driven, their difference over the wheelbase the turn).
+        Returns the corrected prior."""
+        o = self.options
+        prior = tuple(float(v) for v in prior[:3])
+        if self._last is None:
+            self._last = prior
+            return prior
+        a = self._last
+        c, s = math.cos(a[2]), math.sin(a[2])
+        wx, wy = prior[0] - a[0], prior[1] - a[1]
+        d = c * wx + s * wy  # signed distance driven (robot frame x)
+        dth = math.remainder(prior[2] - a[2], 2 * math.pi)
+        g, k = self.calibration
+        extra = g * dth + k * d  # the turn odometry misses
+        cr, sr = math.cos(0.5 * extra), math.sin(0.5 * extra)
+        wx, wy = cr * wx - sr * wy, sr * wx + cr * wy
+        pred = (a[0] + wx, a[1] + wy, a[2] + dth + extra)
+        if not (o.calibrate_odometry and o.match_variance_scale > 0):
+            pred = prior  # nothing to correct: the caller's prior as it is
+        b = o.odometry_wheelbase_m
+        vl = o.odometry_wheel_sigma**2 * abs(d - 0.5 * b * dth)
+        vr = o.odometry_wheel_sigma**2 * abs(d + 0.5 * b * dth)
+        motion = np.array(
+            [[0.25 * (vl + vr), 0.5 * (vr - vl) / b], [0.5 * (vr - vl) / b, (vl + vr) / b**2]]
+        )
+        h = a[2] + 0.5 * (dth + extra)
+        gm = np.zeros((5, 2))
+        gm[0, 0], gm[1, 0], gm[2, 1] = math.cos(h), math.sin(h), 1.0
+        f = np.eye(5)
+        f[0, 2], f[1, 2] = -wy, wx
+        f[2, 3], f[2, 4] = dth, d
+        f[0, 3], f[1, 3] = -wy * 0.5 * dth, wx * 0.5 * dth
+        f[0, 4], f[1, 4] = -wy * 0.5 * d, wx * 0.5 * d
+        q = gm @ motion @ gm.T
+        q[3, 3] = o.calibration_drift**2 * abs(dth)
+        q[4, 4] = o.calibration_drift**2 * abs(d)
+        self.covariance = f @ self.covariance @ f.T + q
+        self._last = pred
+        return pred
+
+    def information(self, points_robot: np.ndarray, pose) -> np.ndarray:
+        """The information matrix (3, 3) of the scan's match at ``pose``: minus the Hessian of
+        the sum of field values (read bilinearly as the search reads them) at the points over
+        (x, y, yaw), by central differences of a cell and a yaw step, with its negative
+        eigenvalues cut to 0. Each point on a wall adds 1 / sigma_m^2 across it."""
+        if self._cache is None:
+            return np.zeros((3, 3))
+        field, i0, j0 = self._cache
+        pts = self._usable(points_robot)
+        if len(pts) > self.options.max_points:
+            idx = np.linspace(0, len(pts) - 1, int(self.options.max_points)).round()
+            pts = pts[idx.astype(np.int64)]
+        if field.size == 0 or len(pts) == 0:
+            return np.zeros((3, 3))
+        h = np.array([self.cell, self.cell, self.options.yaw_step_rad])
+        offsets = [np.zeros(3)]
+        for i in range(3):
+            e = np.zeros(3)
+            e[i] = h[i]
+            offsets += [e, -e]
+        for i in range(3):
+            for j in range(i + 1, 3):
+                for si in (1, -1):
+                    for sj in (1, -1):
+                        e = np.zeros(3)
+                        e[i], e[j] = si * h[i], sj * h[j]
+                        offsets.append(e)
+        poses = np.asarray(pose[:3], np.float64)[None, :] + np.array(offsets)
+        c, s = np.cos(poses[:, 2:3]), np.sin(poses[:, 2:3])
+        x = poses[:, 0:1] + c * pts[None, :, 0] - s * pts[None, :, 1]
+        y = poses[:, 1:2] + s * pts[None, :, 0] + c * pts[None, :, 1]
+        fx = (x - self.origin_m[0]) / self.cell - i0 - 0.5
+        fy = (y - self.origin_m[1]) / self.cell - j0 - 0.5
+        ii, jj = np.floor(fx).astype(np.int64), np.floor(fy).astype(np.int64)
+        ax, ay = fx - ii, fy - jj
+        hgt, wid = field.shape
+        # the four cells around each point, flat; a point whose cells leave the field reads
+        # 0 there (the field covers the search window with a margin: none do in the drive)
+        inside = (ii >= 0) & (jj >= 0) & (ii < wid - 1) & (jj < hgt - 1)
+        base = np.where(inside, jj * wid + ii, 0)
+        flat = field.ravel()
+        v = np.where(
+            inside,
+            (1 - ax) * (1 - ay) * flat[base]
+            + ax * (1 - ay) * flat[base + 1]
+            + (1 - ax) * ay * flat[base + wid]
+            + ax * ay * flat[base + wid + 1],
+            0.0,
+        ).sum(axis=1)
+        hess = np.zeros((3, 3))
+        for i in range(3):
+            hess[i, i] = (v[1 + 2 * i] - 2 * v[0] + v[2 + 2 * i]) / h[i] ** 2
+        k = 7
+        for i in range(3):
+            for j in range(i + 1, 3):
+                pp, pm, mp, mm = v[k : k + 4]
+                hess[i, j] = hess[j, i] = (pp - pm - mp + mm) / (4 * h[i] * h[j])
+                k += 4
+        w, vec = np.linalg.eigh(-hess)
+        return (vec * np.clip(w, 0.0, None)) @ vec.T
+
+    def fuse(self, result: MatchResult, prior, information: np.ndarray) -> MatchResult:
+        """The accepted match fused with the prediction ``prior`` (``predict`` first) in
+        information form: the match's information is ``information`` /
+        ``match_variance_scale``; the covariance shrinks accordingly."""
+        o = self.options
+        prior = tuple(float(v) for v in prior[:3])
+        if not result.accepted or o.match_variance_scale == 0:
+            self._last = tuple(result.pose)
+            return result
+        info = np.zeros((5, 5))
+        info[:3, :3] = information / o.match_variance_scale
+        # a floor under the prediction's variances keeps its inverse finite at the start
+        cov = self.covariance + np.diag([1e-8, 1e-8, 1e-10, 0.0, 0.0])
+        post = np.linalg.inv(np.linalg.inv(cov) + info)
+        post = 0.5 * (post + post.T)
+        z = np.zeros(5)
+        z[:3] = np.array(result.pose) - np.array(prior)
+        z[2] = math.remainder(z[2], 2 * math.pi)
+        step = post @ info @ z
+        pose = (prior[0] + step[0], prior[1] + step[1], prior[2] + step[2])
+        if o.calibrate_odometry:
+            self.calibration = (
+                float(np.clip(self.calibration[0] + step[3], -0.5, 0.5)),
+                float(np.clip(self.calibration[1] + step[4], -0.5, 0.5)),
+            )
+            self.covariance = post
+        else:
+            self.covariance = post
+            self.covariance[3:, :] = 0.0
+            self.covariance[:, 3:] = 0.0
+        self._last = pose
+        return MatchResult(pose, result.score, True, result.points)
+
     def correct(self, points_robot: np.ndarray, prior) -> MatchResult:
-        """Matches the scan near ``prior``, then stores what it shows that the map does not
-        hold yet, at the pose found (or at the prior when the match is refused)."""
+        """Matches the scan near ``prior``, fuses the match with it (``fuse``), then stores
+        what the scan shows that the map does not hold yet, at the pose kept (the prior when
+        the match is refused)."""
+        prior = self.predict(prior)
         result = self.match(points_robot, prior)
+        if result.accepted and self.options.match_variance_scale > 0:
+            result = self.fuse(result, prior, self.information(points_robot, result.pose))
+        else:
+            result = self.fuse(result, prior, np.zeros((3, 3)))
         self.insert(points_robot, result.pose, novel_only=True)
         return result
