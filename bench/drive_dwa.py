@@ -12,6 +12,8 @@ import time
 import numpy as np
 
 sys.path.insert(0, "tests")
+sys.path.insert(0, "bench")
+from drive_step import corridor_frame
 from dynamic_window_reference import reference_choice
 from floorscan.drive import (
     AvoidanceMap,
@@ -19,18 +21,13 @@ from floorscan.drive import (
     DwaOptions,
     choose_velocity,
     inflate,
-    make_table,
     navigation_function,
 )
 from floorscan.pipeline.config import Config
-from floorscan.pipeline.mapper import ranger_from_config
-from floorscan.sim import Camera, World, render_image
 
-world, cam = World.builtin("corridor"), Camera(width=640, height=480)
-table = make_table(cam, "exact")
-ranger = ranger_from_config(table, Config().with_overrides({"ranger.kind": "edge"}), columns=320)
-pose = tuple(world.start)
-image = render_image(world, cam, pose)
+cam, table, ranger, pose, image = corridor_frame(
+    640, 480, Config().with_overrides({"ranger.kind": "edge"})
+)
 m = AvoidanceMap(center=pose[:2])
 co, dwa = CostmapOptions(), DwaOptions()
 scan = ranger.scan(image)

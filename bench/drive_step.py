@@ -63,6 +63,20 @@ def main() -> None:
     )
 
 
+def corridor_frame(width: int = 640, height: int = 480, config=None):
+    """The fixed frame the stage timings use: (camera, exact table, ranger on every second
+    column, the corridor's start pose, its rendered image)."""
+    from floorscan.drive import make_table
+    from floorscan.pipeline.mapper import ranger_from_config
+    from floorscan.sim import render_image
+
+    world, cam = World.builtin("corridor"), Camera(width=width, height=height)
+    table = make_table(cam, "exact")
+    ranger = ranger_from_config(table, config or Config(), columns=width // 2)
+    pose = tuple(world.start)
+    return cam, table, ranger, pose, render_image(world, cam, pose)
+
+
 def stages(width: int = 640, height: int = 480, repeats: int = 50, config=None) -> dict:
     """Median time [ms] of each stage of one closed-loop step on a fixed corridor frame."""
     import time
@@ -74,19 +88,12 @@ def stages(width: int = 640, height: int = 480, repeats: int = 50, config=None) 
         DwaOptions,
         choose_velocity,
         inflate,
-        make_table,
         navigation_function,
     )
     from floorscan.drive.loop import _visual_points
     from floorscan.drive.scan_matcher import ScanMatcher
-    from floorscan.pipeline.mapper import ranger_from_config
-    from floorscan.sim import render_image
 
-    world, cam = World.builtin("corridor"), Camera(width=width, height=height)
-    table = make_table(cam, "exact")
-    ranger = ranger_from_config(table, config or Config(), columns=width // 2)
-    pose = tuple(world.start)
-    image = render_image(world, cam, pose)
+    cam, table, ranger, pose, image = corridor_frame(width, height, config)
     m = AvoidanceMap(center=pose[:2])
     co, dwa = CostmapOptions(), DwaOptions()
     out: dict = {"ranging": [], "match": [], "map": [], "costmap": [], "dwa": [], "plan": []}

@@ -150,23 +150,24 @@ pub fn best_sample(
             admissible &= worst < scoring.inscribed;
             any_admissible |= admissible;
             let value = if admissible {
-                let fx = ex + fpd * eth.cos();
-                let fy = ey + fpd * eth.sin();
-                let nav_end = nav.at_or(ex, ey, f64::INFINITY);
-                let mut n_end = if nav_end.is_finite() {
-                    nav_end
-                } else {
-                    UNREACHED_M + (ex - gx).hypot(ey - gy)
+                let to_goal = |x: f64, y: f64| (x - gx).hypot(y - gy);
+                // the plan's cost, or (where it does not reach) 1000 + the straight line
+                let plan = |x: f64, y: f64| {
+                    let n = nav.at_or(x, y, f64::INFINITY);
+                    (
+                        if n.is_finite() {
+                            n
+                        } else {
+                            UNREACHED_M + to_goal(x, y)
+                        },
+                        n.is_finite(),
+                    )
                 };
-                let nav_fwd = nav.at_or(fx, fy, f64::INFINITY);
-                let mut n_fwd = if nav_fwd.is_finite() {
-                    nav_fwd
-                } else {
-                    UNREACHED_M + (fx - gx).hypot(fy - gy)
-                };
+                let (mut n_end, end_reached) = plan(ex, ey);
+                let (mut n_fwd, _) = plan(ex + fpd * eth.cos(), ey + fpd * eth.sin());
                 if arriving {
-                    if nav_end.is_finite() {
-                        n_end = (ex - gx).hypot(ey - gy);
+                    if end_reached {
+                        n_end = to_goal(ex, ey);
                     }
                     n_fwd = n_end;
                 }

@@ -162,6 +162,7 @@ def frames_to_reliable(
         raise ValueError(f"local_map must be 'octomap' or 'avoidance', got {local_map!r}")
     raster = case.raster
     out: List[Optional[int]] = []
+    mount = tuple(case.robot_from_camera)
     if local_map == "avoidance":
         from dataclasses import replace
 
@@ -169,23 +170,24 @@ def frames_to_reliable(
 
         options = replace(AvoidanceMapOptions(), size_m=local_size_m, half_life_s=None)
         cell = options.cell_size_m
+
+        def new_map(pose0):
+            return AvoidanceMap(options, center=pose0[:2])
+
+        def insert(local, scan, pose):
+            local.insert_visual(scan, pose, mount=mount, table=case.table)
+
     else:
         cell = float(grid_kwargs["cell_size_m"])
-    mount = tuple(case.robot_from_camera)
+
+        def new_map(pose0):
+            return LocalMap(size_m=local_size_m, pose=pose0, **grid_kwargs)
+
+        def insert(local, scan, pose):
+            local.insert_scan(scan, pose=pose, mount=mount)
+
     for k0 in starts:
-        pose0 = tuple(case.true_poses[k0])
-        if local_map == "avoidance":
-            local = AvoidanceMap(options, center=pose0[:2])
-
-            def insert(scan, pose, local=local):
-                local.insert_visual(scan, pose, mount=mount, table=case.table)
-
-        else:
-            local = LocalMap(size_m=local_size_m, pose=pose0, **grid_kwargs)
-
-            def insert(scan, pose, local=local):
-                local.insert_scan(scan, pose=pose, mount=mount)
-
+        local = new_map(tuple(case.true_poses[k0]))
         (x0, y0), (x1, y1) = local.extent.bounds_m
         cam = compose(case.true_poses[k0], case.robot_from_camera)
         vx, vy = view_cells(
@@ -208,7 +210,7 @@ def frames_to_reliable(
             k = k0 + n
             if k >= len(scans):
                 break
-            insert(scans[k], tuple(case.true_poses[k]))
+            insert(local, scans[k], tuple(case.true_poses[k]))
             if agreement_at(local, vx, vy, truth) > RELIABLE_AGREEMENT:
                 found = n + 1
                 break

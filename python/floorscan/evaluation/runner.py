@@ -115,8 +115,10 @@ def evaluate_case(
             metrics["free_known_share"] = free_known_share(true_map, r, case.true_poses[:, :2])
             if case.true_status is not None:
                 last = len(case) - reliable_max_frames
-                starts = (
-                    np.linspace(0, last, reliable_starts).astype(int).tolist() if last > 0 else [0]
+                starts = sorted(
+                    set(np.linspace(0, last, reliable_starts).astype(int).tolist())
+                    if last > 0
+                    else {0}
                 )
                 reliable = {}
                 for key, kind in (
@@ -129,7 +131,7 @@ def evaluate_case(
                         kw,
                         local_size_m=cfg.local_map.size_m,
                         max_range_m=ranged_m(cfg),
-                        starts=sorted(set(starts)),
+                        starts=starts,
                         max_frames=reliable_max_frames,
                         local_map=kind,
                     )
@@ -144,7 +146,7 @@ def evaluate_case(
                 # gives no ground are the calibration's, not the ranger's)
                 right = [
                     bool(_ranger_wrong_share(column_scores[k]) <= RANGER_RIGHT_SHARE)
-                    for k in sorted(set(starts))
+                    for k in starts
                 ]
                 for entry in reliable.values():
                     sub = [f for f, r in zip(entry["frames_per_view"], right) if r]
