@@ -52,10 +52,11 @@ class ReferenceAvoidanceMap(AvoidanceMap):
     """:class:`~floorscan.drive.AvoidanceMap` with the numpy/OpenCV insertions and decay."""
 
     def decay(self, dt_s: float) -> None:
-        hl = self.options.half_life_s
+        hl, bump_hl = self.options.half_life_s, self.options.bump_half_life_s
         if hl is not None and dt_s > 0:
             self.log_odds *= np.float32(0.5 ** (dt_s / hl))
-            self.bumps *= np.float32(0.5 ** (dt_s / (10 * hl)))
+        if bump_hl is not None and dt_s > 0:
+            self.bumps *= np.float32(0.5 ** (dt_s / bump_hl))
 
     def _apply(self, free_mask, free_nats, hit_nats) -> None:
         lo, hi = self.options.clamp_nats

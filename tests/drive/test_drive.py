@@ -8,11 +8,19 @@ import json
 import math
 import subprocess
 import sys
+from dataclasses import replace
 
 import numpy as np
 import pytest
 from floorscan import OptionError
-from floorscan.drive import AvoidanceMap, DriveOptions, Solids, drive, make_table
+from floorscan.drive import (
+    AvoidanceMap,
+    AvoidanceMapOptions,
+    DriveOptions,
+    Solids,
+    drive,
+    make_table,
+)
 from floorscan.ranging.ranger import VisualRanger
 from floorscan.sim import Camera, World, render
 
@@ -186,6 +194,12 @@ def test_options_are_validated():
         DriveOptions(table="guess")
     with pytest.raises(OptionError, match="ranger"):
         DriveOptions(ranger="sonar")
+    with pytest.raises(OptionError, match="bump_backup_m"):
+        DriveOptions(bump_backup_m=-0.1)
+    with pytest.raises(OptionError, match="bump_face_half_length_m"):
+        AvoidanceMapOptions(bump_face_half_length_m=2.0)
+    with pytest.raises(OptionError, match="bump_half_life_s"):
+        AvoidanceMapOptions(bump_half_life_s=0.0)
 
 
 def test_the_drive_ranges_with_its_own_kind_and_the_configs_options(monkeypatch):
@@ -278,3 +292,79 @@ def test_pose_composition_keeps_yaw_in_minus_pi_to_pi():
     back = _between(a, c)  # a^-1 * (a * b) = b
     assert back == pytest.approx(b)
     assert -math.pi <= _inverse((0.0, 0.0, -3.5))[2] < math.pi
+
+
+def test_the_bumper_segment_is_the_contacts_bearing_rounded_to_the_ring():
+    from floorscan.drive.loop import BUMPER_SEGMENTS, bumper_segment
+
+    width = 2 * math.pi / BUMPER_SEGMENTS
+    rng = np.random.default_rng(2)
+    for _ in range(200):
+        x, y, yaw = rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-math.pi, math.pi)
+        bearing = rng.uniform(-math.pi, math.pi)
+        contact = (x + 0.2 * math.cos(yaw + bearing), y + 0.2 * math.sin(yaw + bearing))
+        b = bumper_segment((x, y, yaw), contact)
+        # a segment centre, within half a segment of the true bearing (mod 2 pi)
+        assert abs(math.remainder(b / width, 1.0)) < 1e-9
+        assert abs(math.remainder(b - bearing, 2 * math.pi)) <= width / 2 + 1e-9
+    assert bumper_segment((0.0, 0.0, math.pi / 2), (0.0, 0.2)) == pytest.approx(0.0)
+    assert bumper_segment((0.0, 0.0, 0.0), (0.0, 0.2)) == pytest.approx(math.pi / 2)
+
+
+def test_a_bump_mark_outlasts_the_camera_and_forgets_after_its_half_life():
+    m = AvoidanceMap(center=(0.0, 0.0))
+    m.mark_bump((0.0, 0.0, 0.0), math.pi / 2, 0.21)
+    occ = m.occupied()
+    rows, cols = np.nonzero(occ)
+    x = (cols + m.x_cell + 0.5) * m.cell
+    y = (rows + m.y_cell + 0.5) * m.cell
+    # a face square to +y at 0.21 m, 0.3 m long: the cells whose squares the line crosses
+    assert np.all(np.abs(y - 0.21) <= m.cell / 2 + 1e-9)
+    assert np.all(np.abs(x) <= 0.15 + m.cell / 2 + 1e-9)
+    assert len(rows) >= int(0.3 / m.cell)
+    # the camera's free evidence does not clear it
+    m.log_odds[occ] = -2.0
+    assert (m.occupied() == occ).all()
+    hl = m.options.bump_half_life_s
+    m.decay(0.9 * hl)
+    assert (m.occupied() == occ).all()
+    m.decay(0.2 * hl)
+    assert not m.occupied().any()
+
+
+def test_the_bumper_gets_a_blind_robot_past_a_box_its_sensor_cannot_see(monkeypatch):
+    """The laser sees only the hall's walls, not the box on the route: the robot must feel
+    the box with its bumper, remember where, and go around. The marks lie along the touched
+    face (truth), and with a memory shorter than its tries it does not get past."""
+    world = World.from_toml(HALL + BOX)
+    walls = Solids.of_world(World.from_toml(HALL))
+    laser = Solids.laser
+    monkeypatch.setattr(Solids, "laser", lambda self, *a, **k: laser(walls, *a, **k))
+    runs = {}
+    for hl in (120.0, 0.5):
+        o = DriveOptions(seconds=60, sensor="laser", keep_frames=0)
+        o = replace(o, map=replace(o.map, bump_half_life_s=hl))
+        runs[hl] = drive(world, o)
+    s = runs[120.0].summary()
+    assert 1 <= s["collisions"] <= 2
+    assert s["waypoints_reached"] == 1
+    rec, m = runs[120.0].record, runs[120.0].map
+    # the first contact is head-on with the box's west face (x = 2.575, y in [1.275, 1.725])
+    first = rec.contacts[0]
+    assert first["x"] == pytest.approx(2.575 - 0.18, abs=0.01)
+    # the marks, carried from the odometry frame into the world frame as they were at the
+    # contact, lie on that face's line (within a cell and the bumper segment's 22.5 degrees
+    # over the mark's half length) and span the face's width around the contact
+    k = int(np.searchsorted(rec.times_s, first["time_s"]))
+    tx, ty, tth = rec.poses[k]
+    ox, oy, oth = rec.odometry[k]
+    d = tth - oth
+    rows, cols = np.nonzero(m.bumps > 0.5)
+    mx, my = (cols + m.x_cell + 0.5) * m.cell - ox, (rows + m.y_cell + 0.5) * m.cell - oy
+    wx = tx + math.cos(d) * mx - math.sin(d) * my
+    wy = ty + math.sin(d) * mx + math.cos(d) * my
+    assert len(wx) > 0
+    assert np.all(np.abs(wx - 2.575) < m.cell + 0.15 * math.tan(math.pi / 8))
+    assert wy.max() - wy.min() > 0.25
+    short = runs[0.5].summary()
+    assert short["waypoints_reached"] == 0 or short["collisions"] > 3 * s["collisions"]

@@ -45,6 +45,16 @@ class AvoidanceMapOptions:
       (forgetting), > 0 or None (never). Default 3 s: long enough to remember an obstacle
       that left the camera's view while the robot turns past it, short enough that a moved
       obstacle the camera no longer sees fades within a corridor's length.
+    - ``bump_half_life_s``: the bumper layer's marks (:meth:`AvoidanceMap.mark_bump`) halve
+      every this many seconds, > 0 or None (never); a mark is an obstacle until it has
+      halved. Default 300 s: what the bumper felt is
+      often what the camera cannot see (a face the colour of the floor), so the mark must
+      outlast the robot's tries around it (a 30 s memory let the robot bump the same unseen
+      box 11 times in the lab world); a costmap's obstacle layer without clearing does the
+      same for a ROS robot's bumper.
+    - ``bump_face_half_length_m``: a bump marks a straight face this far [m] to either side
+      of the touched bearing, in [0, 1]. Default 0.15 (a 0.3 m face: a box's or a desk's
+      side is rarely narrower; `bench/drive_bumper.py` measures the choice).
     - ``occupied_threshold``, ``free_threshold``: class thresholds on the probability.
       Defaults: the occupancy grid's (``GridOptions``, map_server's thresholds).
     - ``probability_scale``, ``probability_offset``: the map's probability of a cell is
@@ -63,6 +73,8 @@ class AvoidanceMapOptions:
     cell_size_m: float = 0.05
     clamp_nats: Tuple[float, float] = (-2.0, 3.5)
     half_life_s: Optional[float] = 3.0
+    bump_half_life_s: Optional[float] = 300.0
+    bump_face_half_length_m: float = 0.15
     occupied_threshold: float = field(
         default_factory=lambda: defaults("grid")["occupied_threshold"]
     )
@@ -83,6 +95,15 @@ class AvoidanceMapOptions:
             raise OptionError(f"invalid option `clamp_nats`: need min < 0 < max, got {lo, hi}")
         if self.half_life_s is not None and not self.half_life_s > 0:
             raise OptionError(f"invalid option `half_life_s`: must be > 0, got {self.half_life_s}")
+        if not 0.0 <= self.bump_face_half_length_m <= 1.0:
+            raise OptionError(
+                "invalid option `bump_face_half_length_m`: must be in [0, 1], got "
+                f"{self.bump_face_half_length_m}"
+            )
+        if self.bump_half_life_s is not None and not self.bump_half_life_s > 0:
+            raise OptionError(
+                f"invalid option `bump_half_life_s`: must be > 0, got {self.bump_half_life_s}"
+            )
         if not (0 < self.probability_scale <= 10 and abs(self.probability_offset) <= 10):
             raise OptionError(
                 "invalid probability calibration: need 0 < scale <= 10, |offset| <= 10"
@@ -200,11 +221,15 @@ class AvoidanceMap:
 
     # --- updates --------------------------------------------------------------------------
     def decay(self, dt_s: float) -> None:
-        """Forgets: all evidence shrinks by 2^(-dt / half_life)."""
-        hl = self.options.half_life_s
-        if hl is not None and dt_s > 0:
+        """Forgets: the evidence shrinks by 2^(-dt / half_life_s), the bumper's marks by
+        2^(-dt / bump_half_life_s)."""
+        if dt_s <= 0:
+            return
+        hl, bump_hl = self.options.half_life_s, self.options.bump_half_life_s
+        if hl is not None:
             _decay(self.log_odds, np.float32(0.5 ** (dt_s / hl)))
-            _decay(self.bumps, np.float32(0.5 ** (dt_s / (10 * hl))))
+        if bump_hl is not None:
+            _decay(self.bumps, np.float32(0.5 ** (dt_s / bump_hl)))
 
     def insert_visual(
         self,
@@ -243,13 +268,23 @@ class AvoidanceMap:
             model,
         )
 
-    def mark_bump(self, pose, bearing_rad: float, distance_m: float) -> None:
-        """A bumper contact: cells on an arc of +-0.6 rad around ``bearing_rad`` (robot frame)
-        at ``distance_m`` from ``pose`` become obstacles in a separate bumper layer, which the
-        camera cannot clear (it may not see what the bumper felt) and which forgets ten times
-        slower than the evidence."""
-        a = pose[2] + bearing_rad + np.linspace(-0.6, 0.6, 13)
-        cx, cy = self.to_cells(pose[0] + distance_m * np.cos(a), pose[1] + distance_m * np.sin(a))
+    def mark_bump(
+        self, pose, bearing_rad: float, distance_m: float, *, half_length_m: Optional[float] = None
+    ) -> None:
+        """A bumper contact: the cells on a straight face ``2 half_length_m`` long (default
+        the options' ``bump_face_half_length_m``), square to
+        ``bearing_rad`` (robot frame) at ``distance_m`` from ``pose``, become obstacles in a
+        separate bumper layer, which the camera cannot clear (it may not see what the bumper
+        felt) and which forgets with ``bump_half_life_s``. A face, not the touched point:
+        what a bumper meets is most often a flat side (a box, a desk, a wall) wider than the
+        segment that felt it, and the robot should not bump along it point by point."""
+        if half_length_m is None:
+            half_length_m = self.options.bump_face_half_length_m
+        a = pose[2] + bearing_rad
+        t = np.linspace(-half_length_m, half_length_m, int(4 * half_length_m / self.cell) + 2)
+        px = pose[0] + distance_m * math.cos(a) - t * math.sin(a)
+        py = pose[1] + distance_m * math.sin(a) + t * math.cos(a)
+        cx, cy = self.to_cells(px, py)
         ok = (cx >= 0) & (cx < self.n) & (cy >= 0) & (cy < self.n)
         self.bumps[cy[ok].astype(int), cx[ok].astype(int)] = 1.0
 

@@ -71,6 +71,10 @@ class DriveOptions:
     - ``keep_frames``: keep camera images and map views for a GIF every this many frames
       (0: none). Default 5.
     - ``dwa``: the dynamic window's options; its ``max_speed_m_s`` is ``speed_m_s``.
+    - ``bump_backup_m``: after a bump ahead (the three front segments), the robot reverses this far [m] at 0.1 m/s, in
+      [0, 1]. Default 0.12: out of the inscribed radius (robot radius + footprint padding)
+      of the face it marked, where the dynamic window works again (with 5 cm it stayed
+      inside, escaped along the face and bumped it again: `bench/drive_bumper.py`).
     - ``scan_matching``: estimate the robot's pose in the world frame by matching each scan
       against its own persistent map (:class:`~floorscan.drive.scan_matcher.ScanMatcher`):
       the correction ``map_from_odom`` carries the waypoints into the odometry frame the
@@ -91,6 +95,7 @@ class DriveOptions:
     laser_beams: int = 271
     replan_every: int = 5
     keep_frames: int = 5
+    bump_backup_m: float = 0.12
     scan_matching: bool = True
     matcher: ScanMatcherOptions = field(default_factory=ScanMatcherOptions)
     dwa: DwaOptions = field(default_factory=DwaOptions)
@@ -105,6 +110,10 @@ class DriveOptions:
             )
         if not (0 < self.seconds <= 1e5):
             raise OptionError(f"invalid option `seconds`: must be in (0, 1e5], got {self.seconds}")
+        if not 0.0 <= self.bump_backup_m <= 1.0:
+            raise OptionError(
+                f"invalid option `bump_backup_m`: must be in [0, 1], got {self.bump_backup_m}"
+            )
         if self.sensor not in SENSORS:
             raise OptionError(
                 f"invalid option `sensor`: expected one of {SENSORS}, got {self.sensor!r}"
@@ -142,6 +151,22 @@ class DriveRecord:
     frames: List[tuple] = field(default_factory=list)
     step_s: List[float] = field(default_factory=list)
     plan_s: List[float] = field(default_factory=list)
+
+
+BACKUP_SPEED_M_S = 0.1
+"""The speed [m/s] the robot reverses at after a bump ahead (blind: no camera looks back)."""
+
+BUMPER_SEGMENTS = 8
+"""The bumper ring's segments (an iRobot Create's has 6 light-bumper fields, a Kobuki's 3
+switches in front): a contact is known to the robot as its segment's central bearing."""
+
+
+def bumper_segment(pose, contact) -> float:
+    """The central bearing [rad, robot frame] of the bumper segment that touches ``contact``
+    (x, y) [m] with the robot at ``pose`` (x, y, yaw)."""
+    b = math.atan2(contact[1] - pose[1], contact[0] - pose[0]) - pose[2]
+    width = 2 * math.pi / BUMPER_SEGMENTS
+    return math.remainder(round(b / width) * width, 2 * math.pi)
 
 
 def _wrap(angle: float) -> float:
@@ -342,7 +367,7 @@ def drive(
             rec.plan_s.append(time.perf_counter() - tp)
         if backup > 0:
             backup -= 1
-            v, w = -0.1, 0.0
+            v, w = -BACKUP_SPEED_M_S, 0.0
         else:
             v, w, _ = choose_velocity(
                 odo_pose,
@@ -370,10 +395,13 @@ def drive(
                 blocked = True
                 break
         if blocked:
-            # the robot's bumper: it knows it touched something ahead (or behind when
-            # reversing), marks it in its map and backs off
-            amap.mark_bump(odo_pose, 0.0 if v >= 0 else math.pi, radius + 0.03)
-            backup = 5 if v >= 0 else 0
+            # the robot's bumper ring tells which of its segments touched; the robot marks
+            # a face there in its map and, when the touch was ahead, backs off out of the
+            # mark's inscribed radius, where its planner works again
+            bearing = bumper_segment(p, solids.nearest(p[0], p[1]))
+            amap.mark_bump(odo_pose, bearing, radius + 0.02)
+            ahead = math.cos(bearing) > 0.5  # the three front segments
+            backup = int(round(o.bump_backup_m / (BACKUP_SPEED_M_S * dt))) if ahead else 0
             if not in_contact:
                 rec.contacts.append(
                     {"time_s": round(t, 3), "x": float(true_pose[0]), "y": float(true_pose[1])}

@@ -5,6 +5,7 @@ distances from a point to them, and an ideal 2-D laser cast against them."""
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field
 from typing import Tuple
 
@@ -64,11 +65,20 @@ class Solids:
             return float("inf")
         if self.inside(x, y):
             return 0.0
+        q = self.nearest(x, y)
+        return float(math.hypot(q[0] - x, q[1] - y))
+
+    def nearest(self, x: float, y: float) -> Tuple[float, float]:
+        """The point [m] of the solids' footprint edges nearest to (x, y) (what a bumper
+        touches first; (nan, nan) without solids)."""
+        if len(self.a) == 0:
+            return (math.nan, math.nan)
         p = np.array([x, y])
         d = self.b - self.a
         t = np.clip(np.einsum("ij,ij->i", p - self.a, d) / np.maximum((d * d).sum(1), 1e-18), 0, 1)
         q = self.a + t[:, None] * d
-        return float(np.sqrt(((q - p) ** 2).sum(1).min()))
+        i = int(((q - p) ** 2).sum(1).argmin())
+        return (float(q[i, 0]), float(q[i, 1]))
 
     def laser(
         self, pose, angles: np.ndarray, *, range_max_m: float, height_offset: float = 0.0
