@@ -71,10 +71,11 @@ class DriveOptions:
     - ``keep_frames``: keep camera images and map views for a GIF every this many frames
       (0: none). Default 5.
     - ``dwa``: the dynamic window's options; its ``max_speed_m_s`` is ``speed_m_s``.
-    - ``bump_backup_m``: after a bump ahead (the three front segments), the robot reverses this far [m] at 0.1 m/s, in
-      [0, 1]. Default 0.12: out of the inscribed radius (robot radius + footprint padding)
-      of the face it marked, where the dynamic window works again (with 5 cm it stayed
-      inside, escaped along the face and bumped it again: `bench/drive_bumper.py`).
+    - ``bump_backup_m``: after a bump ahead or beside (not behind), the robot reverses this
+      far [m] at 0.1 m/s, in [0, 1]. Default 0.12: out of the inscribed radius (robot
+      radius + footprint padding) of the face it marked, where the dynamic window works
+      again (with 5 cm it stayed inside, escaped along the face and bumped it again:
+      `bench/drive_bumper.py`).
     - ``scan_matching``: estimate the robot's pose in the world frame by matching each scan
       against its own persistent map (:class:`~floorscan.drive.scan_matcher.ScanMatcher`):
       the correction ``map_from_odom`` carries the waypoints into the odometry frame the
@@ -154,7 +155,7 @@ class DriveRecord:
 
 
 BACKUP_SPEED_M_S = 0.1
-"""The speed [m/s] the robot reverses at after a bump ahead (blind: no camera looks back)."""
+"""The speed [m/s] the robot reverses at after a bump (blind: no camera looks back)."""
 
 BUMPER_SEGMENTS = 8
 """The bumper ring's segments (an iRobot Create's has 6 light-bumper fields, a Kobuki's 3
@@ -396,11 +397,13 @@ def drive(
                 break
         if blocked:
             # the robot's bumper ring tells which of its segments touched; the robot marks
-            # a face there in its map and, when the touch was ahead, backs off out of the
+            # a face there in its map and, unless the touch was behind, backs off out of the
             # mark's inscribed radius, where its planner works again
             bearing = bumper_segment(p, solids.nearest(p[0], p[1]))
             amap.mark_bump(odo_pose, bearing, radius + 0.02)
-            ahead = math.cos(bearing) > 0.5  # the three front segments
+            # the five segments not behind: backing off a side face helps too (without it
+            # the robot scraped along a desk's side, 2 -> 6 contacts on the open plan)
+            ahead = abs(bearing) <= math.pi / 2 + 1e-9
             backup = int(round(o.bump_backup_m / (BACKUP_SPEED_M_S * dt))) if ahead else 0
             if not in_contact:
                 rec.contacts.append(
