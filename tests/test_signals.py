@@ -172,5 +172,32 @@ def test_sigterm_stops_other_commands_with_one_line(tmp_path):
     assert temp_files(tmp_path) == []
 
 
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_ends_a_drive_and_its_outputs_are_written(tmp_path, sig):
+    """`floorscan drive`: a stop signal ends the drive after the current frame; the summary,
+    the map, the path and the GIF of the frames so far are written whole."""
+    out = tmp_path / "drive"
+    # slow, so that the tour is not over before the signal on a fast machine
+    args = ["drive", "--world", "room", "--speed", "0.1", "--table", "exact", "-o", str(out)]
+    proc = subprocess.Popen(
+        [FLOORSCAN, *args], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
+    first = proc.stderr.readline()  # printed as the drive starts
+    assert "floorscan drive" in first, first
+    time.sleep(2.0)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + sig, err
+    assert "Traceback" not in err
+    assert temp_files(out) == []
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["stopped_by_signal"] == sig
+    assert 0 < summary["duration_s"] < 600 and not summary["tour_done"]
+    grid = OccupancyGrid.load(out / "map.yaml")
+    assert (grid.occupancy_classes() != 1).sum() > 0
+    for name in ("path.png", "drive.gif"):
+        assert (out / name).is_file(), name
+
+
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(pytest.main([__file__, "-q"]))

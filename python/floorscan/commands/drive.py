@@ -7,6 +7,7 @@ import argparse
 import json
 import sys
 
+from .._signals import StopRequest
 from ..drive import DriveOptions, drive
 from ..drive.obstacles import with_obstacles
 from ..drive.suite import run_suite
@@ -77,21 +78,27 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     config = Config.load(args.config) if args.config else None
     ranger = {"ranger": args.ranger} if args.ranger else {}
+    # a first SIGINT / SIGTERM / SIGHUP ends the drive after the current frame and the
+    # outputs are still written; a second one while writing abandons what is not written yet
+    stop = StopRequest()
     if args.suite:
         seconds = args.seconds if args.seconds != 600.0 else 150.0
         kw = {"worlds": args.world} if args.world else {}
-        run_suite(
-            args.out,
-            seeds=range(args.seeds),
-            seconds=seconds,
-            table=args.table,
-            scan_matching=not args.no_scan_matching,
-            config=config,
-            **ranger,
-            **kw,
-        )
+        with stop.installed():
+            with stop.loop():
+                run_suite(
+                    args.out,
+                    seeds=range(args.seeds),
+                    seconds=seconds,
+                    table=args.table,
+                    scan_matching=not args.no_scan_matching,
+                    config=config,
+                    stop=stop,
+                    **ranger,
+                    **kw,
+                )
         print(open(f"{args.out}/suite.md").read())
-        return 0
+        return 128 + stop.signum if stop.requested else 0
     if args.world and len(args.world) > 1:
         print("error: one --world without --suite", file=sys.stderr)
         return 2
@@ -109,9 +116,17 @@ def run(args: argparse.Namespace) -> int:
         scan_matching=not args.no_scan_matching,
         **ranger,
     )
-    result = drive(world, options, config=config)
-    result.write(args.out, gif=not args.no_gif)
+    with stop.installed():
+        with stop.loop():
+            print(
+                f"floorscan drive: {world.name}, up to {options.seconds:g} s "
+                "(Ctrl-C stops the drive and still writes its outputs)",
+                file=sys.stderr,
+                flush=True,
+            )
+            result = drive(world, options, config=config, stop=stop)
+        result.write(args.out, gif=not args.no_gif)
     s = result.summary()
     s.pop("waypoints")
     print(json.dumps(s, indent=1))
-    return 0
+    return 128 + stop.signum if stop.requested else 0

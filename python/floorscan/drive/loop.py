@@ -152,6 +152,8 @@ class DriveRecord:
     frames: List[tuple] = field(default_factory=list)
     step_s: List[float] = field(default_factory=list)
     plan_s: List[float] = field(default_factory=list)
+    stopped_by_signal: Optional[int] = None
+    """The signal that stopped the drive early (see ``stop`` of :func:`drive`), or None."""
 
 
 BACKUP_SPEED_M_S = 0.1
@@ -247,6 +249,7 @@ def drive(
     changes=None,
     table=None,
     config: Optional[Config] = None,
+    stop=None,
 ) -> DriveResult:
     """Drives the world's tour once (or ``waypoints`` (K, 2) [m, world frame]) in closed loop.
 
@@ -255,7 +258,11 @@ def drive(
     ``table``: a ready ground table (skips calibration). ``config``: a
     :class:`~floorscan.pipeline.config.Config` whose ``[ranger]`` (and ``[appearance]``)
     tables make the range sensor, as for ``floorscan run`` (its ``columns`` give way to
-    ``options.columns``, its ``kind`` to ``options.ranger``). Returns a :class:`DriveResult`.
+    ``options.columns``, its ``kind`` to ``options.ranger``). ``stop``: an object whose
+    ``requested`` turns true to end the drive after the current frame (a
+    ``floorscan._signals.StopRequest``: ``floorscan drive`` stops on SIGINT, SIGTERM or
+    SIGHUP and still writes its outputs); its ``signum`` is recorded. Returns a
+    :class:`DriveResult`.
     """
     o = options
     camera = camera or Camera()
@@ -297,6 +304,9 @@ def drive(
     steps = int(round(o.seconds * frame_rate))
     budget = o.waypoint_timeout_s + 3 * math.dist(tour[0], true_pose[:2]) / o.speed_m_s
     for k in range(steps + 1):
+        if k > 0 and stop is not None and stop.requested:
+            rec.stopped_by_signal = int(getattr(stop, "signum", None) or 2)
+            break
         t = k * dt
         while schedule and schedule[0][0] <= t:
             current = schedule.pop(0)[1]

@@ -56,6 +56,7 @@ class DriveResult:
             "waypoints_reached_true": truly,
             "true_tolerance_m": true_tol,
             "tour_done": bool(r.waypoints) and r.waypoints[-1]["time_s"] is not None,
+            "stopped_by_signal": getattr(r, "stopped_by_signal", None),
             "min_clearance_m": round(float(min(r.clearance_m)), 4) if r.clearance_m else None,
             "mean_speed_m_s": round(dist / duration, 4) if duration > 0 else 0.0,
             "contacts": r.contacts,

@@ -35,11 +35,14 @@ def run_suite(
     config=None,
     ranger: str = DriveOptions.ranger,
     progress=print,
+    stop=None,
 ) -> List[Dict]:
     """Runs every (world, speed, seed, sensor) for at most ``seconds`` [s] each (``worlds``:
     built-in names or world files; ``config``: the range sensor's configuration, see
     :func:`~floorscan.drive.drive`; ``ranger``: its kind without one); writes
-    ``suite.json`` and ``suite.md`` into ``out`` and returns the rows."""
+    ``suite.json`` and ``suite.md`` into ``out`` and returns the rows. ``stop``: as for
+    :func:`~floorscan.drive.drive`; when it is requested the run under way ends, no other
+    starts, and the rows so far are written (the last one with its ``stopped_by_signal``)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     camera = Camera()
@@ -52,6 +55,8 @@ def run_suite(
         for speed in speeds:
             for seed in seeds:
                 for sensor in ("camera", "laser"):
+                    if stop is not None and stop.requested:
+                        break
                     o = DriveOptions(
                         speed_m_s=speed,
                         seconds=seconds,
@@ -63,7 +68,13 @@ def run_suite(
                         ranger=ranger,
                     )
                     s = drive(
-                        world, o, camera=camera, table=tbl, waypoints=tour, config=config
+                        world,
+                        o,
+                        camera=camera,
+                        table=tbl,
+                        waypoints=tour,
+                        config=config,
+                        stop=stop,
                     ).summary()
                     s.pop("waypoints")
                     s["obstacles"] = placed
