@@ -138,11 +138,7 @@ pub fn positive_part(a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
             }
         }
     }
-    for r in 0..3 {
-        for c in 0..r {
-            out[r][c] = out[c][r];
-        }
-    }
+    (out[1][0], out[2][0], out[2][1]) = (out[0][1], out[0][2], out[1][2]);
     out
 }
 
@@ -154,8 +150,8 @@ pub fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     for _ in 0..50 {
         let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
         let diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
-        // not `off > ...` alone: stops on NaN too
-        if !(off > 1e-36 * (diag + off)) {
+        let tol = 1e-36 * (diag + off);
+        if off <= tol || off.is_nan() || tol.is_nan() {
             break;
         }
         for (p, q) in [(0, 1), (0, 2), (1, 2)] {
@@ -355,11 +351,9 @@ mod tests {
         for k in 0..200 {
             let scale = 10f64.powi(k % 7 - 3);
             let mut a = [[0.0; 3]; 3];
-            for r in 0..3 {
-                for c in r..3 {
-                    a[r][c] = scale * rnd();
-                    a[c][r] = a[r][c];
-                }
+            for (r, c) in [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)] {
+                a[r][c] = scale * rnd();
+                a[c][r] = a[r][c];
             }
             let (w, v) = symmetric_eigen(a);
             let mut back = [[0.0; 3]; 3];
