@@ -3,8 +3,9 @@
 (``floorscan_core::match_information``) on random fields, points and poses, points whose
 cells leave the field, no points, no field, negative curvatures cut; the prediction and the
 fusion written out on floats from random states; and whole runs of ``correct``. Equal to
-rounding: the information to 1e-9 of its largest entry, the fused poses to 1e-12 m, the
-calibration to 1e-10 and the covariance to 1e-10 of its largest entry."""
+rounding: the information to 1e-9 of its largest entry; from random states the predicted and
+fused poses to 1e-12 m, the calibration to 1e-10, the covariance to 1e-10 (fusion) and 1e-12
+(prediction) of its largest entry; over whole runs the poses to 1e-10 m."""
 
 from __future__ import annotations
 
