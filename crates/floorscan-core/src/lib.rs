@@ -10,7 +10,7 @@
 //! ([`inserter`], [`ray_update`], [`laser`], [`sonar`]) and the robot-centred [`local_map`];
 //! for driving on the maps: the [`avoidance_map`]'s updates (its floor quadrilaterals filled
 //! by [`polygon_fill`]), a planner's [`navigation`] function, and the search and hit map of a
-//! correlative [`scan_matcher`].
+//! correlative [`scan_matcher`] and its match's information matrix ([`match_information`]).
 //!
 //! Conventions: SI units; REP 103 frames (x forward, y left, z up, angles counter-clockwise in
 //! radians); image rows count from the top (v = 0 is the top row); REP 117 ranges.
@@ -38,6 +38,7 @@ pub mod laser;
 pub mod lens;
 pub mod local_map;
 pub mod log_odds;
+pub mod match_information;
 pub mod mount;
 pub mod navigation;
 pub mod noise_threshold;

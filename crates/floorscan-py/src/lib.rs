@@ -27,6 +27,7 @@ mod image;
 mod inserter;
 mod local_map;
 mod log_odds;
+mod match_information;
 mod navigation;
 mod options;
 mod png;
@@ -139,7 +140,7 @@ mod _native {
     }
 
     /// Driving: the avoidance map's updates, the planner's navigation function, the scan
-    /// matcher's search and hit map.
+    /// matcher's search, hit map and match information.
     #[pymodule]
     mod drive {
         use super::*;
@@ -151,6 +152,8 @@ mod _native {
 
         #[pymodule_export]
         use crate::dynamic_window::best_velocity_sample;
+        #[pymodule_export]
+        use crate::match_information::match_information;
         #[pymodule_export]
         use crate::navigation::{coarse_grid, geodesic_distances};
         #[pymodule_export]

@@ -1,6 +1,6 @@
 """
 Driving: the avoidance map's updates, the planner's navigation function, the scan
-matcher's search and hit map.
+matcher's search, hit map and match information.
 """
 
 from _typeshed import Incomplete, SupportsLenAndGetItem
@@ -84,6 +84,16 @@ def geodesic_distances(blocked: Incomplete, weight: Incomplete, seed_cells: Inco
     (H, W) bool cells are never entered, a step costs its length (`step_m` or sqrt 2 times it)
     times the mean `weight` (H, W) float64 of its two cells; `seed_cells` (K,) int64 row-major
     cell indices start at `seed_costs` (K,) float64. `inf` where nothing reaches.
+    """
+
+def match_information(field: Incomplete, origin_m: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], cell_m: SupportsFloat | SupportsIndex, points: Incomplete, pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], yaw_step_rad: SupportsFloat | SupportsIndex) -> Incomplete:
+    """
+    The information matrix (3, 3) float64 of `points` (N, 2) float64 [m, robot frame] matched at
+    `pose` (world_from_robot): minus the Hessian of the sum of `field` (H, W) float32 (row 0 =
+    lowest y, cell (0, 0)'s corner at `origin_m`, cells `cell_m` wide) read bilinearly at the
+    points over (x, y, yaw), by central differences of a cell and of `yaw_step_rad`, its
+    negative eigenvalues cut to 0; a point whose four cells leave the field reads 0
+    (`floorscan_core::match_information`).
     """
 
 def __getattr__(name: str) -> Incomplete: ...

@@ -26,8 +26,9 @@ Kept as it was, each frame's match (the best of a flat-topped score) scattered b
 unseen room (EVALUATION.md, "Long tours").
 
 Storing (the novelty test and the stamps into the cached field) runs in the Rust core
-(``floorscan_core::hit_map``), in place on the numpy counts and field kept here, as does the
-search (``floorscan_core::scan_matcher``).
+(``floorscan_core::hit_map``), in place on the numpy counts and field kept here, as do the
+search (``floorscan_core::scan_matcher``) and the match's information matrix
+(``floorscan_core::match_information``); the filter's 5 x 5 algebra is written out on floats.
 
 Odometry's heading error grows with the square root of the distance travelled (wheel noise)
 and turns it into metres of position error; matching against walls seen before keeps the
@@ -43,7 +44,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from .._native.drive import HitMap, correlative_search
+from .._native.drive import HitMap, correlative_search, match_information
 from ..errors import OptionError
 
 CACHE_MARGIN_M = 1.0
@@ -61,6 +62,18 @@ def _disc(r: int, cell_m: float, radius_m: float):
     dist = np.hypot(di, dj) * cell_m
     keep = dist <= radius_m + 1e-12
     return di[keep], dj[keep], dist[keep]
+
+
+def _inverse3(a):
+    """The inverse of the 3 x 3 matrix ``a`` (rows of floats), by its adjugate."""
+    (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = a
+    c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
+    inv_det = 1.0 / (a00 * c00 + a01 * c01 + a02 * c02)
+    return [
+        [c00 * inv_det, (a02 * a21 - a01 * a22) * inv_det, (a01 * a12 - a02 * a11) * inv_det],
+        [c01 * inv_det, (a00 * a22 - a02 * a20) * inv_det, (a02 * a10 - a00 * a12) * inv_det],
+        [c02 * inv_det, (a01 * a20 - a00 * a21) * inv_det, (a00 * a11 - a01 * a10) * inv_det],
+    ]
 
 
 @dataclass(frozen=True)
@@ -221,11 +234,21 @@ class ScanMatcher:
         # state: the pose and odometry's estimated errors (turn scale error, heading drift
         # per metre); the covariance of its error
         self.calibration = (0.0, 0.0)
-        self.covariance = np.zeros((5, 5))
+        self._covariance = [[0.0] * 5 for _ in range(5)]  # rows of floats (see `covariance`)
         if options.calibrate_odometry:
-            self.covariance[3, 3] = options.turn_error_prior**2
-            self.covariance[4, 4] = options.drift_prior_rad_per_m**2
+            self._covariance[3][3] = options.turn_error_prior**2
+            self._covariance[4][4] = options.drift_prior_rad_per_m**2
         self._origin = (0.0, 0.0)  # of the field the last match used
+
+    @property
+    def covariance(self) -> np.ndarray:
+        """The covariance (5, 5) of the state's error: x [m], y [m], yaw [rad], the turn scale
+        error, the heading drift [rad/m]."""
+        return np.array(self._covariance)
+
+    @covariance.setter
+    def covariance(self, value) -> None:
+        self._covariance = np.asarray(value, np.float64).reshape(5, 5).tolist()
 
     def _window(self, x0: float, y0: float, half_m: float) -> Tuple[int, int, int, int]:
         """Cells (i0, j0, i1, j1), end exclusive, of the square of half-side ``half_m``
@@ -245,6 +268,15 @@ class ScanMatcher:
         pts = np.asarray(points_robot, np.float64).reshape(-1, 2)
         # a non-finite coordinate makes the distance NaN or inf: one test drops both
         return pts[np.hypot(pts[:, 0], pts[:, 1]) <= self.options.range_max_m]
+
+    def _matched_points(self, points_robot: np.ndarray) -> np.ndarray:
+        """The usable points (N, 2), at most ``max_points`` of them evenly spaced along the
+        scan: the points a match reads."""
+        pts = self._usable(points_robot)
+        if len(pts) > self.options.max_points:
+            idx = np.linspace(0, len(pts) - 1, int(self.options.max_points)).round()
+            pts = pts[idx.astype(np.int64)]
+        return np.ascontiguousarray(pts)
 
     def _field(self, x0: float, y0: float, half_m: float):
         """The likelihood field over a square of half-side ``half_m`` around (x0, y0):
@@ -282,11 +314,9 @@ class ScanMatcher:
         (world_from_robot); does not change the map."""
         o = self.options
         prior = tuple(float(v) for v in prior)
-        pts = self._usable(points_robot)
+        pts = self._matched_points(points_robot)
         if len(pts) < o.min_points or self.frames == 0:
             return MatchResult(prior, 0.0, False, len(pts))
-        if len(pts) > o.max_points:
-            pts = pts[np.linspace(0, len(pts) - 1, int(o.max_points)).round().astype(np.int64)]
         half = o.range_max_m + o.search_xy_m + 3 * o.sigma_m
         field, i0, j0 = self._cached_field(prior[0], prior[1], half)
         if field.size == 0 or not self._cache_nonzero:
@@ -353,24 +383,51 @@ class ScanMatcher:
         pred = (a[0] + wx, a[1] + wy, a[2] + dth + extra)
         if not (o.calibrate_odometry and o.match_variance_scale > 0):
             pred = prior  # nothing to correct: the caller's prior as it is
+        # the covariance grows as F P F^T + G M G^T: F = I + E, E the pose's dependence on the
+        # heading and on the calibration (rows 0-2), G M G^T the wheels' noise (M over the
+        # distance and the turn) turned into x, y, yaw; written out on floats (a few
+        # microseconds; numpy's calls on 5 x 5 arrays took three times as long)
         b = o.odometry_wheelbase_m
         vl = o.odometry_wheel_sigma**2 * abs(d - 0.5 * b * dth)
         vr = o.odometry_wheel_sigma**2 * abs(d + 0.5 * b * dth)
-        motion = np.array(
-            [[0.25 * (vl + vr), 0.5 * (vr - vl) / b], [0.5 * (vr - vl) / b, (vl + vr) / b**2]]
-        )
+        m00, m01, m11 = 0.25 * (vl + vr), 0.5 * (vr - vl) / b, (vl + vr) / b**2
         h = a[2] + 0.5 * (dth + extra)
-        gm = np.zeros((5, 2))
-        gm[0, 0], gm[1, 0], gm[2, 1] = math.cos(h), math.sin(h), 1.0
-        f = np.eye(5)
-        f[0, 2], f[1, 2] = -wy, wx
-        f[2, 3], f[2, 4] = dth, d
-        f[0, 3], f[1, 3] = -wy * 0.5 * dth, wx * 0.5 * dth
-        f[0, 4], f[1, 4] = -wy * 0.5 * d, wx * 0.5 * d
-        q = gm @ motion @ gm.T
-        q[3, 3] = o.calibration_drift**2 * abs(dth)
-        q[4, 4] = o.calibration_drift**2 * abs(d)
-        self.covariance = f @ self.covariance @ f.T + q
+        ch, sh = math.cos(h), math.sin(h)
+        e02, e03, e04 = -wy, -wy * 0.5 * dth, -wy * 0.5 * d
+        e12, e13, e14 = wx, wx * 0.5 * dth, wx * 0.5 * d
+        e23, e24 = dth, d
+        p0, p1, p2, p3, p4 = self._covariance
+        fp = (  # F P
+            [p0[c] + e02 * p2[c] + e03 * p3[c] + e04 * p4[c] for c in range(5)],
+            [p1[c] + e12 * p2[c] + e13 * p3[c] + e14 * p4[c] for c in range(5)],
+            [p2[c] + e23 * p3[c] + e24 * p4[c] for c in range(5)],
+            p3,
+            p4,
+        )
+        cov = [  # (F P) F^T
+            [
+                r[0] + e02 * r[2] + e03 * r[3] + e04 * r[4],
+                r[1] + e12 * r[2] + e13 * r[3] + e14 * r[4],
+                r[2] + e23 * r[3] + e24 * r[4],
+                r[3],
+                r[4],
+            ]
+            for r in fp
+        ]
+        q00, q01, q11 = ch * m00 * ch, ch * m00 * sh, sh * m00 * sh
+        q02, q12 = ch * m01, sh * m01
+        cov[0][0] += q00
+        cov[0][1] += q01
+        cov[1][0] += q01
+        cov[1][1] += q11
+        cov[0][2] += q02
+        cov[2][0] += q02
+        cov[1][2] += q12
+        cov[2][1] += q12
+        cov[2][2] += m11
+        cov[3][3] += o.calibration_drift**2 * abs(dth)
+        cov[4][4] += o.calibration_drift**2 * abs(d)
+        self._covariance = cov
         self._last = pred
         return pred
 
@@ -378,62 +435,22 @@ class ScanMatcher:
         """The information matrix (3, 3) of the scan's match at ``pose``: minus the Hessian of
         the sum of field values (read bilinearly as the search reads them) at the points over
         (x, y, yaw), by central differences of a cell and a yaw step, with its negative
-        eigenvalues cut to 0. Each point on a wall adds 1 / sigma_m^2 across it."""
+        eigenvalues cut to 0. Each point on a wall adds 1 / sigma_m^2 across it. A point whose
+        four cells leave the cached field reads 0 (the field covers the search window with a
+        margin: none do in a drive). Computed in the Rust core
+        (``floorscan_core::match_information``)."""
         if self._cache is None:
             return np.zeros((3, 3))
         field, i0, j0 = self._cache
-        pts = self._usable(points_robot)
-        if len(pts) > self.options.max_points:
-            idx = np.linspace(0, len(pts) - 1, int(self.options.max_points)).round()
-            pts = pts[idx.astype(np.int64)]
-        if field.size == 0 or len(pts) == 0:
-            return np.zeros((3, 3))
-        h = np.array([self.cell, self.cell, self.options.yaw_step_rad])
-        offsets = [np.zeros(3)]
-        for i in range(3):
-            e = np.zeros(3)
-            e[i] = h[i]
-            offsets += [e, -e]
-        for i in range(3):
-            for j in range(i + 1, 3):
-                for si in (1, -1):
-                    for sj in (1, -1):
-                        e = np.zeros(3)
-                        e[i], e[j] = si * h[i], sj * h[j]
-                        offsets.append(e)
-        poses = np.asarray(pose[:3], np.float64)[None, :] + np.array(offsets)
-        c, s = np.cos(poses[:, 2:3]), np.sin(poses[:, 2:3])
-        x = poses[:, 0:1] + c * pts[None, :, 0] - s * pts[None, :, 1]
-        y = poses[:, 1:2] + s * pts[None, :, 0] + c * pts[None, :, 1]
-        fx = (x - self.origin_m[0]) / self.cell - i0 - 0.5
-        fy = (y - self.origin_m[1]) / self.cell - j0 - 0.5
-        ii, jj = np.floor(fx).astype(np.int64), np.floor(fy).astype(np.int64)
-        ax, ay = fx - ii, fy - jj
-        hgt, wid = field.shape
-        # the four cells around each point, flat; a point whose cells leave the field reads
-        # 0 there (the field covers the search window with a margin: none do in the drive)
-        inside = (ii >= 0) & (jj >= 0) & (ii < wid - 1) & (jj < hgt - 1)
-        base = np.where(inside, jj * wid + ii, 0)
-        flat = field.ravel()
-        v = np.where(
-            inside,
-            (1 - ax) * (1 - ay) * flat[base]
-            + ax * (1 - ay) * flat[base + 1]
-            + (1 - ax) * ay * flat[base + wid]
-            + ax * ay * flat[base + wid + 1],
-            0.0,
-        ).sum(axis=1)
-        hess = np.zeros((3, 3))
-        for i in range(3):
-            hess[i, i] = (v[1 + 2 * i] - 2 * v[0] + v[2 + 2 * i]) / h[i] ** 2
-        k = 7
-        for i in range(3):
-            for j in range(i + 1, 3):
-                pp, pm, mp, mm = v[k : k + 4]
-                hess[i, j] = hess[j, i] = (pp - pm - mp + mm) / (4 * h[i] * h[j])
-                k += 4
-        w, vec = np.linalg.eigh(-hess)
-        return (vec * np.clip(w, 0.0, None)) @ vec.T
+        origin = (self.origin_m[0] + i0 * self.cell, self.origin_m[1] + j0 * self.cell)
+        return match_information(
+            np.ascontiguousarray(field),
+            origin,
+            self.cell,
+            self._matched_points(points_robot),
+            tuple(float(v) for v in pose[:3]),
+            self.options.yaw_step_rad,
+        )
 
     def fuse(self, result: MatchResult, prior, information: np.ndarray) -> MatchResult:
         """The accepted match fused with the prediction ``prior`` (``predict`` first) in
@@ -444,27 +461,47 @@ class ScanMatcher:
         if not result.accepted or o.match_variance_scale == 0:
             self._last = tuple(result.pose)
             return result
-        info = np.zeros((5, 5))
-        info[:3, :3] = information / o.match_variance_scale
-        # a floor under the prediction's variances keeps its inverse finite at the start
-        cov = self.covariance + np.diag([1e-8, 1e-8, 1e-10, 0.0, 0.0])
-        post = np.linalg.inv(np.linalg.inv(cov) + info)
-        post = 0.5 * (post + post.T)
-        z = np.zeros(5)
-        z[:3] = np.array(result.pose) - np.array(prior)
-        z[2] = math.remainder(z[2], 2 * math.pi)
-        step = post @ info @ z
+        # post = (P^-1 + J)^-1 = (I + P J)^-1 P with J the match's information in the pose's
+        # 3 x 3 block: I + P J = [[A, 0], [P21 J, I]], A = I + P11 J (its eigenvalues those of
+        # I plus a product of two positive semi-definite matrices: >= 1), so only A is inverted
+        scale = o.match_variance_scale
+        j = [[v / scale for v in row] for row in np.asarray(information, np.float64).tolist()]
+        # a floor under the prediction's variances keeps it positive definite at the start
+        p = [row[:] for row in self._covariance]
+        p[0][0] += 1e-8
+        p[1][1] += 1e-8
+        p[2][2] += 1e-10
+        j0, j1, j2 = j
+        pj = [[r[0] * j0[c] + r[1] * j1[c] + r[2] * j2[c] for c in range(3)] for r in p]
+        ainv = _inverse3(
+            [[pj[r][c] + (1.0 if r == c else 0.0) for c in range(3)] for r in range(3)]
+        )
+        p0, p1, p2 = p[0], p[1], p[2]
+        post = [[a[0] * p0[c] + a[1] * p1[c] + a[2] * p2[c] for c in range(5)] for a in ainv]
+        t0, t1, t2 = post
+        for r in (3, 4):
+            pr, q = p[r], pj[r]
+            post.append([pr[c] - (q[0] * t0[c] + q[1] * t1[c] + q[2] * t2[c]) for c in range(5)])
+        post = [[0.5 * (post[r][c] + post[c][r]) for c in range(5)] for r in range(5)]
+        z = (
+            result.pose[0] - prior[0],
+            result.pose[1] - prior[1],
+            math.remainder(result.pose[2] - prior[2], 2 * math.pi),
+        )
+        u = [r[0] * z[0] + r[1] * z[1] + r[2] * z[2] for r in j]
+        step = [r[0] * u[0] + r[1] * u[1] + r[2] * u[2] for r in post]
         pose = (prior[0] + step[0], prior[1] + step[1], prior[2] + step[2])
         if o.calibrate_odometry:
             self.calibration = (
-                float(np.clip(self.calibration[0] + step[3], -0.5, 0.5)),
-                float(np.clip(self.calibration[1] + step[4], -0.5, 0.5)),
+                min(max(self.calibration[0] + step[3], -0.5), 0.5),
+                min(max(self.calibration[1] + step[4], -0.5), 0.5),
             )
-            self.covariance = post
         else:
-            self.covariance = post
-            self.covariance[3:, :] = 0.0
-            self.covariance[:, 3:] = 0.0
+            for r in range(5):
+                for c in range(5):
+                    if r >= 3 or c >= 3:
+                        post[r][c] = 0.0
+        self._covariance = post
         self._last = pose
         return MatchResult(pose, result.score, True, result.points)
 
