@@ -4,6 +4,7 @@ resolution.
 
     .venv/bin/python bench/drive_step.py --width 640 --height 480 --seconds 10 [--ranger KIND]
     .venv/bin/python bench/drive_step.py --stages --width 640 --height 480 [--ranger KIND]
+        [--no-band]
 
 ``--ranger``: the range sensor (edge, appearance, fused; default edge, the figures before the
 fused ranger became the configuration's default; ``floorscan drive`` uses the configuration's).
@@ -27,6 +28,9 @@ def main() -> None:
     ap.add_argument("--sensor", default="camera")
     ap.add_argument("--stages", action="store_true", help="time each stage on a fixed frame")
     ap.add_argument("--ranger", default="edge", choices=["edge", "appearance", "fused"])
+    ap.add_argument(
+        "--no-band", action="store_true", help="without the drive's contrast band (mid_range_m)"
+    )
     a = ap.parse_args()
     cfg = Config().with_overrides({"ranger.kind": a.ranger})
     if a.stages:
@@ -35,7 +39,8 @@ def main() -> None:
                 {
                     "resolution": f"{a.width}x{a.height}",
                     "ranger": a.ranger,
-                    **stages(a.width, a.height, config=cfg),
+                    "band": not a.no_band,
+                    **stages(a.width, a.height, config=cfg, band=not a.no_band),
                 }
             )
         )
@@ -63,21 +68,28 @@ def main() -> None:
     )
 
 
-def corridor_frame(width: int = 640, height: int = 480, config=None):
-    """The fixed frame the stage timings use: (camera, exact table, ranger on every second
-    column, the corridor's start pose, its rendered image)."""
+def corridor_frame(width: int = 640, height: int = 480, config=None, band: bool = True):
+    """The fixed frame the stage timings use: (camera, exact table, the drive's ranger (its
+    contrast band included) on every second column, the corridor's start pose, its rendered
+    image)."""
     from floorscan.drive import make_table
-    from floorscan.pipeline.mapper import ranger_from_config
+    from floorscan.drive.loop import drive_ranger
     from floorscan.sim import render_image
 
     world, cam = World.builtin("corridor"), Camera(width=width, height=height)
     table = make_table(cam, "exact")
-    ranger = ranger_from_config(table, config or Config(), columns=width // 2)
+    config = config or Config()
+    options = DriveOptions(columns=width // 2, ranger=config.ranger.kind)
+    if not band:
+        options = DriveOptions(columns=width // 2, ranger=config.ranger.kind, mid_range_m=None)
+    ranger = drive_ranger(table, options, config)
     pose = tuple(world.start)
     return cam, table, ranger, pose, render_image(world, cam, pose)
 
 
-def stages(width: int = 640, height: int = 480, repeats: int = 50, config=None) -> dict:
+def stages(
+    width: int = 640, height: int = 480, repeats: int = 50, config=None, band: bool = True
+) -> dict:
     """Median time [ms] of each stage of one closed-loop step on a fixed corridor frame."""
     import time
 
@@ -93,7 +105,7 @@ def stages(width: int = 640, height: int = 480, repeats: int = 50, config=None) 
     from floorscan.drive.loop import _visual_points
     from floorscan.drive.scan_matcher import ScanMatcher
 
-    cam, table, ranger, pose, image = corridor_frame(width, height, config)
+    cam, table, ranger, pose, image = corridor_frame(width, height, config, band)
     m = AvoidanceMap(center=pose[:2])
     co, dwa = CostmapOptions(), DwaOptions()
     out: dict = {"ranging": [], "match": [], "map": [], "costmap": [], "dwa": [], "plan": []}

@@ -41,7 +41,7 @@ def rust_defaults():
     for kind in KINDS:
         for key, value in leaves(defaults(kind)):
             name = key.rsplit(".", 1)[-1]
-            if value is None or isinstance(value, bool) or name in GENERIC:
+            if value is None or isinstance(value, (bool, list)) or name in GENERIC:
                 continue
             out.setdefault(name, set()).add(value)
     return out

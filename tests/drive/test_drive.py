@@ -368,3 +368,44 @@ def test_the_bumper_gets_a_blind_robot_past_a_box_its_sensor_cannot_see(monkeypa
     assert wy.max() - wy.min() > 0.25
     short = runs[0.5].summary()
     assert short["waypoints_reached"] == 0 or short["collisions"] > 3 * s["collisions"]
+
+
+def test_the_drives_ranger_sees_a_low_contrast_step_only_inside_its_band():
+    """A noise-free floor (grey 100) meeting a face 15 % brighter at a given ground range: a
+    step under the default 24 % floor, over the drive's 12 % band floor. The drive's ranger
+    finds it at 0.9 m (inside its 0.6-1.2 m band), not at 2 m; without the band, nowhere. A
+    configuration's own band wins over the drive's."""
+    from floorscan.drive.loop import drive_ranger
+    from floorscan.pipeline.config import Config
+
+    camera = Camera()
+    table = make_table(camera, "exact")
+    w, h = table.image_width, table.image_height
+    u, v = np.meshgrid(np.arange(w, dtype=float), np.arange(h, dtype=float))
+    x, y = table.lookup(u, v)
+    ground_range = np.hypot(x, y)
+
+    def image(step_at_m):
+        beyond = ~np.isfinite(ground_range) | (ground_range > step_at_m)
+        return np.where(beyond, 115, 100).astype(np.uint8)
+
+    def boundaries(ranger, step_at_m):
+        scan = ranger.scan(image(step_at_m))
+        st = np.asarray(scan.status_codes)
+        r = np.hypot(np.asarray(scan.x), np.asarray(scan.y))
+        return (st == 0) & (np.abs(r - step_at_m) < 0.05), len(st)
+
+    with_band = drive_ranger(table, DriveOptions())
+    found, n = boundaries(with_band, 0.9)
+    assert found.sum() > 0.8 * n
+    assert boundaries(with_band, 2.0)[0].sum() == 0
+    without = drive_ranger(table, DriveOptions(mid_range_m=None))
+    assert boundaries(without, 0.9)[0].sum() == 0
+    cfg = Config().with_overrides({"ranger.mid_range_m": [1.5, 2.5]})
+    theirs = drive_ranger(table, DriveOptions(), cfg)
+    assert boundaries(theirs, 0.9)[0].sum() == 0
+    assert boundaries(theirs, 2.0)[0].sum() > 0.5 * n
+    with pytest.raises(OptionError, match="mid_range_m"):
+        DriveOptions(mid_range_m=(1.2, 0.6))
+    with pytest.raises(OptionError, match="mid_contrast"):
+        DriveOptions(mid_contrast=-1.0)

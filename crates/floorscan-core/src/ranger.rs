@@ -36,6 +36,9 @@ struct ColumnPlan {
     /// Rows (k, counted from the bottom) where a crossing is tested: `lo..=hi`. `None` when the
     /// column cannot be scanned (no ground at its start, or too few floor rows for the filter).
     window: Option<(usize, usize)>,
+    /// The rows of `window` whose ground lies within the options' `mid_range_m` (the band of
+    /// the lower contrast floor), `None` when there are none.
+    band: Option<(usize, usize)>,
 }
 
 /// The visual range sensor for one camera (image size fixed by its ground table).
@@ -83,6 +86,12 @@ pub struct VisualRanger {
     noise_histogram: Vec<u32>,
     column_brightness: Vec<f64>,
     frame_threshold: f64,
+    /// Each column's threshold on the raw sum inside its `mid_range_m` band for the current
+    /// frame, and whether any column has a band with a lower threshold this frame.
+    band_threshold_sum: Vec<i32>,
+    band_active: bool,
+    /// Per column, the row k of this frame's first crossing (`usize::MAX`: none).
+    crossings: Vec<usize>,
     /// Floor length [m] one pixel row covers, per sampled column (outer) and image row (inner),
     /// worked out once: a boundary's footprint then costs no table lookup.
     footprints_m: Vec<f32>,
@@ -191,6 +200,9 @@ impl VisualRanger {
             noise_histogram: vec![0; MAX_HISTOGRAM_SPAN],
             column_brightness: vec![0.0; n],
             frame_threshold: options.threshold,
+            band_threshold_sum: vec![threshold_sum; n],
+            band_active: false,
+            crossings: vec![usize::MAX; n],
             table,
             options,
             plans,
@@ -267,9 +279,17 @@ impl VisualRanger {
         self.frame_threshold = base;
         let mut lowest = i32::MAX;
         let mut memo = (i32::MIN, None);
+        let mid_contrast = self.options.mid_contrast.min(contrast);
+        self.band_active = false;
         for j in 0..self.plans.len() {
             let t = base.max(contrast * self.column_brightness[j]);
             let sum = threshold_to_sum(t, d);
+            if self.plans[j].band.is_some() {
+                let band_sum =
+                    threshold_to_sum(base.max(mid_contrast * self.column_brightness[j]), d);
+                self.band_threshold_sum[j] = band_sum;
+                self.band_active |= band_sum < sum;
+            }
             if memo.0 != sum {
                 memo = (sum, lanes::prefilter_threshold(d, sum));
             }
@@ -318,6 +338,7 @@ impl VisualRanger {
         self.check_size(image)?;
         self.set_frame_threshold(image);
         self.run_columns(image);
+        self.scan_band(image);
         self.fill_scan(timestamp_s, out);
         Ok(())
     }
@@ -333,6 +354,7 @@ impl VisualRanger {
         self.check_size(image)?;
         self.set_frame_threshold(image);
         let d = self.options.half_width_px;
+        self.crossings.fill(usize::MAX);
         for j in 0..self.plans.len() {
             let plan = self.plans[j];
             self.outcomes[j] = Some(match plan.window {
@@ -345,6 +367,7 @@ impl VisualRanger {
                     match (lo..=hi).find(|&k| response(k).abs() > threshold) {
                         None => self.no_boundary(j, image.height()),
                         Some(k) => {
+                            self.crossings[j] = k;
                             self.confidence[j] = edge_confidence(response(k), threshold);
                             self.resolve_with(j, k, image.height(), response, pixel)
                         }
@@ -352,8 +375,45 @@ impl VisualRanger {
                 }
             });
         }
+        self.scan_band(image);
         self.fill_scan(timestamp_s, out);
         Ok(())
+    }
+
+    /// The `mid_range_m` band's second look: in each column whose first crossing (at the
+    /// frame's threshold) is not nearer than its band, the band's rows below that crossing
+    /// are tested against the band's lower threshold; the first that crosses becomes the
+    /// column's crossing. The same outcome as testing every row against its own threshold
+    /// from the bottom up (the band's threshold is never the higher one).
+    fn scan_band<P: Pixel>(&mut self, image: &ImageView<P>) {
+        if !self.band_active {
+            return;
+        }
+        let d = self.options.half_width_px;
+        for j in 0..self.plans.len() {
+            let Some((band_lo, band_hi)) = self.plans[j].band else {
+                continue;
+            };
+            let threshold = self.band_threshold_sum[j];
+            if threshold >= self.column_threshold_sum[j] {
+                continue;
+            }
+            // The band's rows below the first crossing: none when it lies at or before the band.
+            let k_main = self.crossings[j];
+            if k_main <= band_lo {
+                continue;
+            }
+            let last = band_hi.min(k_main - 1);
+            let c = self.plans[j].column as usize;
+            let crossing = (band_lo..=last)
+                .map(|k| (k, direct_response_at(image, c, k, d)))
+                .find(|(_, s)| s.abs() > threshold);
+            if let Some((k, s)) = crossing {
+                self.crossings[j] = k;
+                self.confidence[j] = edge_confidence(s, threshold);
+                self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
+            }
+        }
     }
 
     fn check_size<P: Pixel>(&self, image: &ImageView<P>) -> Result<()> {
@@ -396,6 +456,7 @@ impl VisualRanger {
         let height = image.height();
         let d = self.options.half_width_px;
         let row_of = |k: usize| height - 1 - k;
+        self.crossings.fill(usize::MAX);
         for (o, plan) in self.outcomes.iter_mut().zip(&self.plans) {
             *o = plan
                 .window
@@ -449,6 +510,7 @@ impl VisualRanger {
                         self.confidence[j] =
                             edge_confidence(self.sums[j], self.column_threshold_sum[j]);
                         self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
+                        self.crossings[j] = k;
                         self.active_threshold[j] = i32::MAX;
                         unresolved -= 1;
                     }
@@ -538,6 +600,7 @@ impl VisualRanger {
                         let s = i32::from(self.sums16[j]);
                         self.confidence[j] = edge_confidence(s, self.column_threshold_sum[j]);
                         self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
+                        self.crossings[j] = k;
                         self.active_threshold[j] = i32::MAX;
                         self.active_threshold16[j] = i16::MAX;
                         unresolved -= 1;
@@ -637,6 +700,7 @@ impl VisualRanger {
                         if s.abs() > threshold {
                             self.confidence[j] = edge_confidence(s, threshold);
                             self.outcomes[j] = Some(self.resolve_crossing(image, j, k));
+                            self.crossings[j] = k;
                             self.active_threshold[j] = i32::MAX;
                             self.active_threshold16[j] = i16::MAX;
                             self.thresholds8[j] = u8::MAX;
@@ -912,6 +976,7 @@ fn plan_column(
     let near = table.lookup(u, start_row as f64);
     let within_range = |p: Point2| options.max_range_m.is_none_or(|r| p.norm() <= r);
     let mut window = None;
+    let mut band = None;
     if near.is_some_and(within_range) {
         // Highest row, going up from the start, that still has ground (within the range limit).
         let mut top = start_row;
@@ -923,6 +988,22 @@ fn plan_column(
         let hi = (height - 1 - top).min(height - 1 - d);
         if lo <= hi {
             window = Some((lo, hi));
+            let (near_m, far_m) = (options.mid_range_m[0], options.mid_range_m[1]);
+            if near_m < far_m {
+                let in_band = |k: usize| {
+                    table
+                        .lookup(u, (height - 1 - k) as f64)
+                        .is_some_and(|p| (near_m..=far_m).contains(&p.norm()))
+                };
+                let first = (lo..=hi).find(|&k| in_band(k));
+                band = first.map(|b_lo| {
+                    let b_hi = (b_lo..=hi)
+                        .take_while(|&k| in_band(k))
+                        .last()
+                        .unwrap_or(b_lo);
+                    (b_lo, b_hi)
+                });
+            }
         }
     }
     ColumnPlan {
@@ -930,6 +1011,7 @@ fn plan_column(
         start_row,
         near,
         window,
+        band,
     }
 }
 

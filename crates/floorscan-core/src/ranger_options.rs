@@ -68,6 +68,18 @@ pub struct RangerOptions {
     /// and >= 0, 0 for none. Default 0.12: the old fixed threshold 10 over the simulated
     /// carpets' grey level 72-99 in normal light (docs/visual-range-sensor.md).
     pub contrast: f64,
+    /// A lower Weber contrast floor for the rows whose ground lies within `mid_range_m`,
+    /// finite and >= 0: there the threshold is max(`threshold`, the noise term,
+    /// min(`mid_contrast`, `contrast`) x the floor's brightness) (the band only lowers the
+    /// floor). Default 0.06 (a 12 % step), used only where `mid_range_m` is set.
+    pub mid_contrast: f64,
+    /// [near, far] ground range [m] of the band where `mid_contrast` applies, 0 <= near <= far
+    /// <= 100; an empty band (near = far) applies it nowhere. Default [0, 0]. The band suits
+    /// the range where a missed obstacle is about to be met but the floor's texture is
+    /// averaged out: nearer, the floor's grain is resolved into steps as strong as a low-contrast
+    /// obstacle's base; farther, lighting and aliasing make more false edges, and what is far
+    /// is seen again nearer (`floorscan drive` sets [0.6, 1.2] m at 0.06: EVALUATION.md).
+    pub mid_range_m: Vec<f64>,
     /// How the boundary row is placed after the first crossing. Default: `step` (the sharpest
     /// one-pixel step near the filter's sub-pixel peak).
     pub refinement: Refinement,
@@ -92,6 +104,8 @@ impl Default for RangerOptions {
             threshold: 2.0,
             noise_multiple: 4.0,
             contrast: 0.12,
+            mid_contrast: 0.06,
+            mid_range_m: vec![0.0, 0.0],
             refinement: Refinement::Step,
             columns: ColumnSelection::Spacing {
                 obstacle_width_m: 0.03,
@@ -149,6 +163,27 @@ impl RangerOptions {
             return Err(invalid_option(
                 "contrast",
                 format!("must be finite and >= 0, got {}", self.contrast),
+            ));
+        }
+        if !(self.mid_contrast.is_finite() && self.mid_contrast >= 0.0) {
+            return Err(invalid_option(
+                "mid_contrast",
+                format!("must be finite and >= 0, got {}", self.mid_contrast),
+            ));
+        }
+        let ok = match self.mid_range_m[..] {
+            [near, far] => {
+                near.is_finite() && far.is_finite() && 0.0 <= near && near <= far && far <= 100.0
+            }
+            _ => false,
+        };
+        if !ok {
+            return Err(invalid_option(
+                "mid_range_m",
+                format!(
+                    "needs [near, far] with 0 <= near <= far <= 100 [m], got {:?}",
+                    self.mid_range_m
+                ),
             ));
         }
         match &self.columns {
@@ -259,6 +294,22 @@ mod tests {
             },
             RangerOptions {
                 threshold: -1.0,
+                ..Default::default()
+            },
+            RangerOptions {
+                mid_contrast: -0.1,
+                ..Default::default()
+            },
+            RangerOptions {
+                mid_range_m: vec![1.2, 0.6],
+                ..Default::default()
+            },
+            RangerOptions {
+                mid_range_m: vec![0.0, f64::INFINITY],
+                ..Default::default()
+            },
+            RangerOptions {
+                mid_range_m: vec![0.5],
                 ..Default::default()
             },
             RangerOptions {

@@ -57,6 +57,8 @@ fn options(
         threshold,
         noise_multiple: 0.0,
         contrast: 0.0,
+        mid_contrast: 0.0,
+        mid_range_m: vec![0.0, 0.0],
         refinement,
         columns,
         start: ColumnStart::BottomMargin(0),
@@ -134,15 +136,29 @@ fn brute_force(
             threshold = threshold.max(o.noise_multiple * sigma);
         }
     }
+    // Per column: the threshold on the sums outside and inside the `mid_range_m` band
+    // (`mid_contrast`, never above `contrast`, x the same mean).
     let column_threshold = |column: &[i32], lo: usize, hi: usize| {
         let pixels = &column[lo - d..=hi.min(lo + band - 1) + d];
         let mean = pixels.iter().map(|&p| p as f64).sum::<f64>() / pixels.len() as f64;
-        let t = if o.contrast > 0.0 {
-            threshold.max(o.contrast * mean)
+        if o.contrast > 0.0 {
+            (
+                threshold_to_sum(threshold.max(o.contrast * mean), d),
+                threshold_to_sum(threshold.max(o.mid_contrast.min(o.contrast) * mean), d),
+            )
         } else {
-            threshold
-        };
-        threshold_to_sum(t, d)
+            (
+                threshold_to_sum(threshold, d),
+                threshold_to_sum(threshold, d),
+            )
+        }
+    };
+    let (near_m, far_m) = (o.mid_range_m[0], o.mid_range_m[1]);
+    let in_band = |u: f64, k: usize| {
+        near_m < far_m
+            && table
+                .lookup(u, (height - 1 - k) as f64)
+                .is_some_and(|p| (near_m..=far_m).contains(&p.norm()))
     };
     columns
         .into_iter()
@@ -151,8 +167,9 @@ fn brute_force(
             let Some((lo, hi)) = window else {
                 return (c, ColumnStatus::Invalid, f64::NAN);
             };
-            let thr = column_threshold(&column, lo, hi);
+            let (thr_out, thr_band) = column_threshold(&column, lo, hi);
             for k in lo..=hi {
+                let thr = if in_band(u, k) { thr_band } else { thr_out };
                 if direct_response(&column, k, d).abs() > thr {
                     if k == lo {
                         return (c, ColumnStatus::TooClose, start as f64);
@@ -193,6 +210,8 @@ proptest! {
         d in 1usize..6, threshold in 0.0..60.0f64, refinement_i in 0usize..4, n_cols in 1usize..8,
         margin in 0usize..4, horizon in 0.0..20.0f64, noise_multiple in prop::sample::select(vec![0.0, 0.5, 3.0]),
         contrast in prop::sample::select(vec![0.0, 0.02, 0.1]),
+        mid_contrast in prop::sample::select(vec![0.0, 0.01, 0.05, 0.2]),
+        mid_range_m in prop::sample::select(vec![vec![0.0, 0.0], vec![0.3, 0.45], vec![0.2, 10.0], vec![0.25, 0.26]]),
     ) {
         let mut rng = seed;
         let mut next = || { rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17; rng };
@@ -208,7 +227,7 @@ proptest! {
             }
         }
         let refinement = REFINEMENTS[refinement_i];
-        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), noise_multiple, contrast, ..options(d, threshold, refinement, ColumnSelection::Count(n_cols.min(width))) };
+        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), noise_multiple, contrast, mid_contrast, mid_range_m, ..options(d, threshold, refinement, ColumnSelection::Count(n_cols.min(width))) };
         let t = table(width, height, horizon);
         let reference = brute_force(&t, &o, &img, width, height);
         match VisualRanger::new(t, o) {
@@ -636,6 +655,8 @@ proptest! {
         mode in 0usize..3, n_cols in 1usize..100, margin in 0usize..4, horizon in 0.0..20.0f64,
         noise_multiple in prop::sample::select(vec![0.0, 1.0, 5.0]),
         contrast in prop::sample::select(vec![0.0, 0.01, 0.12]),
+        mid_contrast in prop::sample::select(vec![0.0, 0.03, 0.06]),
+        mid_range_m in prop::sample::select(vec![vec![0.0, 0.0], vec![0.3, 0.6], vec![0.25, 0.4]]),
     ) {
         prop_assume!(2 * d + 2 <= height);
         let img = blocky_image(width, height, seed, noise);
@@ -647,7 +668,7 @@ proptest! {
                 (0..n_cols).map(|i| ((seed >> (i % 40)) as usize + 7 * i) as u32 % width as u32).collect(),
             ),
         };
-        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), noise_multiple, contrast, ..options(d, threshold, refinement, columns) };
+        let o = RangerOptions { start: ColumnStart::BottomMargin(margin), noise_multiple, contrast, mid_contrast, mid_range_m, ..options(d, threshold, refinement, columns) };
         check_every_kernel(&table(width, height, horizon), &o, &img, width, height);
     }
 }
@@ -1017,4 +1038,36 @@ fn step_refinement_lands_on_the_base_not_the_start_of_a_soft_contact_shadow() {
         "{}",
         row(Refinement::SubPixel)
     );
+}
+
+#[test]
+fn a_low_contrast_edge_is_found_only_inside_the_mid_range_band() {
+    // Floor 100, obstacle 108 above row 50 (an 8 % step: |R| = 4); `contrast` 0.06 asks for
+    // |R| > 6, `mid_contrast` 0.03 for |R| > 3. The edge's ground lies 0.69-0.70 m away (the
+    // test table: x = 0.2 + 0.01 per row from the bottom, y within +-0.04 m).
+    let (w, h) = (16, 100);
+    let floor_from = vec![50; w];
+    let img = step_image(w, h, &floor_from, 100, 108);
+    let view = ImageView::new(&img, w, h).unwrap();
+    let scan = |mid_range_m: [f64; 2]| {
+        let o = RangerOptions {
+            contrast: 0.06,
+            mid_contrast: 0.03,
+            mid_range_m: mid_range_m.to_vec(),
+            ..options(4, 0.0, Refinement::Step, ColumnSelection::Count(w))
+        };
+        VisualRanger::new(table(w, h, 0.0), o)
+            .unwrap()
+            .scan(&view, 0.0)
+            .unwrap()
+    };
+    for r in &scan([0.6, 0.8]).readings {
+        assert_eq!(r.status(), ColumnStatus::Boundary, "column {}", r.column);
+        assert_eq!(r.row(), 49.5);
+    }
+    for band in [[0.0, 0.0], [0.2, 0.5], [0.75, 2.0]] {
+        for r in &scan(band).readings {
+            assert_eq!(r.status(), ColumnStatus::NoBoundary, "band {band:?}");
+        }
+    }
 }
