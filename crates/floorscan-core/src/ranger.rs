@@ -390,6 +390,7 @@ impl VisualRanger {
             return;
         }
         let d = self.options.half_width_px;
+        let height = image.height();
         for j in 0..self.plans.len() {
             let Some((band_lo, band_hi)) = self.plans[j].band else {
                 continue;
@@ -405,9 +406,19 @@ impl VisualRanger {
             }
             let last = band_hi.min(k_main - 1);
             let c = self.plans[j].column as usize;
-            let crossing = (band_lo..=last)
-                .map(|k| (k, direct_response_at(image, c, k, d)))
-                .find(|(_, s)| s.abs() > threshold);
+            let px = |k: usize| image.get(c, height - 1 - k).to_i32();
+            // S(k) by the recurrence from the band's first row (four reads a row)
+            let mut s = direct_response_at(image, c, band_lo, d);
+            let mut crossing = None;
+            for k in band_lo..=last {
+                if k > band_lo {
+                    s = next_response(s, px(k - 1 - d), px(k - 1), px(k), px(k + d));
+                }
+                if s.abs() > threshold {
+                    crossing = Some((k, s));
+                    break;
+                }
+            }
             if let Some((k, s)) = crossing {
                 self.crossings[j] = k;
                 self.confidence[j] = edge_confidence(s, threshold);
