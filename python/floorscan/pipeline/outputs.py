@@ -287,8 +287,11 @@ class RunOutputs:
     def _write_overlay(self) -> None:
         o = self.cfg.outputs
         if self._gif is not None:
-            gif, self._gif = self._gif, None
-            gif.close()
+            # closed while still held, so that a signal between the two steps leaves it to
+            # _discard_temporaries (aborting a closed writer is a no-op), not lost with its
+            # temporary file
+            self._gif.close()
+            self._gif = None
             return
         if o.overlay == "none" or self._overlay is None or self._overlay_n == 0:
             return
