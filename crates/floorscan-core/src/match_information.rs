@@ -23,18 +23,7 @@ pub fn match_information(
     pose: Pose2,
     yaw_step_rad: f64,
 ) -> Result<[[f64; 3]; 3]> {
-    if field.values.len() != field.width * field.height {
-        return Err(Error::LengthMismatch(format!(
-            "field {} x {} needs {} values, got {}",
-            field.width,
-            field.height,
-            field.width * field.height,
-            field.values.len()
-        )));
-    }
-    if !(field.cell_m.is_finite() && field.cell_m > 0.0) {
-        return Err(invalid_option("cell_m", "must be > 0"));
-    }
+    field.validate()?;
     if !(yaw_step_rad.is_finite() && yaw_step_rad > 0.0) {
         return Err(invalid_option(
             "yaw_step_rad",

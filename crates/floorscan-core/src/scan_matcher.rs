@@ -56,6 +56,25 @@ pub struct Field<'a> {
     pub cell_m: f64,
 }
 
+impl Field<'_> {
+    /// Its values fill `width` x `height`, its cells have a finite positive size.
+    pub fn validate(&self) -> Result<()> {
+        if self.values.len() != self.width * self.height {
+            return Err(Error::LengthMismatch(format!(
+                "field {} x {} needs {} values, got {}",
+                self.width,
+                self.height,
+                self.width * self.height,
+                self.values.len()
+            )));
+        }
+        if !(self.cell_m.is_finite() && self.cell_m > 0.0) {
+            return Err(invalid_option("cell_m", "must be > 0"));
+        }
+        Ok(())
+    }
+}
+
 /// The best pose for `points` (robot frame [m]) in `window` around `prior`; points off the
 /// field score 0.
 pub fn search(
@@ -64,18 +83,7 @@ pub fn search(
     prior: Pose2,
     window: &SearchWindow,
 ) -> Result<SearchResult> {
-    if field.values.len() != field.width * field.height {
-        return Err(Error::LengthMismatch(format!(
-            "field {} x {} needs {} values, got {}",
-            field.width,
-            field.height,
-            field.width * field.height,
-            field.values.len()
-        )));
-    }
-    if !(field.cell_m.is_finite() && field.cell_m > 0.0) {
-        return Err(invalid_option("cell_m", "must be > 0"));
-    }
+    field.validate()?;
     for (name, v) in [
         ("yaw_step_rad", window.yaw_step_rad),
         ("prior_xy_m", window.prior_xy_m),

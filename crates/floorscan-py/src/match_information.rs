@@ -2,12 +2,10 @@
 //! numpy likelihood field.
 
 use floorscan_core::match_information::match_information as information;
-use floorscan_core::scan_matcher::Field;
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
 use pyo3::prelude::*;
 
-use crate::arrays::rows;
-use crate::errors::{error, guard, to_pyerr};
+use crate::errors::{guard, to_pyerr};
 
 /// The information matrix (3, 3) float64 of `points` (N, 2) float64 [m, robot frame] matched at
 /// `pose` (world_from_robot): minus the Hessian of the sum of `field` (H, W) float32 (row 0 =
@@ -26,19 +24,7 @@ pub fn match_information<'py>(
     yaw_step_rad: f64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     guard(|| {
-        let shape = field.shape().to_vec();
-        let values = field
-            .as_slice()
-            .map_err(|_| error("LengthMismatchError", "`field` must be C-contiguous".into()))?;
-        let (flat, n) = rows(&points, 2, "points")?;
-        let pts: Vec<[f64; 2]> = (0..n).map(|k| [flat[2 * k], flat[2 * k + 1]]).collect();
-        let f = Field {
-            values,
-            width: shape[1],
-            height: shape[0],
-            origin_m,
-            cell_m,
-        };
+        let (f, pts) = crate::scan_matcher::field_and_points(&field, origin_m, cell_m, &points)?;
         let m = py
             .detach(|| information(&f, &pts, crate::arrays::pose(pose), yaw_step_rad))
             .map_err(to_pyerr)?;

@@ -8,6 +8,29 @@ use pyo3::prelude::*;
 use crate::arrays::{pose, rows};
 use crate::errors::{error, guard, to_pyerr};
 
+/// A numpy likelihood field (H, W) float32 as a [`Field`], and `points` (N, 2) float64.
+pub(crate) fn field_and_points<'a>(
+    field: &'a PyReadonlyArray2<'_, f32>,
+    origin_m: (f64, f64),
+    cell_m: f64,
+    points: &PyReadonlyArray2<'_, f64>,
+) -> PyResult<(Field<'a>, Vec<[f64; 2]>)> {
+    let shape = field.shape().to_vec();
+    let values = field
+        .as_slice()
+        .map_err(|_| error("LengthMismatchError", "`field` must be C-contiguous".into()))?;
+    let (flat, n) = rows(points, 2, "points")?;
+    let pts: Vec<[f64; 2]> = (0..n).map(|k| [flat[2 * k], flat[2 * k + 1]]).collect();
+    let f = Field {
+        values,
+        width: shape[1],
+        height: shape[0],
+        origin_m,
+        cell_m,
+    };
+    Ok((f, pts))
+}
+
 /// The best pose (x, y, yaw), its mean field value and its score for `points` (N, 2) float64
 /// [m, robot frame] around `prior` (world_from_robot): translations of -xy_steps..=xy_steps
 /// cells of `field` (H, W) float32 (values in [0, 1], row 0 = lowest y, cell (0, 0)'s corner
@@ -30,19 +53,7 @@ pub fn correlative_search(
     prior_yaw_rad: f64,
 ) -> PyResult<((f64, f64, f64), f64, f64)> {
     guard(|| {
-        let shape = field.shape().to_vec();
-        let values = field
-            .as_slice()
-            .map_err(|_| error("LengthMismatchError", "`field` must be C-contiguous".into()))?;
-        let (flat, n) = rows(&points, 2, "points")?;
-        let pts: Vec<[f64; 2]> = (0..n).map(|k| [flat[2 * k], flat[2 * k + 1]]).collect();
-        let f = Field {
-            values,
-            width: shape[1],
-            height: shape[0],
-            origin_m,
-            cell_m,
-        };
+        let (f, pts) = field_and_points(&field, origin_m, cell_m, &points)?;
         let window = SearchWindow {
             xy_steps,
             yaw_steps,
