@@ -66,13 +66,13 @@ class DriveOptions:
       of ground range [m] where it applies (``RangerOptions``' fields of the same names),
       set for the drive unless the configuration sets a band of its own; ``mid_range_m``
       None leaves the ranger's options as they are. Defaults: the ranger's ``mid_contrast``
-      (0.06) over (0.6, 1.2) m: the
-      range where an obstacle is about to be met (the dynamic window looks 0.5 m ahead at
-      0.3 m/s) but the floor's texture is averaged out; a face whose base is a 12-24 % step
-      on the carpet (a wooden desk) is seen there, where the default floor asks for 24 %
-      (held-out open plan at 0.3 m/s: 2 contacts -> 0; a 0.06 floor at every range also
-      gets 0 but reads the resolved grain near the robot as obstacles and takes 1.45x the
-      time: EVALUATION.md).
+      (0.06) over (0.6, 1.2) m, the range where an obstacle is about to be met (the dynamic
+      window looks 0.5 m ahead at 0.3 m/s) but the floor's texture is averaged out: a face
+      whose base is a 12-24 % step on the carpet (a wooden desk) is seen there, where the
+      default floor asks for 24 % (three held-out worlds, 16 camera runs at 0.3-0.8 m/s: 5
+      contacts -> 3, 0.5 m/s 3 -> 0; a 0.06 floor at every range also avoids the desk but
+      reads the resolved grain near the robot as obstacles and takes 1.4-2.5x the time:
+      EVALUATION.md, "A face the colour of the floor").
     - ``goal_tolerance_m``: a waypoint counts as reached (by the robot, from its pose
       estimate in the world frame) within this distance [m]. Default 0.15.
     - ``waypoint_timeout_s``: the robot gives a waypoint up after 20 s plus three times its
