@@ -268,18 +268,15 @@ class AvoidanceMap:
             model,
         )
 
-    def mark_bump(
-        self, pose, bearing_rad: float, distance_m: float, *, half_length_m: Optional[float] = None
-    ) -> None:
-        """A bumper contact: the cells on a straight face ``2 half_length_m`` long (default
-        the options' ``bump_face_half_length_m``), square to
-        ``bearing_rad`` (robot frame) at ``distance_m`` from ``pose``, become obstacles in a
-        separate bumper layer, which the camera cannot clear (it may not see what the bumper
-        felt) and which forgets with ``bump_half_life_s``. A face, not the touched point:
-        what a bumper meets is most often a flat side (a box, a desk, a wall) wider than the
-        segment that felt it, and the robot should not bump along it point by point."""
-        if half_length_m is None:
-            half_length_m = self.options.bump_face_half_length_m
+    def mark_bump(self, pose, bearing_rad: float, distance_m: float) -> None:
+        """A bumper contact: the cells on a straight face ``2 bump_face_half_length_m`` long,
+        square to ``bearing_rad`` (robot frame) at ``distance_m`` from ``pose``, become
+        obstacles in a separate bumper layer, which the camera cannot clear (it may not see
+        what the bumper felt) and which forgets with ``bump_half_life_s``. A face, not the
+        touched point: what a bumper meets is most often a flat side (a box, a desk, a wall)
+        wider than the segment that felt it, and the robot should not bump along it point by
+        point."""
+        half_length_m = self.options.bump_face_half_length_m
         a = pose[2] + bearing_rad
         t = np.linspace(-half_length_m, half_length_m, int(4 * half_length_m / self.cell) + 2)
         px = pose[0] + distance_m * math.cos(a) - t * math.sin(a)

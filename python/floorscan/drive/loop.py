@@ -21,7 +21,7 @@ import numpy as np
 
 from ..calibration import calibrate
 from ..errors import OptionError
-from ..options import defaults
+from ..options import check, defaults
 from ..pipeline.config import Config
 from ..pipeline.mapper import RANGER_KINDS, ranger_from_config
 from ..ranging.scan import ColumnStatus
@@ -125,17 +125,11 @@ class DriveOptions:
             )
         if not (0 < self.seconds <= 1e5):
             raise OptionError(f"invalid option `seconds`: must be in (0, 1e5], got {self.seconds}")
-        if not (math.isfinite(self.mid_contrast) and self.mid_contrast >= 0):
-            raise OptionError(
-                f"invalid option `mid_contrast`: must be finite and >= 0, got {self.mid_contrast}"
-            )
+        # the band is the ranger's: its rules are RangerOptions' (validated in Rust)
+        band = {"mid_contrast": self.mid_contrast}
         if self.mid_range_m is not None:
-            near, far = (float(v) for v in self.mid_range_m)
-            if not (0 <= near <= far <= 100):
-                raise OptionError(
-                    f"invalid option `mid_range_m`: need 0 <= near <= far <= 100, got "
-                    f"{self.mid_range_m}"
-                )
+            band["mid_range_m"] = list(self.mid_range_m)
+        check("ranger", band)
         if not 0.0 <= self.bump_backup_m <= 1.0:
             raise OptionError(
                 f"invalid option `bump_backup_m`: must be in [0, 1], got {self.bump_backup_m}"
