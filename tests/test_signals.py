@@ -12,6 +12,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 from floorscan import OccupancyGrid, read_scans_csv
 from hostile_corpus import FLOORSCAN, temp_files
@@ -201,3 +202,28 @@ def test_a_signal_ends_a_drive_and_its_outputs_are_written(tmp_path, sig):
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(pytest.main([__file__, "-q"]))
+
+
+def test_a_burst_as_the_overlay_starts_leaves_no_temporary_file(dataset, tmp_path):
+    """The moment most likely to lose a temporary file: the GIF overlay's writer has just been
+    created (its temporary file appears) and signals arrive before the run holds it. Repeated,
+    with jitter, because the window is a few microseconds wide."""
+    rng = np.random.default_rng(7)
+    for i in range(8):
+        out = tmp_path / f"out{i}"
+        proc = start_run(dataset, out)
+        deadline = time.monotonic() + 60
+        while proc.poll() is None and not list(out.glob(".overlay.gif.*")):
+            if time.monotonic() > deadline:
+                break
+            time.sleep(0.0002)
+        time.sleep(float(rng.uniform(0, 0.003)))
+        for _ in range(3):
+            if proc.poll() is not None:
+                break
+            proc.send_signal(signal.SIGTERM)
+            time.sleep(0.002)
+        _, err = proc.communicate(timeout=120)
+        assert "Traceback" not in err
+        if out.exists():
+            assert temp_files(out) == [], f"attempt {i}"

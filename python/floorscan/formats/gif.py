@@ -44,13 +44,17 @@ class GifWriter:
             raise ImageError(f"palette must be (N, 3) uint8 RGB, got shape {pal.shape}")
         self.shape = (int(height), int(width))
         self._tmp: Optional[Path] = None
-        with deferred_signals():
-            self._tmp = temp_path_for(self.path, ".gif")
+        # A signal held back here is delivered as the block ends, still inside the try: the
+        # temporary file goes with the failed constructor. A caller whose signals raise holds
+        # them around ``writer = GifWriter(...)`` too, so the writer cannot be lost between
+        # this constructor returning and the assignment.
         try:
-            delay_cs = min(max(round(frame_s * 100), 0), 65535)
-            self._native = _native.GifStream(
-                str(self._tmp), int(width), int(height), pal.tobytes(), delay_cs
-            )
+            with deferred_signals():
+                self._tmp = temp_path_for(self.path, ".gif")
+                delay_cs = min(max(round(frame_s * 100), 0), 65535)
+                self._native = _native.GifStream(
+                    str(self._tmp), int(width), int(height), pal.tobytes(), delay_cs
+                )
         except BaseException:
             self._remove_temporary()
             raise

@@ -22,7 +22,7 @@ from typing import List, Optional
 
 import numpy as np
 
-from .._atomic import _make_readable, write_atomic
+from .._atomic import _make_readable, deferred_signals, write_atomic
 from ..errors import OptionError, OutputError
 from ..formats.gif import GifWriter
 from ..formats.rosbag import Ros2BagWriter
@@ -100,8 +100,9 @@ class RunOutputs:
         self._csv = None
         self._csv_tmp: Optional[str] = None
         try:
-            fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
-            self._csv = os.fdopen(fd, "w", encoding="utf-8")
+            with deferred_signals():  # created and recorded together (see _discard_temporaries)
+                fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
+                self._csv = os.fdopen(fd, "w", encoding="utf-8")
             self._open(cfg, expected_frames)
         except BaseException:
             self._discard_temporaries()  # interrupted or failed while opening: leave nothing
@@ -129,7 +130,8 @@ class RunOutputs:
         self.extra_summary: dict = {}
         self.memory_samples: List[tuple] = []
         if o.bag:
-            self._bag = Ros2BagWriter(self.out / "bag", storage=o.bag_storage)
+            with deferred_signals():
+                self._bag = Ros2BagWriter(self.out / "bag", storage=o.bag_storage)
 
     # --- per frame ----------------------------------------------------------------------
     def laser_angles(self, scan: Scan) -> tuple:
@@ -198,9 +200,14 @@ class RunOutputs:
         if self._gif is None:
             self._overlay_frames(3 * indices.nbytes)
             h, w = indices.shape
-            self._gif = GifWriter(
-                self.out / "overlay.gif", width=w, height=h, palette=OVERLAY_PALETTE, frame_s=0.1
-            )
+            with deferred_signals():  # the writer and its temporary file are never lost
+                self._gif = GifWriter(
+                    self.out / "overlay.gif",
+                    width=w,
+                    height=h,
+                    palette=OVERLAY_PALETTE,
+                    frame_s=0.1,
+                )
         self._gif.add(indices)
         self._overlay_n += 1
 
