@@ -120,6 +120,11 @@ def test_lighting_is_written_into_the_world_file():
     assert "exposure_jitter = 0.08" in text
     world = Scenario("corridor", lighting="dim").build_world()
     assert world.name == "corridor"
+    shadow = "{ strength = 0.5, length_m = 0.04 }"
+    text = with_lighting("[lighting]\ncontact_shadow = 1\n", 1.0, 0.03, {"contact_shadow": shadow})
+    assert text.count("contact_shadow") == 1 and f"contact_shadow = {shadow}" in text
+    shadowed = Scenario("room", lighting="shadowed")
+    assert shadowed.name == "room-shadowed-s0" and shadowed.build_world().name == "room"
 
 
 def test_frames_to_reliable_names_its_local_map():

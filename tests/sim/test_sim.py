@@ -83,6 +83,42 @@ def test_world_file_errors_name_the_line_or_the_field(tmp_path):
         World.load(tmp_path / "missing.toml")
     with pytest.raises(OptionError, match="no built-in world"):
         World.builtin("castle")
+    for shadow, field in (("strength = 2.0", "strength"), ("length_m = 0.0", "length_m")):
+        text = f'name = "w"\n[start]\nx = 0\ny = 0\n[lighting]\ncontact_shadow = {{ {shadow} }}\n'
+        with pytest.raises(WorldError, match=rf"lighting\.contact_shadow\.{field}") as e:
+            World.from_toml(text)
+        assert "\n" not in str(e.value)
+
+
+def test_contact_shadows_darken_only_the_floor_next_to_what_stands_on_it():
+    """A box 1.5 m ahead: with contact shadows the floor right before its foot reads darker by
+    about the model's factor there (half the light at the foot, 4 cm scale); the floor far
+    from it, the box and the labels are unchanged."""
+    cam = Camera(imaging=Imaging.ideal())
+    text = (
+        'name = "s"\n[start]\nx = 0\ny = 0\n[lighting]\nexposure_jitter = 0.0\n{}'
+        "[[boxes]]\nrect = [1.3, -1.0, 2.3, 1.0]\nheight_m = 0.5\n"
+    )
+    lit = World.from_toml(text.format(""))
+    dark = World.from_toml(text.format("contact_shadow = { strength = 0.5, length_m = 0.04 }\n"))
+    pose = (0.0, 0.0, 0.0)
+    a, truth = render(lit, cam, pose)
+    b, truth_b = render(dark, cam, pose)
+    assert np.array_equal(truth.labels, truth_b.labels)
+    floor = np.isin(truth.labels, list(FLOOR_LABELS))
+    # each floor pixel's distance to the box's foot, from the camera's exact ground mapping
+    # (the robot at the origin: the camera's ground frame is the robot's moved by the mount)
+    v, u = np.nonzero(floor)
+    x, y = cam.pixel_to_ground(u.astype(float), v.astype(float))
+    mx, my, _ = cam.robot_from_camera
+    rx, ry = x + mx, y + my
+    d = np.hypot(np.maximum(np.maximum(1.3 - rx, rx - 2.3), 0), np.maximum(np.abs(ry) - 1.0, 0))
+    ratio = b[v, u].astype(float) / np.maximum(a[v, u].astype(float), 1)
+    near, far = d < 0.02, d > 0.3
+    assert near.sum() > 20 and far.sum() > 1000
+    assert 0.4 < np.median(ratio[near]) < 0.65  # the factor at 0-2 cm: 0.50-0.59
+    assert np.all(b[v, u][far] == a[v, u][far])
+    assert np.array_equal(a[~floor], b[~floor])
 
 
 # --- cameras and the exact image-to-ground mapping --------------------------------------------

@@ -15,6 +15,7 @@ pub mod calibration;
 pub mod camera;
 pub mod cell_memo;
 pub mod clearance;
+pub mod contact_shadow;
 pub mod error;
 pub mod geometry;
 pub mod grid_index;

@@ -330,6 +330,7 @@ mod tests {
             exposure_jitter: 0.0,
             wall_factor: 0.7,
             ceiling_brightness: 0.5,
+            contact_shadow: Default::default(),
         };
         let b = Aabb {
             min: Point2::new(0.0, 0.0),
@@ -361,6 +362,7 @@ mod tests {
             exposure_jitter: 0.0,
             wall_factor: 0.7,
             ceiling_brightness: 0.5,
+            contact_shadow: Default::default(),
         };
         let b = Aabb {
             min: Point2::new(-1.3, 0.2),
@@ -417,6 +419,7 @@ mod tests {
             exposure_jitter: 0.0,
             wall_factor: 0.7,
             ceiling_brightness: 0.5,
+            contact_shadow: Default::default(),
         };
         let b = Aabb {
             min: Point2::new(-2000.0, -2000.0),

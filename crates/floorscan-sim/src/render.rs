@@ -575,6 +575,102 @@ mod tests {
         }
     }
 
+    /// A 1 x 2 m box 1.5 m ahead of the camera (its ground frame), with contact shadows of
+    /// `strength` and length 4 cm.
+    fn box_scene(strength: f64) -> Scene {
+        let text = format!(
+            "name = \"s\"\n[start]\nx = 0\ny = 0\n[lighting]\n\
+             contact_shadow = {{ strength = {strength}, length_m = 0.04 }}\n\
+             [[boxes]]\nrect = [1.5, -1.0, 2.5, 1.0]\nheight_m = 0.5\n"
+        );
+        Scene::new(parse_world(&text, "s").unwrap())
+    }
+
+    #[test]
+    fn contact_shadows_darken_the_floor_by_the_factor_of_its_distance_to_the_foot() {
+        // Each floor pixel's radiance, with shadows over without, against the model's factor
+        // at the exact distance from its floor point (pixel_to_ground) to the box's footprint.
+        use crate::contact_shadow::ContactShadow;
+        let cam = Camera {
+            imaging: Imaging::ideal(),
+            ..Default::default()
+        };
+        let pose = crate::calibration::robot_pose(&cam);
+        let rays = CameraRays::new(cam.clone()).unwrap();
+        let render = |scene: &Scene| {
+            let mut buf = RenderBuffers::default();
+            render_into(scene, &rays, pose, 0, 0, &mut buf).unwrap();
+            buf
+        };
+        let (lit, dark) = (render(&box_scene(0.0)), render(&box_scene(0.5)));
+        assert_eq!(lit.labels, dark.labels);
+        let model = ContactShadow {
+            strength: 0.5,
+            length_m: 0.04,
+        };
+        let (mut near, mut far) = (0, 0);
+        for v in 0..cam.height {
+            for u in 0..cam.width {
+                let k = v * cam.width + u;
+                if lit.labels[k] != PixelLabel::Carpet as u8 {
+                    continue;
+                }
+                let Some(p) = cam.pixel_to_ground(u as f64, v as f64, 1e9) else {
+                    continue;
+                };
+                let dx = (1.5 - p.x).max(p.x - 2.5).max(0.0);
+                let dy = (p.y.abs() - 1.0).max(0.0);
+                let d = dx.hypot(dy);
+                let ratio = (dark.radiance[k] / lit.radiance[k]) as f64;
+                if d > 5.0 * 0.04 + 0.02 {
+                    assert_eq!(ratio, 1.0, "pixel ({u}, {v}) {d} m away");
+                    far += 1;
+                } else {
+                    let want = model.factor(d);
+                    assert!(
+                        (ratio - want).abs() < 0.02,
+                        "({u}, {v}) d {d}: {ratio} vs {want}"
+                    );
+                    near += usize::from(d < 0.1);
+                }
+            }
+        }
+        assert!(near > 100 && far > 10_000, "near {near}, far {far}");
+        assert!(
+            dark.image.iter().map(|&b| b as u64).sum::<u64>()
+                < lit.image.iter().map(|&b| b as u64).sum::<u64>()
+        );
+    }
+
+    #[test]
+    fn contact_shadows_render_alike_in_lanes_and_per_pixel() {
+        let scene = box_scene(0.6);
+        let rays = CameraRays::new(Camera::wide_angle(96, 72)).unwrap();
+        let pose = Pose2::new(0.2, 0.1, 0.05);
+        let render = |shading| {
+            let mut buf = RenderBuffers::default();
+            render_with(&scene, &rays, pose, 3, 0, &mut buf, shading).unwrap();
+            buf
+        };
+        let want = render(Shading::PerPixel);
+        for kernel in [NoiseKernel::Portable, NoiseKernel::detect()] {
+            let got = render(Shading::Lanes(kernel));
+            let bits = |b: &RenderBuffers| -> Vec<u32> {
+                b.radiance.iter().map(|r| r.to_bits()).collect()
+            };
+            assert_eq!(bits(&got), bits(&want), "{kernel:?}");
+            assert_eq!(got.image, want.image, "{kernel:?}");
+        }
+        // the view holds shadowed floor
+        let mut unshadowed = RenderBuffers::default();
+        let lit = box_scene(0.0);
+        render_with(&lit, &rays, pose, 3, 0, &mut unshadowed, Shading::PerPixel).unwrap();
+        let darker = (want.radiance.iter().zip(&unshadowed.radiance))
+            .filter(|(a, b)| a < b)
+            .count();
+        assert!(darker > 20, "{darker} shadowed pixels");
+    }
+
     #[test]
     fn non_finite_poses_are_errors() {
         let scene = Scene::new(builtin_world("room").unwrap());

@@ -5,6 +5,7 @@ use floorscan_core::Point2;
 
 use crate::cell_memo::CellMemo;
 use crate::clearance::{SectorClear, NO_SOLID};
+use crate::contact_shadow::ShadowMap;
 use crate::geometry::{point_in_polygon, ray_segment, Aabb};
 use crate::grid_index::{segment_cells, segment_meets_box, CellLists, CellWalk, GridShape};
 use crate::lightmap::LightMap;
@@ -279,6 +280,8 @@ pub struct Scene {
     /// Per cell: the covering of the whole cell when one region (or none) decides it, else -1.
     cell_covering: Vec<i32>,
     pub light: LightMap,
+    /// The floor's contact shadows (None: off, the default).
+    pub shadow: Option<ShadowMap>,
     /// Bounds of each solid's footprint.
     pub solid_bounds: Vec<Aabb>,
     /// Side faces of each solid (indices into `sides`).
@@ -356,6 +359,7 @@ impl Scene {
             max: Point2::new(bounds.max.x + 4.0, bounds.max.y + 4.0),
         };
         let light = LightMap::new(&world.lighting, lit, b);
+        let shadow = ShadowMap::new(&world);
         let regions = CellLists::build(shape.cell_count(), &region_pairs);
         let cell_covering = (0..shape.cell_count())
             .map(|cell| uniform_covering(&world, &shape, &regions, cell))
@@ -384,12 +388,22 @@ impl Scene {
             sides,
             shape,
             light,
+            shadow,
             solid_bounds,
             coverings: world.coverings.iter().map(|c| c.prepare()).collect(),
             inv_cell_m: 1.0 / shape.cell_m,
             extent: (shape.nx as f64, shape.ny as f64),
             solid_sides,
             world,
+        }
+    }
+
+    /// The contact shadows' light factor at a floor point (1 where there are none).
+    #[inline(always)]
+    pub fn shadow_at(&self, p: Point2) -> f32 {
+        match &self.shadow {
+            None => 1.0,
+            Some(s) => s.at(p),
         }
     }
 

@@ -62,7 +62,7 @@ pub(crate) fn shade(
             let albedo = covering.albedo_cached(p, floor_footprint, &mut cache.carpet);
             let label = floor_label(covering.covering.class);
             Sample {
-                radiance: albedo * scene.light.at_cached(p, &mut cache.light),
+                radiance: albedo * scene.light.at_cached(p, &mut cache.light) * scene.shadow_at(p),
                 id: 2 + c as u32,
                 label,
             }
@@ -112,10 +112,12 @@ pub(crate) fn shade(
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Pending {
     Done(f32),
-    /// Carpet: albedo times the light (request `light` of the light batch).
+    /// Carpet: albedo times the light (request `light` of the light batch) times the contact
+    /// shadow's factor.
     Carpet {
         albedo: CarpetAlbedo,
         light: u32,
+        shadow: f32,
     },
     /// A wall: albedo times the light, times the wall factor and the face's turn.
     Wall {
@@ -132,7 +134,11 @@ impl Pending {
     pub(crate) fn finish(&self, noise: &NoiseBatch, lights: &LightBatch) -> f32 {
         match *self {
             Pending::Done(radiance) => radiance,
-            Pending::Carpet { albedo, light } => albedo.finish(noise) * lights.value(light),
+            Pending::Carpet {
+                albedo,
+                light,
+                shadow,
+            } => albedo.finish(noise) * lights.value(light) * shadow,
             Pending::Wall {
                 albedo,
                 light,
@@ -166,7 +172,16 @@ pub(crate) fn shade_pending(
             if let Some(albedo) = covering.carpet_albedo(p, floor_footprint, noise) {
                 let label = floor_label(covering.covering.class);
                 let light = lights.push(p);
-                return (Pending::Carpet { albedo, light }, 2 + c as u32, label);
+                let shadow = scene.shadow_at(p);
+                return (
+                    Pending::Carpet {
+                        albedo,
+                        light,
+                        shadow,
+                    },
+                    2 + c as u32,
+                    label,
+                );
             }
         }
         Surface::Side { face, s } => {

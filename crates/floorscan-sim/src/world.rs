@@ -10,6 +10,7 @@
 use floorscan_core::{Point2, Pose2};
 use serde::{Deserialize, Serialize};
 
+use crate::contact_shadow::ContactShadow;
 use crate::error::{Error, Result};
 use crate::geometry::{signed_area, Aabb};
 use crate::texture::{Appearance, Covering};
@@ -62,6 +63,9 @@ pub struct Lighting {
     pub wall_factor: f64,
     /// Brightness (albedo times illumination) of the ceiling.
     pub ceiling_brightness: f64,
+    /// The floor's darkening towards the foot of solids (off by default).
+    #[serde(default)]
+    pub contact_shadow: ContactShadow,
 }
 
 /// A validated world.
@@ -211,6 +215,7 @@ impl World {
                 ),
             ));
         }
+        l.contact_shadow.validate().map_err(|m| bad(&name, m))?;
         for (i, light) in l.lights.iter().enumerate() {
             if !(finite_point(light.position)
                 && light.height_m > 0.0

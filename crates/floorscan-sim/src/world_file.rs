@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use floorscan_core::{Point2, Pose2};
 use serde::Deserialize;
 
+use crate::contact_shadow::ContactShadow;
 use crate::error::{Error, Result};
 use crate::geometry::{circle_polygon, rotated_rect};
 use crate::rng::derive_seed;
@@ -344,6 +345,7 @@ struct LightingFile {
     ceiling_brightness: f64,
     lights: Vec<LightFile>,
     grid: Option<LightGridFile>,
+    contact_shadow: ContactShadow,
 }
 
 impl Default for LightingFile {
@@ -356,6 +358,7 @@ impl Default for LightingFile {
             ceiling_brightness: 0.6,
             lights: vec![],
             grid: None,
+            contact_shadow: ContactShadow::default(),
         }
     }
 }
@@ -926,6 +929,7 @@ fn build(file: WorldFile, source_name: &str) -> Result<World> {
             exposure_jitter: l.exposure_jitter,
             wall_factor: l.wall_factor,
             ceiling_brightness: l.ceiling_brightness,
+            contact_shadow: l.contact_shadow,
         },
         source: None,
     };

@@ -34,6 +34,14 @@ LIGHTING: Dict[str, Tuple[float, float]] = {
     "dim": (0.45, 0.08),
     "normal": (1.0, 0.03),
     "bright": (1.5, 0.08),
+    "shadowed": (1.0, 0.03),
+}
+# More of the [lighting] table, per lighting: "shadowed" darkens the floor towards the foot of
+# every solid standing on it (docs/simulator.md, "Contact shadows"): half the light at the
+# foot, falling to 1/e of that in 4 cm (the real cabinet of issue 13: its shadow starts ~5
+# rows of 480 before its base).
+LIGHTING_EXTRA: Dict[str, Dict[str, str]] = {
+    "shadowed": {"contact_shadow": "{ strength = 0.5, length_m = 0.04 }"},
 }
 # Sensor noise: (read noise [DN], shot noise gain [DN]).
 NOISE: Dict[str, Tuple[float, float]] = {
@@ -55,7 +63,8 @@ class Scenario:
     """One simulated run to evaluate.
 
     - ``world``: built-in world name.
-    - ``lighting``: key of :data:`LIGHTING` (dim, normal, bright).
+    - ``lighting``: key of :data:`LIGHTING` (dim, normal, bright, shadowed: normal light with
+      contact shadows).
     - ``noise``: key of :data:`NOISE` (low, default, high).
     - ``lens``: ``fisheye`` (the simulator's default Kannala-Brandt, ~136 degrees) or ``wide``
       (a plumb-bob pinhole of ~100 degrees with barrel distortion).
@@ -118,7 +127,12 @@ class Scenario:
             return world
         exposure, jitter = LIGHTING[self.lighting]
         return World.from_toml(
-            with_lighting(builtin_world_text(self.world), exposure, jitter),
+            with_lighting(
+                builtin_world_text(self.world),
+                exposure,
+                jitter,
+                LIGHTING_EXTRA.get(self.lighting),
+            ),
             source_name=f"{self.world} ({self.lighting})",
         )
 
@@ -160,19 +174,24 @@ def builtin_world_text(name: str) -> str:
     return path.read_text(encoding="utf-8")
 
 
-def with_lighting(text: str, exposure: float, jitter: float) -> str:
+def with_lighting(
+    text: str, exposure: float, jitter: float, extra: Optional[Dict[str, str]] = None
+) -> str:
     """World TOML with ``exposure`` and ``exposure_jitter`` set in its ``[lighting]`` table
-    (added when absent)."""
+    (added when absent), and the keys of ``extra`` (TOML values as text) set there too."""
+    values: Dict[str, str] = {"exposure": repr(exposure), "exposure_jitter": repr(jitter)}
+    values.update(extra or {})
     lines = text.splitlines()
     out: List[str] = []
     in_lighting = False
     seen = set()
 
     def flush() -> None:
-        for key, value in (("exposure", exposure), ("exposure_jitter", jitter)):
+        for key, value in values.items():
             if key not in seen:
-                out.append(f"{key} = {value!r}")
+                out.append(f"{key} = {value}")
 
+    keys = "|".join(re.escape(k) for k in values)
     for line in lines:
         stripped = line.strip()
         if stripped.startswith("["):
@@ -181,16 +200,16 @@ def with_lighting(text: str, exposure: float, jitter: float) -> str:
             in_lighting = stripped == "[lighting]"
             seen = set()
         elif in_lighting:
-            m = re.match(r"(exposure|exposure_jitter)\s*=", stripped)
+            m = re.match(rf"({keys})\s*=", stripped)
             if m:
                 key = m.group(1)
                 seen.add(key)
-                line = f"{key} = {exposure if key == 'exposure' else jitter!r}"
+                line = f"{key} = {values[key]}"
         out.append(line)
     if in_lighting:
         flush()
     if "[lighting]" not in (s.strip() for s in lines):
-        out += ["[lighting]", f"exposure = {exposure!r}", f"exposure_jitter = {jitter!r}"]
+        out += ["[lighting]"] + [f"{k} = {v}" for k, v in values.items()]
     return "\n".join(out) + "\n"
 
 
@@ -212,12 +231,15 @@ def full_suite(*, seconds: float = 30.0, seeds: Tuple[int, ...] = (0, 1, 2)) -> 
         {"lens": "wide"},
         {"odometry": "perfect"},
         {"odometry": "drifting"},
+        {"lighting": "shadowed"},
     ]
     for change in variations:
         out.append(replace(Scenario("corridor", seed=seeds[0], seconds=seconds), **change))
     for world in WORLD_GROUPS:
         if world != "corridor":
             out.append(Scenario(world, lens="wide", seed=seeds[0], seconds=seconds))
+    # contact shadows where furniture stands on the floor (chairs, tables, boxes)
+    out.append(Scenario("room", lighting="shadowed", seed=seeds[0], seconds=seconds))
     return out
 
 
