@@ -8,9 +8,11 @@
 //!
 //! Model: at horizontal distance d from the footprint of a solid standing on the floor
 //! (`base_m` 0; a table's top casts none, its legs do), the floor's light is multiplied by
-//! `1 - strength * g(d)`, with `g(d) = (exp(-d / length_m) - exp(-REACH)) / (1 - exp(-REACH))`
-//! for `d < REACH * length_m` and 0 beyond (the exponential, made to reach 0 continuously).
-//! The nearest solid decides. Precomputed on a raster around the solids, looked up bilinearly;
+//! `1 - strength * g(d) * span / pi`, with `g(d) = (exp(-d / length_m) - exp(-REACH)) /
+//! (1 - exp(-REACH))` for `d < REACH * length_m` and 0 beyond (the exponential, made to reach
+//! 0 continuously) and span the angle the footprint covers seen from the point (pi beside a
+//! wall's face, little beside a thin leg, which hides little of the light). The darkest
+//! solid decides. Precomputed on a raster around the solids, looked up bilinearly;
 //! off (`strength` 0, the default) it costs nothing.
 
 use floorscan_core::Point2;
@@ -67,7 +69,22 @@ impl ContactShadow {
         Ok(())
     }
 
-    /// The light factor at distance `d_m` from a standing solid's footprint.
+    /// The light factor at floor point `p` outside the (convex) footprint `polygon` of a
+    /// standing solid: `1 - strength g(d) span / pi`, d the distance to the footprint and span
+    /// the angle the footprint covers seen from `p` (pi next to a wall's face, a few degrees
+    /// from a thin leg: a thin solid hides little of the light). 1 - strength g(d) inside.
+    pub fn factor_of(&self, p: Point2, polygon: &[Point2]) -> f64 {
+        let n = polygon.len();
+        let d = (0..n)
+            .map(|i| segment_distance(p, polygon[i], polygon[(i + 1) % n]))
+            .fold(f64::INFINITY, f64::min);
+        if d >= REACH * self.length_m {
+            return 1.0;
+        }
+        1.0 - (1.0 - self.factor(d)) * footprint_span(p, polygon) / std::f64::consts::PI
+    }
+
+    /// The light factor at distance `d_m` from a long face (a wall's): `1 - strength g(d)`.
     pub fn factor(&self, d_m: f64) -> f64 {
         let x = d_m.max(0.0) / self.length_m;
         if x >= REACH {
@@ -115,50 +132,45 @@ impl ShadowMap {
         );
         // A third of the shadow's length per cell, no finer than 5 mm; coarser while the
         // raster or the band's evaluations would exceed their bounds.
-        let perimeter: f64 = standing
+        // work per cell: one pass over the footprint's vertices
+        let work: f64 = standing
             .iter()
             .map(|p| {
-                (0..p.len())
-                    .map(|i| {
-                        let (a, b) = (p[i], p[(i + 1) % p.len()]);
-                        (b.x - a.x).hypot(b.y - a.y)
-                    })
-                    .sum::<f64>()
+                let bb = Aabb::of_points(p);
+                (bb.max.x - bb.min.x + 2.0 * reach)
+                    * (bb.max.y - bb.min.y + 2.0 * reach)
+                    * p.len() as f64
             })
             .sum();
         let mut cell = (cs.length_m / 3.0).max(0.005);
         while (w / cell + 2.0) * (h / cell + 2.0) > MAX_CELLS as f64
-            || (perimeter + 8.0 * reach * standing.len() as f64) * 2.0 * reach / (cell * cell)
-                > MAX_EVALUATIONS
+            || work / (cell * cell) > MAX_EVALUATIONS
         {
             cell *= 2.0;
         }
         let nx = (w / cell).ceil() as usize + 2;
         let ny = (h / cell).ceil() as usize + 2;
         let origin = Point2::new(bounds.min.x - reach - cell, bounds.min.y - reach - cell);
-        // distance to the nearest footprint edge, within reach
-        let mut dist = vec![f64::INFINITY; nx * ny];
+        // per solid, its shadow over its bounds grown by the reach; the darkest decides
+        let mut values = vec![1.0f32; nx * ny];
         for poly in &standing {
-            for i in 0..poly.len() {
-                let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-                let i0 = (((a.x.min(b.x) - reach - origin.x) / cell).floor().max(0.0)) as usize;
-                let i1 = (((a.x.max(b.x) + reach - origin.x) / cell).ceil() as usize).min(nx - 1);
-                let j0 = (((a.y.min(b.y) - reach - origin.y) / cell).floor().max(0.0)) as usize;
-                let j1 = (((a.y.max(b.y) + reach - origin.y) / cell).ceil() as usize).min(ny - 1);
-                for j in j0..=j1 {
-                    let y = origin.y + j as f64 * cell;
-                    for i in i0..=i1 {
-                        let x = origin.x + i as f64 * cell;
-                        let d = segment_distance(Point2::new(x, y), a, b);
-                        let k = j * nx + i;
-                        if d < dist[k] {
-                            dist[k] = d;
-                        }
+            let bb = Aabb::of_points(poly);
+            let i0 = (((bb.min.x - reach - origin.x) / cell).floor().max(0.0)) as usize;
+            let i1 = (((bb.max.x + reach - origin.x) / cell).ceil() as usize).min(nx - 1);
+            let j0 = (((bb.min.y - reach - origin.y) / cell).floor().max(0.0)) as usize;
+            let j1 = (((bb.max.y + reach - origin.y) / cell).ceil() as usize).min(ny - 1);
+            for j in j0..=j1 {
+                let y = origin.y + j as f64 * cell;
+                for i in i0..=i1 {
+                    let p = Point2::new(origin.x + i as f64 * cell, y);
+                    let f = cs.factor_of(p, poly) as f32;
+                    let k = j * nx + i;
+                    if f < values[k] {
+                        values[k] = f;
                     }
                 }
             }
         }
-        let values = dist.iter().map(|&d| cs.factor(d) as f32).collect();
         Some(ShadowMap {
             origin,
             inv_cell: 1.0 / cell,
@@ -190,6 +202,27 @@ impl ShadowMap {
     pub fn memory_bytes(&self) -> usize {
         self.values.len() * std::mem::size_of::<f32>()
     }
+}
+
+/// The angle [rad, 0..=pi] the convex `polygon` covers seen from `p` (pi from inside or on
+/// its boundary): the spread of its vertices' bearings about the bearing of their mean.
+fn footprint_span(p: Point2, polygon: &[Point2]) -> f64 {
+    let n = polygon.len() as f64;
+    let (cx, cy) = polygon
+        .iter()
+        .fold((0.0, 0.0), |(x, y), v| (x + v.x / n, y + v.y / n));
+    let (ux, uy) = (cx - p.x, cy - p.y);
+    if ux.hypot(uy) < 1e-12 {
+        return std::f64::consts::PI;
+    }
+    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+    for v in polygon {
+        let (vx, vy) = (v.x - p.x, v.y - p.y);
+        let a = (ux * vy - uy * vx).atan2(ux * vx + uy * vy);
+        lo = lo.min(a);
+        hi = hi.max(a);
+    }
+    (hi - lo).min(std::f64::consts::PI)
 }
 
 /// Distance from `p` to the segment `a`-`b` [m].
@@ -246,6 +279,33 @@ mod tests {
             .unwrap_err();
             assert!(e.contains("lighting.contact_shadow"), "{e}");
         }
+    }
+
+    #[test]
+    fn a_thin_leg_darkens_less_than_a_long_face_at_the_same_distance() {
+        let cs = ContactShadow {
+            strength: 0.5,
+            length_m: 0.04,
+        };
+        let square = |x0: f64, x1: f64, y0: f64, y1: f64| {
+            vec![
+                Point2::new(x0, y0),
+                Point2::new(x1, y0),
+                Point2::new(x1, y1),
+                Point2::new(x0, y1),
+            ]
+        };
+        let wall = square(0.0, 0.1, -5.0, 5.0);
+        let leg = square(0.0, 0.025, 0.0, 0.025);
+        let p = Point2::new(-0.02, 0.0125);
+        // beside a 10 m face the span is within a few thousandths of pi: the long-face factor
+        assert!((cs.factor_of(p, &wall) - cs.factor(0.02)).abs() < 1e-3);
+        // beside a 2.5 cm leg, 2 cm away: span 2 atan(1.25 / 2) = 64 degrees
+        let span = 2.0 * (0.0125f64 / 0.02).atan();
+        let want = 1.0 - (1.0 - cs.factor(0.02)) * span / std::f64::consts::PI;
+        assert!((cs.factor_of(p, &leg) - want).abs() < 1e-12);
+        assert!(cs.factor_of(p, &leg) > cs.factor_of(p, &wall) + 0.05);
+        assert_eq!(cs.factor_of(Point2::new(-0.5, 0.0), &leg), 1.0);
     }
 
     #[test]

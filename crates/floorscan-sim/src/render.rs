@@ -589,8 +589,9 @@ mod tests {
     #[test]
     fn contact_shadows_darken_the_floor_by_the_factor_of_its_distance_to_the_foot() {
         // Each floor pixel's radiance, with shadows over without, against the model's factor
-        // at the exact distance from its floor point (pixel_to_ground) to the box's footprint.
+        // at its exact floor point (pixel_to_ground): distance to, and span of, the box's footprint.
         use crate::contact_shadow::ContactShadow;
+        use floorscan_core::Point2;
         let cam = Camera {
             imaging: Imaging::ideal(),
             ..Default::default()
@@ -608,6 +609,12 @@ mod tests {
             strength: 0.5,
             length_m: 0.04,
         };
+        let footprint = [
+            Point2::new(1.5, -1.0),
+            Point2::new(2.5, -1.0),
+            Point2::new(2.5, 1.0),
+            Point2::new(1.5, 1.0),
+        ];
         let (mut near, mut far) = (0, 0);
         for v in 0..cam.height {
             for u in 0..cam.width {
@@ -626,7 +633,7 @@ mod tests {
                     assert_eq!(ratio, 1.0, "pixel ({u}, {v}) {d} m away");
                     far += 1;
                 } else {
-                    let want = model.factor(d);
+                    let want = model.factor_of(p, &footprint);
                     assert!(
                         (ratio - want).abs() < 0.02,
                         "({u}, {v}) d {d}: {ratio} vs {want}"
