@@ -13,7 +13,8 @@
 //! (the tests check every column of random images against it, for every kernel).
 
 use crate::edge::{
-    direct_response_at, next_response, refine_crossing, sharpest_step, threshold_to_sum, Refinement,
+    direct_response_at, next_response, ramp_above, refine_crossing, sharpest_step,
+    threshold_to_sum, Refinement, RAMP_ROWS_PER_HALF_WIDTH,
 };
 use crate::error::{Error, Result};
 use crate::ground_table::GroundTable;
@@ -828,11 +829,10 @@ impl VisualRanger {
             return self.resolve_with(j, k_cross, height, |_| 0, |_| 0);
         }
         // The refinement asks for S(k) with k in k_cross - 1 ..= min(k_cross + d + 1, k_max),
-        // and the step refinement for pixels inside those windows; those read the pixels
-        // base ..= top (k_cross > lo >= d, so base >= 0).
-        let k_max = height - 1 - d;
+        // and the step refinement for pixels inside those windows and up a ramp above them
+        // (`ramp_top`); those read the pixels base ..= top (k_cross > lo >= d, so base >= 0).
         let base = k_cross - 1 - d;
-        let top = (k_cross + d + 1).min(k_max) + d;
+        let top = ramp_top(k_cross, d, height);
         const SEGMENT: usize = 64;
         if top - base + 2 > SEGMENT {
             return self.resolve_with(
@@ -867,7 +867,7 @@ impl VisualRanger {
         k_cross: usize,
         height: usize,
         mut response: impl FnMut(usize) -> i32,
-        pixel: impl FnMut(usize) -> i32,
+        mut pixel: impl FnMut(usize) -> i32,
     ) -> ColumnOutcome {
         let plan = &self.plans[j];
         let (lo, hi) = plan.window.unwrap();
@@ -883,14 +883,10 @@ impl VisualRanger {
             Refinement::Step => {
                 let sign = if response(k_cross) >= 0 { 1 } else { -1 };
                 let peak = refine_crossing(Refinement::SubPixel, k_cross, d, lo, k_max, response);
-                sharpest_step(
-                    peak.k,
-                    sign,
-                    d as f64 / 2.0,
-                    k_cross - 1 - d,
-                    (k_cross + d + 1).min(k_max) + d,
-                    pixel,
-                )
+                let (radius, top) = (d as f64 / 2.0, ramp_top(k_cross, d, height));
+                let cap = RAMP_ROWS_PER_HALF_WIDTH * d;
+                let above = ramp_above(peak.k, radius, sign, cap, top, &mut pixel);
+                sharpest_step(peak.k, sign, radius, above, k_cross - 1 - d, top, pixel)
             }
             r => refine_crossing(r, k_cross, d, lo, k_max, response).k,
         };
@@ -914,6 +910,14 @@ impl VisualRanger {
             None => ColumnOutcome::Invalid { row: Some(row) },
         }
     }
+}
+
+/// The highest pixel (from the bottom) the step refinement of a crossing at `k_cross` reads:
+/// the box filter's windows around the crossing, then a ramp of up to
+/// `RAMP_ROWS_PER_HALF_WIDTH` x d rows above them (`edge::ramp_above`), within the image.
+pub(crate) fn ramp_top(k_cross: usize, d: usize, height: usize) -> usize {
+    let k_max = height - 1 - d;
+    ((k_cross + d + 1).min(k_max) + d + RAMP_ROWS_PER_HALF_WIDTH * d + 2).min(height - 1)
 }
 
 /// Rows of the byte ring: at least the 2d + 2 a row step reads, a power of two (slot = k & mask).

@@ -181,8 +181,19 @@ fn brute_force(
                             let p =
                                 refine_crossing(Refinement::SubPixel, k, d, lo, k_max, response);
                             let sign = if response(k) >= 0 { 1 } else { -1 };
-                            let top = (k + d + 1).min(k_max) + d;
-                            sharpest_step(p.k, sign, d as f64 / 2.0, k - 1 - d, top, |j| column[j])
+                            // the ramp followed up to 4d rows above the window, by brute force
+                            let top = ((k + d + 1).min(k_max) + d + 4 * d + 2).min(height - 1);
+                            let start = (p.k + d as f64 / 2.0 - 0.5).floor() as usize;
+                            let mut above = 0;
+                            while above < 4 * d
+                                && start + above + 2 <= top
+                                && sign * (column[start + above + 2] - column[start + above]) > 0
+                            {
+                                above += 1;
+                            }
+                            sharpest_step(p.k, sign, d as f64 / 2.0, above, k - 1 - d, top, |j| {
+                                column[j]
+                            })
                         }
                         r => refine_crossing(r, k, d, lo, k_max, response).k,
                     };
@@ -1038,6 +1049,77 @@ fn step_refinement_lands_on_the_base_not_the_start_of_a_soft_contact_shadow() {
         "{}",
         row(Refinement::SubPixel)
     );
+}
+
+#[test]
+fn step_refinement_follows_a_long_contact_shadow_to_the_base() {
+    // A contact shadow longer than the filter's window: the floor (100) darkens as
+    // 100 (1 - 0.5 exp(-r / 5)) at r rows below the base (edge line 59.5), ever faster towards
+    // it, so the box filter crosses where the shadow starts, rows below the base. Above the
+    // base, a dark (40) or a bright (150) obstacle. The step refinement follows the ramp up
+    // and lands on the base (the parabola through the steps moves it by 0.2 rows; with the
+    // bright obstacle the sharpest darkening step is the shadow's last, between the two floor
+    // pixels below the brightening base, and the parabola leans further down: 1.5 rows).
+    let (w, h) = (8, 100);
+    for (obstacle, tolerance) in [(40.0, 0.25), (150.0, 1.6)] {
+        let img: Vec<u8> = (0..h)
+            .flat_map(|v| {
+                let value = if v >= 60 {
+                    let r = v as f64 - 59.5;
+                    100.0 * (1.0 - 0.5 * (-r / 5.0).exp())
+                } else {
+                    obstacle
+                };
+                std::iter::repeat_n(value.round() as u8, w)
+            })
+            .collect();
+        let row = |refinement| {
+            let mut r = VisualRanger::new(
+                table(w, h, 0.0),
+                options(4, 3.0, refinement, ColumnSelection::Count(1)),
+            )
+            .unwrap();
+            let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+            assert_eq!(scan.readings[0].status(), ColumnStatus::Boundary);
+            scan.readings[0].row()
+        };
+        let (step, sub) = (row(Refinement::Step), row(Refinement::SubPixel));
+        assert!(
+            sub > 63.0,
+            "obstacle {obstacle}: the filter's peak {sub} is on the shadow"
+        );
+        assert!(
+            (step - 59.5).abs() <= tolerance,
+            "obstacle {obstacle}: {step}"
+        );
+    }
+}
+
+#[test]
+fn the_step_refinement_does_not_climb_past_a_sharp_base() {
+    // A sharp base (floor 100, obstacle 40 above row 60) with a second, stronger darkening 6
+    // rows up the obstacle (to 0): the column stops darkening right above the base, so the
+    // refinement stays on it.
+    let (w, h) = (8, 100);
+    let img: Vec<u8> = (0..h)
+        .flat_map(|v| {
+            let value = if v >= 60 {
+                100
+            } else if v >= 54 {
+                40
+            } else {
+                0
+            };
+            std::iter::repeat_n(value as u8, w)
+        })
+        .collect();
+    let mut r = VisualRanger::new(
+        table(w, h, 0.0),
+        options(4, 10.0, Refinement::Step, ColumnSelection::Count(1)),
+    )
+    .unwrap();
+    let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+    assert_eq!(scan.readings[0].row(), 59.5);
 }
 
 #[test]
