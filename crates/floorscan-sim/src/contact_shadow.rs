@@ -19,7 +19,6 @@ use floorscan_core::Point2;
 use serde::{Deserialize, Serialize};
 
 use crate::geometry::Aabb;
-use crate::world::World;
 
 /// The shadow ends at this many `length_m` from the footprint.
 pub const REACH: f64 = 5.0;
@@ -28,7 +27,7 @@ pub const MAX_CELLS: usize = 8 << 20;
 /// Most cell evaluations while building (a bound on the build time).
 pub const MAX_EVALUATIONS: f64 = 2.0e8;
 /// Solids whose base is at most this high [m] stand on the floor.
-const STANDING_BASE_M: f64 = 1e-3;
+pub const STANDING_BASE_M: f64 = 1e-3;
 
 /// `[lighting] contact_shadow = { strength = 0.5, length_m = 0.04 }` in a world file.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -106,24 +105,16 @@ pub struct ShadowMap {
 }
 
 impl ShadowMap {
-    /// The world's contact shadows, or None when they are off or nothing stands on the floor.
-    pub fn new(world: &World) -> Option<ShadowMap> {
-        let cs = world.lighting.contact_shadow;
-        if cs.strength == 0.0 {
-            return None;
-        }
-        let standing: Vec<&[Point2]> = world
-            .solids
-            .iter()
-            .filter(|s| s.base_m <= STANDING_BASE_M)
-            .map(|s| s.polygon.as_slice())
-            .collect();
-        if standing.is_empty() {
+    /// The contact shadows `cs` of the solids standing on the floor, given by their
+    /// footprints `standing` (convex polygons [m]; [`STANDING_BASE_M`]: which solids
+    /// stand), or None when they are off or nothing stands.
+    pub fn new(cs: ContactShadow, standing: &[&[Point2]]) -> Option<ShadowMap> {
+        if cs.strength == 0.0 || standing.is_empty() {
             return None;
         }
         let reach = REACH * cs.length_m;
         let mut bounds = Aabb::EMPTY;
-        for poly in &standing {
+        for poly in standing {
             bounds = bounds.union(Aabb::of_points(poly));
         }
         let (w, h) = (
@@ -153,7 +144,7 @@ impl ShadowMap {
         let origin = Point2::new(bounds.min.x - reach - cell, bounds.min.y - reach - cell);
         // per solid, its shadow over its bounds grown by the reach; the darkest decides
         let mut values = vec![1.0f32; nx * ny];
-        for poly in &standing {
+        for poly in standing {
             let bb = Aabb::of_points(poly);
             let i0 = (((bb.min.x - reach - origin.x) / cell).floor().max(0.0)) as usize;
             let i1 = (((bb.max.x + reach - origin.x) / cell).ceil() as usize).min(nx - 1);

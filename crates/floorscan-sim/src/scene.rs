@@ -5,7 +5,7 @@ use floorscan_core::Point2;
 
 use crate::cell_memo::CellMemo;
 use crate::clearance::{SectorClear, NO_SOLID};
-use crate::contact_shadow::ShadowMap;
+use crate::contact_shadow::{ShadowMap, STANDING_BASE_M};
 use crate::geometry::{point_in_polygon, ray_segment, Aabb};
 use crate::grid_index::{segment_cells, segment_meets_box, CellLists, CellWalk, GridShape};
 use crate::lightmap::LightMap;
@@ -359,7 +359,11 @@ impl Scene {
             max: Point2::new(bounds.max.x + 4.0, bounds.max.y + 4.0),
         };
         let light = LightMap::new(&world.lighting, lit, b);
-        let shadow = ShadowMap::new(&world);
+        let standing: Vec<&[Point2]> = (world.solids.iter())
+            .filter(|s| s.base_m <= STANDING_BASE_M)
+            .map(|s| s.polygon.as_slice())
+            .collect();
+        let shadow = ShadowMap::new(world.lighting.contact_shadow, &standing);
         let regions = CellLists::build(shape.cell_count(), &region_pairs);
         let cell_covering = (0..shape.cell_count())
             .map(|cell| uniform_covering(&world, &shape, &regions, cell))
