@@ -461,11 +461,7 @@ mod tests {
     fn labels_switch_exactly_where_the_exact_mapping_crosses_a_covering_edge() {
         // Paper covers the floor beyond x = 1.2 m (camera ground frame): a pixel sees paper
         // exactly when pixel_to_ground says its floor point lies beyond that line.
-        let cam = Camera {
-            imaging: Imaging::ideal(),
-            ..Default::default()
-        };
-        let pose = crate::calibration::robot_pose(&cam);
+        let (cam, pose) = ideal_camera_at_origin();
         let scene = Scene::new(
             parse_world("name = \"p\"\n[start]\nx = 0\ny = 0\n[[regions]]\ncovering = \"paper\"\nrect = [1.2, -1000, 1000, 1000]\n", "p")
                 .unwrap(),
@@ -536,6 +532,33 @@ mod tests {
         }
     }
 
+    /// Renders the view with the row batches of texture noise (the portable kernel and the
+    /// one this CPU dispatches to) and pixel by pixel, asserts the same radiance bits, image
+    /// bytes and labels, and returns the per-pixel render.
+    fn lanes_match_per_pixel(
+        scene: &Scene,
+        rays: &CameraRays,
+        pose: Pose2,
+        frame: u64,
+        what: &str,
+    ) -> RenderBuffers {
+        let render = |shading| {
+            let mut buf = RenderBuffers::default();
+            render_with(scene, rays, pose, 3, frame, &mut buf, shading).unwrap();
+            buf
+        };
+        let want = render(Shading::PerPixel);
+        let bits =
+            |b: &RenderBuffers| -> Vec<u32> { b.radiance.iter().map(|r| r.to_bits()).collect() };
+        for kernel in [NoiseKernel::Portable, NoiseKernel::detect()] {
+            let got = render(Shading::Lanes(kernel));
+            assert_eq!(bits(&got), bits(&want), "{what} {kernel:?}");
+            assert_eq!(got.image, want.image, "{what} {kernel:?}");
+            assert_eq!(got.labels, want.labels, "{what} {kernel:?}");
+        }
+        want
+    }
+
     #[test]
     fn lanes_render_exactly_as_per_pixel_shading_in_every_builtin_world() {
         // The row batches of texture noise (the AVX2 lanes where the CPU has them, and the
@@ -555,24 +578,21 @@ mod tests {
                         b.min.y + (b.max.y - b.min.y) * rng.uniform(),
                         std::f64::consts::TAU * rng.uniform(),
                     );
-                    let render = |shading| {
-                        let mut buf = RenderBuffers::default();
-                        render_with(&scene, &rays, pose, 3, i, &mut buf, shading).unwrap();
-                        buf
-                    };
-                    let want = render(Shading::PerPixel);
-                    for kernel in [NoiseKernel::Portable, NoiseKernel::detect()] {
-                        let got = render(Shading::Lanes(kernel));
-                        let bits = |b: &RenderBuffers| -> Vec<u32> {
-                            b.radiance.iter().map(|r| r.to_bits()).collect()
-                        };
-                        assert_eq!(bits(&got), bits(&want), "{name} {kernel:?} {pose:?}");
-                        assert_eq!(got.image, want.image, "{name} {kernel:?}");
-                        assert_eq!(got.labels, want.labels, "{name} {kernel:?}");
-                    }
+                    lanes_match_per_pixel(&scene, &rays, pose, i, &format!("{name} {pose:?}"));
                 }
             }
         }
+    }
+
+    /// The default camera without imaging effects, and the robot pose that puts its ground
+    /// frame at the world's origin (so world points are pixel_to_ground's).
+    fn ideal_camera_at_origin() -> (Camera, Pose2) {
+        let cam = Camera {
+            imaging: Imaging::ideal(),
+            ..Default::default()
+        };
+        let pose = crate::calibration::robot_pose(&cam);
+        (cam, pose)
     }
 
     /// A 1 x 2 m box 1.5 m ahead of the camera (its ground frame), with contact shadows of
@@ -592,11 +612,7 @@ mod tests {
         // at its exact floor point (pixel_to_ground): distance to, and span of, the box's footprint.
         use crate::contact_shadow::ContactShadow;
         use floorscan_core::Point2;
-        let cam = Camera {
-            imaging: Imaging::ideal(),
-            ..Default::default()
-        };
-        let pose = crate::calibration::robot_pose(&cam);
+        let (cam, pose) = ideal_camera_at_origin();
         let rays = CameraRays::new(cam.clone()).unwrap();
         let render = |scene: &Scene| {
             let mut buf = RenderBuffers::default();
@@ -654,20 +670,7 @@ mod tests {
         let scene = box_scene(0.6);
         let rays = CameraRays::new(Camera::wide_angle(96, 72)).unwrap();
         let pose = Pose2::new(0.2, 0.1, 0.05);
-        let render = |shading| {
-            let mut buf = RenderBuffers::default();
-            render_with(&scene, &rays, pose, 3, 0, &mut buf, shading).unwrap();
-            buf
-        };
-        let want = render(Shading::PerPixel);
-        for kernel in [NoiseKernel::Portable, NoiseKernel::detect()] {
-            let got = render(Shading::Lanes(kernel));
-            let bits = |b: &RenderBuffers| -> Vec<u32> {
-                b.radiance.iter().map(|r| r.to_bits()).collect()
-            };
-            assert_eq!(bits(&got), bits(&want), "{kernel:?}");
-            assert_eq!(got.image, want.image, "{kernel:?}");
-        }
+        let want = lanes_match_per_pixel(&scene, &rays, pose, 0, "shadowed box");
         // the view holds shadowed floor
         let mut unshadowed = RenderBuffers::default();
         let lit = box_scene(0.0);
