@@ -59,18 +59,33 @@ def _prepare(target: Path) -> None:
 def deferred_signals() -> Iterator[None]:
     """Holds SIGINT, SIGTERM and SIGHUP back (they are delivered when the block ends), so that
     creating a temporary file and recording its name happen together: a signal can then never
-    leave a temporary file that no cleanup knows about. Main thread only; elsewhere a no-op."""
+    leave a temporary file that no cleanup knows about. Both kinds of pending signal are held:
+    those the kernel has not delivered yet (masked) and those it has, whose Python handler
+    would otherwise run at any bytecode inside the block (a recording handler stands in for
+    the block's length). Main thread only; elsewhere a no-op."""
     if threading.current_thread() is not threading.main_thread() or not hasattr(
         signal, "pthread_sigmask"
     ):
         yield
         return
-    held = {s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)) if s}
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    held = [s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)) if s]
+    previous_mask = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    handlers = {s: signal.getsignal(s) for s in held}
+    caught: list = []
     try:
+        for s in held:
+            signal.signal(s, lambda signum, _frame: caught.append(signum))
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        for s, h in handlers.items():
+            signal.signal(s, h if h is not None else signal.SIG_DFL)
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous_mask)
+        for signum in caught:  # delivered now, to the handlers of before the block
+            h = handlers[signum]
+            if callable(h):
+                h(signum, None)
+            elif h != signal.SIG_IGN:
+                signal.raise_signal(signum)
 
 
 def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix: str = "") -> Path:
@@ -81,24 +96,25 @@ def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix:
     _prepare(target)
     tmp = None
     try:
+        # created and named with signals held: a signal held back is delivered as the block
+        # ends, inside this try, so the temporary file goes with it
         with deferred_signals():
             fd, tmp = tempfile.mkstemp(
                 prefix=f".{target.name[:200]}.", suffix=suffix or ".tmp", dir=target.parent
             )
-    except OSError as e:
-        raise output_error(target, e) from None
-    try:
-        _make_readable(tmp)
-        with os.fdopen(fd, "wb") as f:
+            f = os.fdopen(fd, "wb")
+        with f:
+            _make_readable(tmp)
             write(f)
             f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, target)
     except BaseException as e:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
+        if tmp is not None:
+            try:
+                os.unlink(tmp)
+            except FileNotFoundError:
+                pass
         if isinstance(e, OSError) and not isinstance(e, OutputError):
             raise output_error(target, e) from None
         raise
