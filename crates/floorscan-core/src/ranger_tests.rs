@@ -1097,18 +1097,18 @@ fn step_refinement_follows_a_long_contact_shadow_to_the_base() {
 
 #[test]
 fn the_step_refinement_does_not_climb_past_a_sharp_base() {
-    // A sharp base (floor 100, obstacle 40 above row 60) with a second, stronger darkening 6
-    // rows up the obstacle (to 0): the column stops darkening right above the base, so the
-    // refinement stays on it.
+    // A sharp base (floor 200, obstacle 150 above row 60: a 50-level step) with a second,
+    // stronger darkening 6 rows up the obstacle (to 30: 120 levels), inside the ramp's reach:
+    // the column stops darkening right above the base, so the refinement stays on it.
     let (w, h) = (8, 100);
     let img: Vec<u8> = (0..h)
         .flat_map(|v| {
             let value = if v >= 60 {
-                100
+                200
             } else if v >= 54 {
-                40
+                150
             } else {
-                0
+                30
             };
             std::iter::repeat_n(value as u8, w)
         })

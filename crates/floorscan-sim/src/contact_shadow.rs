@@ -122,8 +122,8 @@ impl ShadowMap {
             bounds.max.y - bounds.min.y + 2.0 * reach,
         );
         // A third of the shadow's length per cell, no finer than 5 mm; coarser while the
-        // raster or the band's evaluations would exceed their bounds.
-        // work per cell: one pass over the footprint's vertices
+        // raster or the evaluations (per cell of a solid's grown bounds, a pass over its
+        // vertices) would exceed their bounds.
         let work: f64 = standing
             .iter()
             .map(|p| {
@@ -187,11 +187,6 @@ impl ShadowMap {
         let top = t0 + (t1 - t0) * fx;
         let bottom = b0 + (b1 - b0) * fx;
         top + (bottom - top) * fy
-    }
-
-    /// Bytes held by the raster.
-    pub fn memory_bytes(&self) -> usize {
-        self.values.len() * std::mem::size_of::<f32>()
     }
 }
 
