@@ -261,3 +261,68 @@ def test_without_fusion_the_match_is_kept_as_it_is():
     b.insert(_room_scan(truth), truth)
     prior = (1.55, 1.15, 0.33)
     assert a.correct(_room_scan(truth), prior).pose == b.match(_room_scan(truth), prior).pose
+
+
+def _fuse_once(threshold, offset, information, covariance):
+    """One fusion of a match ``offset`` (dx, dy, dyaw) from the prediction (0, 0, 0), with
+    the given match information (3, 3) and prediction covariance (3, 3)."""
+    from floorscan.drive.scan_matcher import MatchResult
+
+    m = ScanMatcher(ScanMatcherOptions(rejection_threshold=threshold, calibrate_odometry=False))
+    cov = [[0.0] * 5 for _ in range(5)]
+    for r in range(3):
+        for c in range(3):
+            cov[r][c] = float(covariance[r][c])
+    m._covariance = cov
+    m._last = (0.0, 0.0, 0.0)
+    found = MatchResult(tuple(float(v) for v in offset), 0.9, True, 100)
+    return m, m.fuse(found, (0.0, 0.0, 0.0), np.asarray(information, np.float64))
+
+
+def test_the_innovation_distance_is_the_mahalanobis_distance_of_the_match():
+    """With a full-rank match, the distance the gate compares is sqrt(z^T (P + J^-1)^-1 z),
+    computed here directly with numpy's inverse."""
+    rng = np.random.default_rng(4)
+    for _ in range(20):
+        a = rng.normal(size=(3, 3))
+        p = a @ a.T * 1e-3 + np.diag([1e-4, 1e-4, 1e-5])
+        b = rng.normal(size=(3, 3))
+        j = b @ b.T * 1e3 + np.eye(3) * 10.0
+        z = rng.normal(size=3) * 0.05
+        m, _ = _fuse_once(math.inf, z, j, p)
+        expected = math.sqrt(z @ np.linalg.inv(p + np.linalg.inv(j)) @ z)
+        assert m.last_mahalanobis == pytest.approx(expected, rel=1e-3)  # fuse floors P by 1e-8
+
+
+def test_a_match_beyond_the_gate_is_refused_and_one_within_it_fused():
+    """A match 10 sigma from the prediction is refused with a gate of 3 (the pose and the
+    covariance stay the prediction's) and fused without a gate; one 1 sigma away passes."""
+    p = np.diag([0.01**2, 0.01**2, 0.005**2])
+    j = np.diag([1 / 0.01**2, 1 / 0.01**2, 1 / 0.005**2])
+    sigma = math.sqrt(0.01**2 + 0.01**2)  # of x: the prediction's and the match's
+    far = (10 * sigma, 0.0, 0.0)
+    m, r = _fuse_once(3.0, far, j, p)
+    assert not r.accepted and r.pose == (0.0, 0.0, 0.0)
+    assert np.allclose(np.asarray(m._covariance)[:3, :3], p)
+    assert m.last_mahalanobis == pytest.approx(10.0, rel=1e-3)
+    _, r = _fuse_once(math.inf, far, j, p)
+    assert r.accepted and r.pose[0] == pytest.approx(5 * sigma, rel=1e-3)  # halfway
+    _, r = _fuse_once(3.0, (sigma, 0.0, 0.0), j, p)
+    assert r.accepted
+
+
+def test_the_gate_ignores_what_the_match_cannot_see():
+    """A lone wall informs across it only (y): an innovation along it (x), however large, is
+    not a disagreement, so the gate passes it."""
+    p = np.diag([0.01**2, 0.01**2, 0.005**2])
+    j = np.diag([0.0, 1 / 0.01**2, 0.0])
+    m, r = _fuse_once(3.0, (0.5, 0.0, 0.0), j, p)
+    assert r.accepted and m.last_mahalanobis == pytest.approx(0.0, abs=1e-9)
+    m, r = _fuse_once(3.0, (0.0, 0.1, 0.0), j, p)
+    assert not r.accepted
+
+
+@pytest.mark.parametrize("value", [0.0, -1.0, float("nan")])
+def test_the_rejection_threshold_is_validated(value):
+    with pytest.raises(OptionError):
+        ScanMatcherOptions(rejection_threshold=value)
