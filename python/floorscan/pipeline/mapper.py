@@ -218,6 +218,18 @@ def run(
 
 def _frame_loop(source, mapper, outputs, stats, shape, stop, strict, progress) -> None:
     frames = iter(source)
+    try:
+        _frames_until_stop(frames, source, mapper, outputs, stats, shape, stop, strict, progress)
+    finally:
+        # closed here, inside the loop's signal handling, not when the garbage collector
+        # finalises it: a second signal during its clean-up then stops the run as it should,
+        # where in a finaliser it was printed as an ignored exception
+        close = getattr(frames, "close", None)
+        if close is not None:
+            close()
+
+
+def _frames_until_stop(frames, source, mapper, outputs, stats, shape, stop, strict, progress):
     while not stop.requested:
         t_dec = time.perf_counter()
         frame = next(frames, None)
