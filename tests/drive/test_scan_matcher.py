@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from floorscan.drive.scan_matcher import ScanMatcher, ScanMatcherOptions
+from floorscan.drive.scan_matcher import MatchResult, ScanMatcher, ScanMatcherOptions
 from floorscan.errors import OptionError
 
 
@@ -266,8 +266,6 @@ def test_without_fusion_the_match_is_kept_as_it_is():
 def _fuse_once(threshold, offset, information, covariance):
     """One fusion of a match ``offset`` (dx, dy, dyaw) from the prediction (0, 0, 0), with
     the given match information (3, 3) and prediction covariance (3, 3)."""
-    from floorscan.drive.scan_matcher import MatchResult
-
     m = ScanMatcher(ScanMatcherOptions(rejection_threshold=threshold, calibrate_odometry=False))
     cov = [[0.0] * 5 for _ in range(5)]
     for r in range(3):

@@ -185,14 +185,14 @@ class ScanMatcherOptions:
             "calibration_drift": 0 <= self.calibration_drift <= 0.1,
             "odometry_wheel_sigma": 0 <= self.odometry_wheel_sigma <= 1,
             "odometry_wheelbase_m": 0 < self.odometry_wheelbase_m <= 5,
-            "rejection_threshold": float(self.rejection_threshold) > 0,
         }
         for name, ok in checks.items():
-            finite = math.isfinite(float(getattr(self, name)))
-            if name == "rejection_threshold":
-                finite = not math.isnan(float(self.rejection_threshold))
-            if not (ok and finite):
+            if not (ok and math.isfinite(float(getattr(self, name)))):
                 raise OptionError(f"invalid option `{name}`: got {getattr(self, name)!r}")
+        if not float(self.rejection_threshold) > 0:  # inf (no gate) passes, NaN does not
+            raise OptionError(
+                f"invalid option `rejection_threshold`: got {self.rejection_threshold!r}"
+            )
         if (self.size_m / self.cell_size_m) ** 2 > 64e6:
             raise OptionError("invalid options: size_m / cell_size_m gives over 64 M cells")
 
