@@ -228,3 +228,38 @@ def test_a_burst_as_the_overlay_starts_leaves_no_temporary_file(dataset, tmp_pat
         assert "Traceback" not in err
         if out.exists():
             assert temp_files(out) == [], f"attempt {i}"
+
+
+SLOW_IMPORT = """
+import signal, time
+signal.raise_signal(signal.SIGTERM)
+for _ in range({sleeps}):
+    time.sleep(0.01)
+FINISHED = True
+"""
+
+
+@pytest.mark.parametrize("sleeps", [0, 10], ids=["block-ends-at-once", "import-takes-100ms"])
+def test_a_signal_during_an_import_stops_the_command_once_the_import_has_finished(
+    tmp_path, monkeypatch, sleeps
+):
+    """A signal inside an import (the commands import OpenCV and matplotlib on first use) is
+    raised after it: raised inside a C extension's initialisation it left pybind11's module
+    half set up ("ImportError: initialization failed") and crashed the interpreter's shutdown.
+    Whether the block goes on (the signal arrives at its next line) or ends at once, it stops."""
+    from floorscan._signals import Interrupted, handle_signals
+
+    name = f"slow_import_for_signal_test_{sleeps}"
+    (tmp_path / f"{name}.py").write_text(SLOW_IMPORT.format(sleeps=sleeps))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    went_on = []
+    with pytest.raises(Interrupted) as raised:
+        with handle_signals():
+            __import__(name)
+            went_on.append(True)
+            if sleeps:
+                time.sleep(5.0)  # the held signal ends this wait
+    assert sys.modules[name].FINISHED  # the import was not interrupted
+    assert raised.value.signum == signal.SIGTERM
+    assert went_on == [True]
+    monkeypatch.delitem(sys.modules, name)

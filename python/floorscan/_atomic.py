@@ -57,7 +57,7 @@ def _prepare(target: Path) -> None:
 
 @contextlib.contextmanager
 def deferred_signals() -> Iterator[None]:
-    """Holds SIGINT, SIGTERM and SIGHUP back (they are delivered when the block ends), so that
+    """Holds SIGINT, SIGTERM, SIGHUP (and SIGALRM) back (they are delivered when the block ends), so that
     creating a temporary file and recording its name happen together: a signal can then never
     leave a temporary file that no cleanup knows about. Both kinds of pending signal are held:
     those the kernel has not delivered yet (masked) and those it has, whose Python handler
@@ -68,7 +68,9 @@ def deferred_signals() -> Iterator[None]:
     ):
         yield
         return
-    held = [s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)) if s]
+    # SIGALRM too: it carries a stop signal held back until an import had finished (_signals)
+    names = ("SIGINT", "SIGTERM", "SIGHUP", "SIGALRM")
+    held = [getattr(signal, n) for n in names if hasattr(signal, n)]
     previous_mask = signal.pthread_sigmask(signal.SIG_BLOCK, held)
     handlers = {s: signal.getsignal(s) for s in held}
     caught: list = []

@@ -9,6 +9,12 @@
   each writer removing its temporary file.
 
 Handlers are only installed in the main thread (Python delivers signals there only).
+
+A signal that arrives while a module is being imported (the commands import OpenCV and
+matplotlib on first use) is raised once the import has finished, not inside it: an exception
+raised inside a C extension's initialisation (pybind11's, for instance) leaves the extension
+half set up, reports it as ``ImportError: initialization failed`` and can crash the interpreter
+as it shuts down. The signal is re-checked every 20 ms through ``SIGALRM``.
 """
 
 from __future__ import annotations
@@ -66,10 +72,55 @@ def _handlers(handler) -> Iterator[None]:
     finally:
         for s, h in previous.items():
             signal.signal(s, h)
+        held = _cancel_recheck()
+    if held is not None:  # the block ended within an import's last 20 ms: stop all the same
+        raise Interrupted(held)
 
 
-def _raise(signum, _frame) -> None:
-    raise Interrupted(signum)
+_IMPORT_FRAMES = ("<frozen importlib._bootstrap", "<frozen importlib._bootstrap_external")
+_RECHECK_S = 0.02
+
+
+def _importing(frame) -> bool:
+    """Whether ``frame`` (the one a signal handler interrupted) runs inside an import."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith(_IMPORT_FRAMES):
+            return True
+        frame = frame.f_back
+    return False
+
+
+_PENDING: Optional[int] = None
+"""A signal held until the import in progress finishes."""
+
+
+def _raise_after_imports(signum: int, frame) -> None:
+    """Raises :class:`Interrupted` now, or once the import in progress has finished."""
+    global _PENDING
+    if not _importing(frame) or not hasattr(signal, "setitimer"):
+        _PENDING = None
+        raise Interrupted(signum)
+    _PENDING = int(signum)
+
+    def recheck(_alarm, later_frame) -> None:
+        _raise_after_imports(signum, later_frame)
+
+    signal.signal(signal.SIGALRM, recheck)
+    signal.setitimer(signal.ITIMER_REAL, _RECHECK_S)
+
+
+def _cancel_recheck() -> Optional[int]:
+    """Stops the re-check; returns the signal still held, if one is."""
+    global _PENDING
+    if hasattr(signal, "setitimer"):
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, signal.SIG_DFL)
+    pending, _PENDING = _PENDING, None
+    return pending
+
+
+def _raise(signum, frame) -> None:
+    _raise_after_imports(signum, frame)
 
 
 def ignore_stop_signals() -> None:
@@ -100,7 +151,8 @@ class StopRequest:
     def _on_signal(self, signum, _frame) -> None:
         if self._in_loop:
             if self.signum is not None:
-                raise Interrupted(signum)  # second signal: stop reading at once
+                _raise_after_imports(signum, _frame)  # second signal: stop reading at once
+                return
             self.signum = int(signum)
             return
         # Past the loop: the outputs are being written. Note the first signal; abandon the
@@ -110,7 +162,8 @@ class StopRequest:
         if self._after_loop >= 2:
             global _ABANDONED
             _ABANDONED = int(signum)
-            raise Interrupted(signum)
+            _raise_after_imports(signum, _frame)
+            return
         print(
             "floorscan: saving the outputs (signal once more to abandon the rest)",
             file=sys.stderr,

@@ -13,7 +13,6 @@ from .._atomic import write_atomic
 from ..errors import OptionError
 from ..evaluation.calibration_error import table_for_dataset
 from ..evaluation.case import read_truth_columns
-from ..evaluation.plot import plot_curves
 from ..evaluation.tune import (
     AUTO_K,
     FIXED_THRESHOLD,
@@ -168,6 +167,8 @@ def run(args: argparse.Namespace) -> int:
     )
     tuned.save(out)
     plot = Path(args.plot) if args.plot else out.with_name("tune.png")
+    from ..evaluation.plot import plot_curves  # matplotlib: 0.4 s, only for this plot
+
     plot_curves(
         plot,
         result.thresholds,

@@ -19,7 +19,7 @@ from typing import Dict, Sequence, Tuple
 
 import numpy as np
 
-from .._atomic import PathLike, write_atomic_with
+from .._atomic import PathLike, deferred_signals, write_atomic_with
 from .._native import mapping as _native
 from ..errors import FileFormatError, OptionError, UnsupportedVersionError
 from ..options import defaults
@@ -110,7 +110,7 @@ class EvidenceMap:
             "recordings": np.array(list(self.recordings), dtype=str).reshape(-1),
             **{k: np.array(v, dtype=np.float64) for k, v in self.options.items()},
         }
-        return write_atomic_with(path, lambda f: np.savez(f, **arrays))
+        return write_atomic_with(path, lambda f: _savez_whole(f, arrays))
 
     @classmethod
     def load(cls, path: PathLike) -> EvidenceMap:
@@ -174,3 +174,12 @@ def merge_evidence(maps: Sequence[EvidenceMap]) -> EvidenceMap:
         [np.ascontiguousarray(m.values, dtype=np.int32) for m in nonempty],
     )
     return replace(first, values=values, origin_m=tuple(origin), recordings=names)
+
+
+def _savez_whole(f, arrays: Dict[str, np.ndarray]) -> None:
+    """``np.savez`` with stop signals held until it returns: interrupted half-way, it leaves
+    its ZipFile open with a writing handle, and the garbage collector's close of it prints an
+    ignored exception's traceback. A signal held here stops the write as it returns (the
+    temporary file is removed by :func:`write_atomic_with`)."""
+    with deferred_signals():
+        np.savez(f, **arrays)
