@@ -68,18 +68,6 @@ mod _native {
     #[allow(non_upper_case_globals)]
     const __version__: &str = env!("CARGO_PKG_VERSION");
 
-    /// Loads NumPy's C API while the package is imported. rust-numpy would load it on the
-    /// first array made, running Python code there, and panic if a signal's exception (a
-    /// Ctrl-C, a SIGTERM) interrupted that code: here the exception propagates as the import's.
-    #[pymodule_init]
-    fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
-        m.py().import("numpy")?;
-        errors::guard(|| {
-            numpy::PyArray1::<u8>::zeros(m.py(), 0, false);
-            Ok(())
-        })
-    }
-
     /// Ranging: ground tables, the edge and appearance rangers, scans.
     #[pymodule]
     mod ranging {
@@ -106,8 +94,17 @@ mod _native {
         #[pymodule_export]
         const SCAN_CSV_HEADER: &str = floorscan_core::scan::SCAN_CSV_HEADER;
 
+        /// Also loads NumPy's C API while the package is imported (the first submodule):
+        /// rust-numpy would load it on the first array made, running Python code there, and
+        /// panic if a signal's exception (a Ctrl-C, a SIGTERM) interrupted that code. Here the
+        /// exception propagates as the import's.
         #[pymodule_init]
         fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+            m.py().import("numpy")?;
+            errors::guard(|| {
+                numpy::PyArray1::<u8>::zeros(m.py(), 0, false);
+                Ok(())
+            })?;
             register_submodule(m, "ranging")
         }
     }
