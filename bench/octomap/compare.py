@@ -7,7 +7,8 @@ robot on a random walk in a 40 m square; (2) the real Freiburg 079 laser log (47
 once-per-scan rule at 4 cm cells, z = 0 for OctoMap and Bonxai. Each side is timed on its
 insert calls only (floorscan: one batch call per workload, GIL released; OctoMap: one
 insertPointCloud per scan; Bonxai: one ProbabilisticMap::insertPointCloud per scan), best of
-``--repeat`` runs.
+``--repeat`` runs. floorscan runs twice: with its default exact walk (OctoMap's cells) and with
+``ray_walk="thin"`` (one cell per step along the major axis: Bonxai's cells).
 
 Usage (from the repository root, after ``make dev``, ``make -C bench/octomap`` and
 ``make -C bench/bonxai BONXAI_DIR=...``; without the Bonxai binary its rows are left out):
@@ -75,8 +76,8 @@ def write_rays(path: Path, ranges, poses, angle_min, angle_increment) -> int:
     return rays
 
 
-def run_ours(ranges, poses, angle_min, angle_increment, range_max):
-    grid = floorscan.OccupancyGrid(cell_size_m=0.04)
+def run_ours(ranges, poses, angle_min, angle_increment, range_max, ray_walk="exact"):
+    grid = floorscan.OccupancyGrid(cell_size_m=0.04, ray_walk=ray_walk)
     t0 = time.perf_counter()
     stats = grid.insert_lasers(
         ranges,
@@ -164,6 +165,8 @@ def main(argv=None) -> int:
             runs = {
                 "octomap": partial(run_harness, [str(binary), str(rays_file), "0.04"]),
                 "floorscan": partial(run_ours, ranges, poses, amin, ainc, rmax),
+                # `[grid] ray_walk = "thin"`: Bonxai's and costmap_2d's cells (a Bresenham line)
+                "floorscan thin": partial(run_ours, ranges, poses, amin, ainc, rmax, "thin"),
             }
             if bonxai.is_file():
                 runs["bonxai"] = partial(
@@ -174,7 +177,9 @@ def main(argv=None) -> int:
             lines.append(row(name, "OctoMap 1.9.7", octo))
             if bonx is not None:
                 lines.append(row(name, "Bonxai", bonx))
+            thin = best["floorscan thin"]
             lines.append(row(name, "floorscan", ours))
+            lines.append(row(name, "floorscan, thin walk", thin))
             memory = (
                 f"floorscan {ours['bytes_per_cell']:.3f} B/cell, "
                 f"{ours['memory_bytes'] / 1e6:.1f} MB; "
@@ -190,6 +195,9 @@ def main(argv=None) -> int:
             )
             if bonx is not None:
                 lines.append(f"| | floorscan / Bonxai | | | **{ratio(ours, bonx):.1f}x** | | |")
+                lines.append(
+                    f"| | floorscan thin walk / Bonxai | | | **{ratio(thin, bonx):.1f}x** | | |"
+                )
                 lines.append(f"| | Bonxai / OctoMap | | | {ratio(bonx, octo):.1f}x | | |")
     print("\n".join(lines))
     return 0

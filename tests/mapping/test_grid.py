@@ -267,11 +267,42 @@ def test_fixed_bounds_clip_rays_and_refuse_poses_outside():
         (dict(visual=(0.5,)), "visual"),
         (dict(sonar=(0.5, 0.2)), "sonar"),
         (dict(too_close="maybe"), "too_close"),
+        (dict(ray_walk="bresenham"), "ray_walk"),
     ],
 )
 def test_options_are_validated_by_name(kwargs, name):
     with pytest.raises(OptionError, match=name):
         OccupancyGrid(**kwargs)
+
+
+@pytest.mark.parametrize("angle", [0.1, 0.4636, 0.9, 2.5, -1.2, math.pi / 4])
+def test_the_thin_walk_clears_one_cell_per_step_of_the_beam_s_crossings(angle):
+    """`ray_walk = "thin"`: one cell per cell column (row, for a steep beam) from the start
+    to the end, each a cell the exact walk also clears (so the beam truly crosses it)."""
+    pose, r = (0.05, 0.05, 0.0), 2.973
+    maps = {}
+    for walk in ("exact", "thin"):
+        g = OccupancyGrid(cell_size_m=0.1, ray_walk=walk)
+        stats = g.insert_laser([r], angles=[angle], range_max_m=5.0, pose=pose)
+        maps[walk] = (g, stats)
+    (exact, _), (thin, stats) = maps["exact"], maps["thin"]
+    ex, ey = pose[0] + r * math.cos(angle), pose[1] + r * math.sin(angle)
+    di, dj = abs(math.floor(ex / 0.1)), abs(math.floor(ey / 0.1))
+    assert min(abs(v / 0.1 - round(v / 0.1)) for v in (ex, ey)) > 1e-3  # no end on a line
+    assert stats.cells_traversed in (max(di, dj) + 1, max(di, dj) + 2)
+    extent = exact.extent  # rows from y's lowest cell up, as nav_msgs
+    exact_l, thin_l = exact.log_odds(extent), thin.log_odds(extent)
+    thin_free, exact_free = thin_l < 0, exact_l < 0
+    assert not (thin_free & ~exact_free).any()  # a subset of the crossed cells
+    # one per step along the major axis (the hit cell holds the last step)
+    touched = thin_l != 0
+    per_line = touched.sum(axis=0 if di >= dj else 1)
+    per_line = per_line[per_line > 0]
+    assert per_line.size == max(di, dj) + 1
+    assert set(per_line.tolist()) <= {1, 2} and (per_line == 2).sum() <= 1
+    # fewer cells, unless the beam runs through the cell corners (45 degrees from a centre)
+    diagonal = abs(abs(math.tan(angle)) - 1) < 1e-9
+    assert thin_free.sum() == exact_free.sum() if diagonal else thin_free.sum() < exact_free.sum()
 
 
 def test_evidence_from_error_rates_and_copy():

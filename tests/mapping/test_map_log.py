@@ -45,7 +45,8 @@ def write_room_log(path, *, beams=180, bad_line=False):
         f.write("\n".join(lines) + "\n")
 
 
-def test_map_log_draws_the_room(tmp_path, capsys):
+@pytest.mark.parametrize("walk", [[], ["--ray-walk", "thin"]], ids=["exact", "thin"])
+def test_map_log_draws_the_room(tmp_path, capsys, walk):
     log = tmp_path / "room.log.gz"
     write_room_log(log)
     out = tmp_path / "out" / "room.yaml"
@@ -60,6 +61,7 @@ def test_map_log_draws_the_room(tmp_path, capsys):
                 str(tmp_path / "room.png"),
                 "--cell-size",
                 "0.05",
+                *walk,
             ]
         )
         == 0
@@ -96,6 +98,16 @@ def test_map_log_reports_bad_lines(tmp_path, capsys):
     assert f"{log}:8: FLASER: expected 14 fields" in capsys.readouterr().err
     assert main(["map-log", str(log), "-o", str(tmp_path / "m.yaml"), "--lenient"]) == 0
     assert "skipped bad line 8" in capsys.readouterr().err
+
+
+def test_map_log_refuses_an_unknown_ray_walk(tmp_path, capsys):
+    log = tmp_path / "room.log.gz"
+    write_room_log(log)
+    args = ["map-log", str(log), "-o", str(tmp_path / "m.yaml"), "--ray-walk", "bresenham"]
+    assert main(args) == 1
+    err = capsys.readouterr().err
+    assert "ray_walk" in err and "exact" in err and "thin" in err
+    assert not (tmp_path / "m.yaml").exists()
 
 
 def test_map_log_without_lasers(tmp_path):

@@ -48,6 +48,31 @@ impl Occupancy {
     }
 }
 
+/// Which cells a ray clears (updates as free) on its way to its end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+pub enum RayWalk {
+    /// Every cell the ray passes through ([`crate::raycast`], as OctoMap's
+    /// `computeRayKeys`): all the floor a ray crosses is cleared.
+    #[default]
+    Exact,
+    /// One cell per step along the ray's major axis ([`crate::thin_walk`]: the cells of a
+    /// Bresenham line, as costmap_2d's clearing and Bonxai), each a cell the ray crosses:
+    /// 25-30 % fewer cells and faster; a cell the ray only clips keeps its value.
+    Thin,
+}
+
+impl RayWalk {
+    /// The name used in Python and the config file (the serde name).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RayWalk::Exact => "exact",
+            RayWalk::Thin => "thin",
+        }
+    }
+}
+
 /// Options of [`crate::grid::Grid`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -81,6 +106,10 @@ pub struct GridOptions {
     /// well under 1 GB). A pose 1000 km away is an [`crate::Error::OutOfBounds`], not an
     /// allocation; raise this for larger sites.
     pub max_cells: u64,
+    /// Which cells a ray clears: `"exact"` (default: every cell it passes through, as
+    /// OctoMap) or `"thin"` (one per step along its major axis, as costmap_2d and Bonxai:
+    /// fewer cells, faster, the floor crossed diagonally cleared more slowly).
+    pub ray_walk: RayWalk,
 }
 
 /// Default of [`GridOptions::max_cells`].
@@ -99,6 +128,7 @@ impl Default for GridOptions {
             occupied_threshold: 0.65,
             free_threshold: 0.196,
             max_cells: DEFAULT_MAX_CELLS,
+            ray_walk: RayWalk::Exact,
         }
     }
 }

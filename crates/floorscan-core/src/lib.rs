@@ -54,6 +54,7 @@ pub mod scan_matcher;
 pub mod sonar;
 #[cfg(test)]
 mod test_rng;
+pub mod thin_walk;
 
 pub use appearance::AppearanceRanger;
 pub use appearance_options::{AppearanceFeatures, AppearanceOptions};

@@ -16,9 +16,11 @@ use crate::branchless::free_update;
 use crate::error::{Error, Result};
 use crate::grid::EvidenceTile;
 use crate::grid::{tile_of, Grid, Tile, TILE_BITS, TILE_CELLS, TILE_SIZE};
+use crate::grid_options::RayWalk;
 use crate::log_odds::Evidence;
 use crate::pose::Point2;
 use crate::raycast::{segment_fits, CellIndex, FixedPoint, GridWalk, SUBCELL};
+use crate::thin_walk::ThinWalk;
 
 /// One ray in world coordinates [m]: free space from `from` to `to`; if `hit`, the cell at
 /// `to` is an obstacle (and is not counted free). A hit with `from == to` marks one cell.
@@ -112,39 +114,60 @@ impl RayUpdater {
         }
 
         // Then free space along every ray.
+        let thin = grid.options().ray_walk == RayWalk::Thin;
         for k in 0..self.quantised.len() {
             let (from, to, _) = self.quantised[k];
-            let mut walk = GridWalk::new(from, to).expect("length checked when quantised");
-            loop {
-                let c = walk.cell();
-                let (tx, ty, local) = tile_of(c);
-                let min = CellIndex::new(tx << TILE_BITS, ty << TILE_BITS);
-                let stop = walk
-                    .last_cell_inside(min, CellIndex::new(min.x + TILE_SIZE, min.y + TILE_SIZE));
-                let (tile, evidence, stamps, _) = self.tile_and_stamps(grid, c);
-                stats.cells_traversed += match evidence {
-                    // No overflow: |values| and |miss| are at most 16 000 (log_odds).
-                    None => walk.run_to(stop, local, TILE_SIZE as usize, |i| {
-                        let i = i & (TILE_CELLS - 1);
-                        tile[i] = free_update(tile[i], stamps[i], generation, miss, lo_v);
-                        stamps[i] = generation;
-                    }),
-                    // The same, plus the unclamped sum (crate::evidence).
-                    Some(ev) => walk.run_to(stop, local, TILE_SIZE as usize, |i| {
-                        let i = i & (TILE_CELLS - 1);
-                        let fresh = i32::from(stamps[i] != generation);
-                        ev[i] = ev[i].saturating_add(fresh * i32::from(miss));
-                        tile[i] = free_update(tile[i], stamps[i], generation, miss, lo_v);
-                        stamps[i] = generation;
-                    }),
-                };
-                if walk.is_at_end() {
-                    break;
-                }
-                walk.step();
-            }
+            stats.cells_traversed += if thin {
+                let walk = ThinWalk::new(from, to).expect("length checked when quantised");
+                self.clear_along(grid, walk, generation, miss, lo_v)
+            } else {
+                let walk = GridWalk::new(from, to).expect("length checked when quantised");
+                self.clear_along(grid, walk, generation, miss, lo_v)
+            };
         }
         Ok(stats)
+    }
+
+    /// Applies the free update to every cell of one walk, tile by tile; returns the cells
+    /// visited.
+    #[inline(always)]
+    fn clear_along<W: TiledWalk>(
+        &mut self,
+        grid: &mut Grid,
+        mut walk: W,
+        generation: u16,
+        miss: i16,
+        lo_v: i16,
+    ) -> u64 {
+        let mut visited = 0;
+        loop {
+            let c = walk.cell();
+            let (tx, ty, local) = tile_of(c);
+            let min = CellIndex::new(tx << TILE_BITS, ty << TILE_BITS);
+            let stop =
+                walk.last_cell_inside(min, CellIndex::new(min.x + TILE_SIZE, min.y + TILE_SIZE));
+            let (tile, evidence, stamps, _) = self.tile_and_stamps(grid, c);
+            visited += match evidence {
+                // No overflow: |values| and |miss| are at most 16 000 (log_odds).
+                None => walk.run_to(stop, local, TILE_SIZE as usize, move |i| {
+                    let i = i & (TILE_CELLS - 1);
+                    tile[i] = free_update(tile[i], stamps[i], generation, miss, lo_v);
+                    stamps[i] = generation;
+                }),
+                // The same, plus the unclamped sum (crate::evidence).
+                Some(ev) => walk.run_to(stop, local, TILE_SIZE as usize, move |i| {
+                    let i = i & (TILE_CELLS - 1);
+                    let fresh = i32::from(stamps[i] != generation);
+                    ev[i] = ev[i].saturating_add(fresh * i32::from(miss));
+                    tile[i] = free_update(tile[i], stamps[i], generation, miss, lo_v);
+                    stamps[i] = generation;
+                }),
+            };
+            if walk.is_at_end() {
+                return visited;
+            }
+            walk.step();
+        }
     }
 
     /// Converts rays to fixed point, clipped to a fixed-bounds grid; refuses non-finite or
@@ -274,6 +297,56 @@ impl RayUpdater {
         self.slots_used += 1;
     }
 }
+
+/// A grid walk that map updates run tile by tile: [`GridWalk`] and [`ThinWalk`].
+trait TiledWalk {
+    fn cell(&self) -> CellIndex;
+    fn is_at_end(&self) -> bool;
+    fn step(&mut self);
+    fn last_cell_inside(&self, min: CellIndex, max: CellIndex) -> CellIndex;
+    fn run_to(
+        &mut self,
+        stop: CellIndex,
+        index: usize,
+        row_stride: usize,
+        visit: impl FnMut(usize),
+    ) -> u64;
+}
+
+macro_rules! tiled_walk {
+    ($walk:ty) => {
+        impl TiledWalk for $walk {
+            #[inline(always)]
+            fn cell(&self) -> CellIndex {
+                <$walk>::cell(self)
+            }
+            #[inline(always)]
+            fn is_at_end(&self) -> bool {
+                <$walk>::is_at_end(self)
+            }
+            #[inline(always)]
+            fn step(&mut self) {
+                <$walk>::step(self)
+            }
+            #[inline(always)]
+            fn last_cell_inside(&self, min: CellIndex, max: CellIndex) -> CellIndex {
+                <$walk>::last_cell_inside(self, min, max)
+            }
+            #[inline(always)]
+            fn run_to(
+                &mut self,
+                stop: CellIndex,
+                index: usize,
+                row_stride: usize,
+                visit: impl FnMut(usize),
+            ) -> u64 {
+                <$walk>::run_to(self, stop, index, row_stride, visit)
+            }
+        }
+    };
+}
+tiled_walk!(GridWalk);
+tiled_walk!(ThinWalk);
 
 /// Clips the segment `a`-`b` (cell units) to the closed box `lo`..`hi` (Liang-Barsky); `None`
 /// if it misses the box. End points inside the box are returned unchanged.

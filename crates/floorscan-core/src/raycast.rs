@@ -85,32 +85,35 @@ pub fn segment_fits(start: FixedPoint, end: FixedPoint) -> bool {
         && (end.y - start.y).abs() < MAX_RAY_CELLS * SUBCELL
 }
 
+/// Whether `c` lies in the half-open box `[min, max)`.
+#[inline]
+pub(crate) fn inside(c: CellIndex, min: CellIndex, max: CellIndex) -> bool {
+    c.x >= min.x && c.x < max.x && c.y >= min.y && c.y < max.y
+}
+
 /// Why a segment cannot be walked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RayTooLong;
 
-/// The state of an exact walk from `cell(start)` to `cell(end)`.
-#[derive(Debug, Clone)]
-pub struct GridWalk {
-    cell: CellIndex,
-    end: CellIndex,
-    step_x: i32,
-    step_y: i32,
-    /// Biased time of the next x / y crossing (`i64::MAX` if the axis never steps).
-    t_x: i64,
-    t_y: i64,
-    /// Biased time between two x / y crossings.
-    dt_x: i64,
-    dt_y: i64,
-    /// No lattice corner lies on the segment's line, so the walk never steps diagonally and
-    /// [`GridWalk::run_to`] may use its one-decision loop.
-    corner_free: bool,
+/// The crossing clock of a segment, shared by the exact walk and the thin one
+/// ([`crate::thin_walk`]): the start and end cells, the step directions (-1, 0, 1), the biased
+/// time of the first x / y crossing (`i64::MAX` if the axis never steps) and the biased time
+/// between two crossings of each axis.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Clock {
+    pub start: CellIndex,
+    pub end: CellIndex,
+    pub step_x: i32,
+    pub step_y: i32,
+    pub t_x: i64,
+    pub t_y: i64,
+    pub dt_x: i64,
+    pub dt_y: i64,
 }
 
-impl GridWalk {
-    /// The walk along the segment from `start` to `end`; [`RayTooLong`] if it spans more than
-    /// [`MAX_RAY_CELLS`] cells on an axis.
-    pub fn new(start: FixedPoint, end: FixedPoint) -> Result<GridWalk, RayTooLong> {
+impl Clock {
+    #[inline]
+    pub fn new(start: FixedPoint, end: FixedPoint) -> Result<Clock, RayTooLong> {
         if !segment_fits(start, end) {
             return Err(RayTooLong);
         }
@@ -142,6 +145,44 @@ impl GridWalk {
                 2 * SUBCELL * adx,
             )
         };
+        Ok(Clock {
+            start: c0,
+            end: c1,
+            step_x: dx.signum() as i32,
+            step_y: dy.signum() as i32,
+            t_x,
+            t_y,
+            dt_x,
+            dt_y,
+        })
+    }
+}
+
+/// The state of an exact walk from `cell(start)` to `cell(end)`.
+#[derive(Debug, Clone)]
+pub struct GridWalk {
+    cell: CellIndex,
+    end: CellIndex,
+    step_x: i32,
+    step_y: i32,
+    /// Biased time of the next x / y crossing (`i64::MAX` if the axis never steps).
+    t_x: i64,
+    t_y: i64,
+    /// Biased time between two x / y crossings.
+    dt_x: i64,
+    dt_y: i64,
+    /// No lattice corner lies on the segment's line, so the walk never steps diagonally and
+    /// [`GridWalk::run_to`] may use its one-decision loop.
+    corner_free: bool,
+}
+
+impl GridWalk {
+    /// The walk along the segment from `start` to `end`; [`RayTooLong`] if it spans more than
+    /// [`MAX_RAY_CELLS`] cells on an axis.
+    pub fn new(start: FixedPoint, end: FixedPoint) -> Result<GridWalk, RayTooLong> {
+        let clock = Clock::new(start, end)?;
+        let (dx, dy) = (end.x - start.x, end.y - start.y);
+        let c0 = clock.start;
         // A lattice point (1024 i, 1024 j) relative to the start cell lies on the line only if
         // 1024 (dy i - dx j) = dy x0 - dx y0 (x0, y0: the start inside its cell, in units).
         let (x0, y0) = (
@@ -152,13 +193,13 @@ impl GridWalk {
         Ok(GridWalk {
             corner_free,
             cell: c0,
-            end: c1,
-            step_x: dx.signum() as i32,
-            step_y: dy.signum() as i32,
-            t_x,
-            t_y,
-            dt_x,
-            dt_y,
+            end: clock.end,
+            step_x: clock.step_x,
+            step_y: clock.step_y,
+            t_x: clock.t_x,
+            t_y: clock.t_y,
+            dt_x: clock.dt_x,
+            dt_y: clock.dt_y,
         })
     }
 
@@ -193,6 +234,9 @@ impl GridWalk {
     /// The last cell the walk visits before it leaves the half-open box `[min, max)` (cells),
     /// or the end cell if it ends inside. The current cell must be inside the box.
     pub fn last_cell_inside(&self, min: CellIndex, max: CellIndex) -> CellIndex {
+        if inside(self.end, min, max) {
+            return self.end; // the walk is monotone on each axis and the box convex
+        }
         let rem_x = i64::from((self.end.x - self.cell.x).abs());
         let rem_y = i64::from((self.end.y - self.cell.y).abs());
         // Crossings needed to leave the box on each axis, if the walk gets that far.

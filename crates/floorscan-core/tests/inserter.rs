@@ -5,7 +5,7 @@
 use std::collections::{HashMap, HashSet};
 
 use floorscan_core::grid::{CellRect, Grid};
-use floorscan_core::grid_options::{Bounds, GridOptions};
+use floorscan_core::grid_options::{Bounds, GridOptions, RayWalk};
 use floorscan_core::inserter::{Inserter, InserterOptions, TooClosePolicy};
 use floorscan_core::laser::{BeamAngles, LaserScan};
 use floorscan_core::log_odds::Evidence;
@@ -406,9 +406,23 @@ fn bad_input_leaves_the_map_unchanged() {
     assert_eq!(g.known_rect(), None);
 }
 
+/// The thin walk's cells by its definition: the exact walk's start and end cells and every
+/// cell it enters by a step along the ray's major axis.
+fn thin_reference(a: FixedPoint, b: FixedPoint) -> Vec<CellIndex> {
+    let exact: Vec<CellIndex> = cells_on_segment(a, b).unwrap().collect();
+    let major_x = (b.x - a.x).abs() >= (b.y - a.y).abs();
+    let major = |c: &CellIndex| if major_x { c.x } else { c.y };
+    let last = exact.len() - 1;
+    (0..exact.len())
+        .filter(|&i| i == 0 || i == last || major(&exact[i]) != major(&exact[i - 1]))
+        .map(|i| exact[i])
+        .collect()
+}
+
 /// The once-per-scan rule written plainly: hit cells of the scan get one hit each; every
-/// other cell on any ray gets one miss.
-fn reference_update(values: &mut HashMap<CellIndex, i32>, g: &Grid, rays: &[Ray]) {
+/// other cell on any ray (by the grid's walk) gets one miss.
+/// Returns the cells the rays' walks visit, repeats included.
+fn reference_update(values: &mut HashMap<CellIndex, i32>, g: &Grid, rays: &[Ray]) -> u64 {
     let fp = |p: Point2| {
         let (u, v) = g.to_cells(p);
         FixedPoint::from_cells(u, v).unwrap()
@@ -419,12 +433,14 @@ fn reference_update(values: &mut HashMap<CellIndex, i32>, g: &Grid, rays: &[Ray]
         .map(|r| fp(r.to).cell())
         .collect();
     let mut free = HashSet::new();
+    let mut walked = 0;
     for r in rays {
-        free.extend(
-            cells_on_segment(fp(r.from), fp(r.to))
-                .unwrap()
-                .filter(|c| !hits.contains(c)),
-        );
+        let cells: Vec<CellIndex> = match g.options().ray_walk {
+            RayWalk::Exact => cells_on_segment(fp(r.from), fp(r.to)).unwrap().collect(),
+            RayWalk::Thin => thin_reference(fp(r.from), fp(r.to)),
+        };
+        walked += cells.len() as u64;
+        free.extend(cells.into_iter().filter(|c| !hits.contains(c)));
     }
     for c in hits {
         let v = values.entry(c).or_default();
@@ -434,10 +450,20 @@ fn reference_update(values: &mut HashMap<CellIndex, i32>, g: &Grid, rays: &[Ray]
         let v = values.entry(c).or_default();
         *v = (*v + i32::from(MISS)).max(-2000);
     }
+    walked
 }
 
 #[test]
 fn random_scans_match_the_reference_rule_across_tiles() {
+    random_scans_match_the_reference_rule(RayWalk::Exact);
+}
+
+#[test]
+fn random_scans_match_the_reference_rule_with_the_thin_walk() {
+    random_scans_match_the_reference_rule(RayWalk::Thin);
+}
+
+fn random_scans_match_the_reference_rule(ray_walk: RayWalk) {
     // A small deterministic generator (no dependency on rand).
     let mut state = 0x9E37_79B9_7F4A_7C15u64;
     let mut next = move || {
@@ -446,9 +472,14 @@ fn random_scans_match_the_reference_rule_across_tiles() {
         state ^= state << 17;
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
-    let mut g = Grid::new(GridOptions::default()).unwrap();
+    let mut g = Grid::new(GridOptions {
+        ray_walk,
+        ..Default::default()
+    })
+    .unwrap();
     let mut ins = inserter();
     let mut expected: HashMap<CellIndex, i32> = HashMap::new();
+    let (mut traversed, mut expected_traversed) = (0, 0);
     for _ in 0..40 {
         let origin = Point2::new(next() * 8.0 - 4.0, next() * 8.0 - 4.0);
         let rays: Vec<Ray> = (0..48)
@@ -462,17 +493,20 @@ fn random_scans_match_the_reference_rule_across_tiles() {
                 }
             })
             .collect();
-        ins.insert_rays(
-            &mut g,
-            &rays,
-            Evidence {
-                hit_nats: 0.85,
-                miss_nats: -0.4,
-            },
-        )
-        .unwrap();
-        reference_update(&mut expected, &g, &rays);
+        traversed += ins
+            .insert_rays(
+                &mut g,
+                &rays,
+                Evidence {
+                    hit_nats: 0.85,
+                    miss_nats: -0.4,
+                },
+            )
+            .unwrap()
+            .cells_traversed;
+        expected_traversed += reference_update(&mut expected, &g, &rays);
     }
+    assert_eq!(traversed, expected_traversed, "cells walked");
     let rect = g.known_rect().unwrap();
     let mut values = Vec::new();
     g.read_rect(rect, &mut values);

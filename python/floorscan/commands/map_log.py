@@ -83,6 +83,13 @@ def register(sub) -> None:
         f"{default_value('grid.max_cells')}; a pose farther out is an error)",
     )
     p.add_argument(
+        "--ray-walk",
+        metavar="WALK",
+        help="which cells a beam clears: exact (every cell it crosses, as OctoMap) or thin (one "
+        "per step along its major axis, as costmap_2d and Bonxai: faster) (default "
+        f"grid.ray_walk, {default_value('grid.ray_walk')})",
+    )
+    p.add_argument(
         "--lenient",
         action="store_true",
         help="skip malformed lines (reported with their line numbers) instead of failing",
@@ -162,6 +169,7 @@ def run(args: argparse.Namespace) -> int:
             "sensors.laser.hit_nats": args.hit,
             "sensors.laser.miss_nats": args.miss,
             "grid.max_cells": args.max_cells,
+            "grid.ray_walk": args.ray_walk,
         }
     )
     grid = OccupancyGrid(**grid_kwargs(cfg))
