@@ -108,3 +108,52 @@ def test_local_map_errors():
         [1.0, 1.5], beam_width_rad=0.4, range_max_m=3.0, mounts=[[0, 0, 0], [0, 0, math.pi]]
     )
     assert (local.raw() > 0).any() and floorscan.LocalMap is LocalMap
+
+
+def _view():
+    """One view: five columns to boundaries 1-2 m ahead, the floor seen from 0.3 m."""
+    from floorscan import Scan
+
+    xs = np.array([1.0, 1.3, 1.6, 1.9, 1.5])
+    ys = np.array([-0.4, -0.2, 0.0, 0.2, 0.4])
+    n = xs.size
+    return Scan.from_arrays(
+        timestamp=0.0,
+        columns=np.arange(n),
+        rows=np.full(n, 100.0),
+        status=["boundary"] * n,
+        x=xs,
+        y=ys,
+        near_x=np.full(n, 0.3),
+        near_y=ys * 0.3 / xs,
+    )
+
+
+@pytest.mark.parametrize(
+    "options, frames_to_free",
+    [({}, 2), ({"visual": (0.85, -0.4)}, 4), ({"visual": (0.85, -1.5)}, 1)],
+    ids=["default", "global-evidence", "strong-miss"],
+)
+def test_the_local_map_s_visual_evidence_sets_how_fast_a_view_settles(options, frames_to_free):
+    """The local map's visual evidence is its own (``visual``): the default clears a view's
+    floor in two frames (2 x 0.75 nats past the free threshold's 1.41); the global map's
+    -0.4 needs four, a -1.5 one."""
+    local = LocalMap(cell_size_m=0.1, **options)
+    world = OccupancyGrid(cell_size_m=0.1)  # the global map's default evidence
+    view = _view()
+    for frame in range(1, 5):
+        local.insert_scan(view)
+        world.insert_scan(view, (0.0, 0.0, 0.0))
+        seen = local.log_odds() != 0
+        settled = (local.occupancy_classes() != 1)[seen]  # free (0) or occupied (2)
+        assert seen.sum() > 40 and local.is_occupied(1.6, 0.0)
+        assert settled.all() == (frame >= frames_to_free), frame
+    assert (world.occupancy_classes() == 0).any()  # free after 4 frames of -0.4
+    assert (
+        LocalMap(**options).options["visual"]["miss_nats"]
+        == {
+            1: -1.5,
+            2: -0.75,
+            4: -0.4,
+        }[frames_to_free]
+    )

@@ -96,7 +96,8 @@ def test_every_printed_default_is_the_rust_default(capsys):
     assert appearance == expected
     grid = {k: v for k, v in defaults("grid").items() if v is not None}  # TOML has no null
     assert printed["grid"] == grid
-    assert printed["local_map"] == {"size_m": defaults("local_map")["size_m"]}
+    local = {k: v for k, v in defaults("local_map").items() if k != "grid"}  # grid: [grid]
+    assert printed["local_map"] == local
     assert printed["sensors"] == defaults("inserter")
     # The shared appearance fields are the ranger's; the local map's grid is [grid].
     assert {k: defaults("appearance")[k] for k in SHARED_WITH_RANGER} == {
@@ -169,3 +170,30 @@ def test_scan_reads_the_config_file(tmp_path):
     assert main([*base, "-o", str(tmp_path / "b.csv"), "--threshold", "5"]) == 0
     b = read_scans_csv(tmp_path / "b.csv")[0]
     assert len(b) == 4 and set(b.status) == {"boundary"}
+
+
+def test_the_local_map_takes_its_visual_evidence_from_its_own_table():
+    """`[local_map.visual]` sets the local map's increments, `[sensors.visual]` the global
+    map's: the same boundary adds 2.0 nats to one and 1.0 to the other."""
+    from floorscan import LocalMap, OccupancyGrid, Scan
+    from floorscan.pipeline.mapper import grid_kwargs, local_map_kwargs
+
+    cfg = Config.from_toml(
+        "[sensors.visual]\nhit_nats = 1.0\nmiss_nats = -0.3\n"
+        "[local_map.visual]\nhit_nats = 2.0\nmiss_nats = -1.0\n"
+    )
+    view = Scan.from_arrays(
+        timestamp=0.0,
+        columns=[0],
+        rows=[100.0],
+        status=["boundary"],
+        x=[1.02],
+        y=[0.02],
+        near_x=[0.3],
+        near_y=[0.02],
+    )
+    local, world = LocalMap(**local_map_kwargs(cfg)), OccupancyGrid(**grid_kwargs(cfg))
+    local.insert_scan(view)
+    world.insert_scan(view, (0.0, 0.0, 0.0))
+    assert local.log_odds().max() == pytest.approx(2.0) and local.log_odds().min() == -1.0
+    assert world.log_odds().max() == pytest.approx(1.0) and world.log_odds().min() == -0.3

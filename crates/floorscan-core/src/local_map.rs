@@ -19,6 +19,7 @@ use crate::grid::{CellRect, Grid};
 use crate::grid_options::GridOptions;
 use crate::inserter::{Inserter, InserterOptions};
 use crate::laser::LaserScan;
+use crate::log_odds::Evidence;
 use crate::pose::{Point2, Pose2};
 use crate::ray_update::UpdateStats;
 use crate::raycast::CellIndex;
@@ -36,13 +37,26 @@ pub struct LocalMapOptions {
     /// Cell size, lattice origin, clamp bounds and thresholds. `bounds_m` must be `None`: the
     /// window is the bound.
     pub grid: GridOptions,
+    /// What a visual reading adds to the local map's cells (its own: `[sensors.visual]` is
+    /// the global map's). The robot avoids obstacles by this map, so it must settle within
+    /// two frames: default hit +0.85 nats (one boundary makes a cell occupied at the default
+    /// threshold, p 0.65 = +0.62 nats) and miss -0.75 (two consistent free readings make it
+    /// free, p 0.196 = -1.41 nats; the global map's -0.4 needs four).
+    pub visual: Evidence,
 }
+
+/// Default of [`LocalMapOptions::visual`].
+pub const DEFAULT_LOCAL_VISUAL: Evidence = Evidence {
+    hit_nats: 0.85,
+    miss_nats: -0.75,
+};
 
 impl Default for LocalMapOptions {
     fn default() -> Self {
         Self {
             size_m: 3.84,
             grid: GridOptions::default(),
+            visual: DEFAULT_LOCAL_VISUAL,
         }
     }
 }
@@ -50,6 +64,7 @@ impl Default for LocalMapOptions {
 impl LocalMapOptions {
     pub fn validate(&self) -> Result<()> {
         self.grid.validate()?;
+        self.visual.validate("visual")?;
         if self.grid.bounds_m.is_some() {
             return Err(invalid_option(
                 "bounds_m",
@@ -100,9 +115,13 @@ impl LocalMap {
             .cell_of(local_from_robot.translation())
             .ok_or_else(|| Error::InvalidGeometry("the pose is too far from the origin".into()))?;
         let grid = Grid::with_cell_bounds(options.grid.clone(), window_at(centre, side))?;
+        let inserter = Inserter::new(InserterOptions {
+            visual: options.visual,
+            ..inserter
+        })?;
         Ok(LocalMap {
             options,
-            inserter: Inserter::new(inserter)?,
+            inserter,
             grid,
             side,
             pose: local_from_robot,

@@ -65,7 +65,12 @@ fn drive(
     step_m: f64,
     by_increments: bool,
 ) -> HashMap<CellIndex, bool> {
-    let mut inserter = Inserter::new(InserterOptions::default()).unwrap();
+    // The global map gets the local map's visual evidence (its own option).
+    let mut inserter = Inserter::new(InserterOptions {
+        visual: local.options().visual,
+        ..Default::default()
+    })
+    .unwrap();
     let mount = Pose2::new(0.12, 0.0, 0.0);
     let mut pose = local.pose();
     let mut always_inside: HashMap<CellIndex, bool> = HashMap::new();
@@ -314,4 +319,53 @@ fn bad_moves_and_options_are_refused() {
         min: CellIndex::default(),
         max: CellIndex::default(),
     };
+}
+
+#[test]
+fn the_local_map_settles_in_two_frames_with_its_own_visual_evidence() {
+    // The same view twice: every cell the view clears is free after the second frame (two
+    // misses of -0.75 nats pass the free threshold's -1.41), every boundary cell occupied
+    // after the first; the global map's default evidence (-0.4) needs four frames.
+    let scan = visual_scan(&mut Rng(0x5EED_0000_0000_0001));
+    let mount = Pose2::new(0.12, 0.0, 0.0);
+    let mut local = LocalMap::new(
+        LocalMapOptions::default(),
+        InserterOptions::default(),
+        Pose2::IDENTITY,
+    )
+    .unwrap();
+    let mut global = Grid::new(GridOptions::default()).unwrap();
+    let mut inserter = Inserter::new(InserterOptions::default()).unwrap();
+    let limits = local.grid().limits();
+    let classes = |g: &Grid, w: CellRect| {
+        let (mut free, mut occupied, mut known) = (0, 0, 0);
+        for y in w.min.y..w.max.y {
+            for x in w.min.x..w.max.x {
+                let v = g.get(CellIndex::new(x, y)).0;
+                known += usize::from(v != 0);
+                free += usize::from(v != 0 && v <= limits.free_at);
+                occupied += usize::from(v >= limits.occupied_at);
+            }
+        }
+        (free, occupied, known)
+    };
+    let w = local.window();
+    for frame in 1..=4 {
+        local.insert_scan(&scan, &mount).unwrap();
+        inserter
+            .insert_scan(&mut global, &scan, &Pose2::IDENTITY, &mount)
+            .unwrap();
+        let (free, occupied, known) = classes(local.grid(), w);
+        let (g_free, _, g_known) = classes(&global, w);
+        assert!(
+            known > 200 && occupied > 10,
+            "{known} known, {occupied} occupied"
+        );
+        assert_eq!(free + occupied == known, frame >= 2, "local, frame {frame}");
+        assert_eq!(
+            g_free + occupied == g_known,
+            frame >= 4,
+            "global, frame {frame}"
+        );
+    }
 }

@@ -219,7 +219,7 @@ def goals(carpet: Dict[str, Any], carpet_defaults: Optional[Dict[str, Any]]) -> 
             verdict(None if agr is None else agr >= 0.97),
         ),
         (
-            "frames to a reliable local map (median; `run`'s OctoMap-style map)",
+            "frames to a reliable local map (median; `run`'s local map, its own evidence)",
             "<= 2",
             rel_text,
             verdict(None if rel is None else rel <= 2),

@@ -13,7 +13,7 @@ import numpy as np
 from ..errors import FloorscanError
 from ..mapping.grid import OccupancyGrid
 from ..pipeline.config import Config
-from ..pipeline.mapper import Mapper, grid_kwargs
+from ..pipeline.mapper import Mapper, grid_kwargs, local_map_kwargs
 from ..sim import simulate_run
 from .calibration_error import calibrated_table
 from .case import EvalCase, case_from_run
@@ -128,7 +128,8 @@ def evaluate_case(
                     frames = frames_to_reliable(
                         scans,
                         case,
-                        kw,
+                        # run's local map: [grid], [sensors] and its own [local_map.visual]
+                        {k: v for k, v in local_map_kwargs(cfg).items() if k != "size_m"},
                         local_size_m=cfg.local_map.size_m,
                         max_range_m=ranged_m(cfg),
                         starts=starts,

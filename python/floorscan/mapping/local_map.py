@@ -31,7 +31,10 @@ class LocalMap(GridViews):
         pose: the robot's starting pose in the local frame ``(x, y, yaw)``; default the
             origin (a fresh odometry frame).
         **options: the grid and inserter options, as :class:`~floorscan.OccupancyGrid`'s
-            (``bounds_m`` excepted: the window is the bound).
+            (``bounds_m`` excepted: the window is the bound). ``visual`` is the local map's own
+            (``LocalMapOptions.visual``, ``[local_map.visual]``): its default settles a view
+            within two frames (hit +0.85, miss -0.75 nats) where the global map's (-0.4)
+            needs four; ``floorscan config --default`` prints both.
 
     Arrays, images and queries (:meth:`raw`, :meth:`probabilities`, :meth:`is_free`,
     :meth:`distance_to_nearest_occupied`, ...) are in the local frame over the window.
@@ -50,6 +53,8 @@ class LocalMap(GridViews):
     ) -> None:
         go, io = split_options(options)
         local: Dict[str, Any] = {"grid": go}
+        if "visual" in io:  # the local map's own visual evidence (LocalMapOptions.visual)
+            local["visual"] = io.pop("visual")
         if size_m is not None:
             local["size_m"] = plain(size_m)
         self._native = _native.LocalMap(local, io, as_pose(pose, "pose"))

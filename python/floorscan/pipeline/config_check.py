@@ -20,7 +20,7 @@ from ..formats.image_io import check_max_image_pixels
 from ..mapping.grid import OccupancyGrid
 from ..mapping.local_map import LocalMap
 from .config import Config
-from .mapper import grid_kwargs
+from .mapper import grid_kwargs, local_map_kwargs
 from .node_options import check_node
 from .outputs import check_outputs
 
@@ -49,7 +49,7 @@ def check_config(cfg: Config) -> Config:
     check_calibration(cfg)
     kw = grid_kwargs(cfg)
     OccupancyGrid(**kw)
-    LocalMap(**cfg.local_map.options(), **kw)
+    LocalMap(**local_map_kwargs(cfg))
     check_outputs(cfg.outputs)
     check_max_image_pixels(cfg.limits.max_image_pixels)
     check_node(cfg.node)

@@ -71,6 +71,13 @@ def grid_kwargs(cfg: Config) -> Dict[str, object]:
     return {**cfg.grid.options(), **cfg.sensors.options()}
 
 
+def local_map_kwargs(cfg: Config) -> Dict[str, object]:
+    """The keyword options of :class:`LocalMap`: ``[grid]`` and ``[sensors]``, then
+    ``[local_map]`` (its size and its own visual evidence, which replaces
+    ``[sensors.visual]``)."""
+    return {**grid_kwargs(cfg), **cfg.local_map.options()}
+
+
 @dataclass
 class StageTimes:
     """Wall time per stage [s], summed over the run."""
@@ -104,7 +111,7 @@ class Mapper:
         kw = grid_kwargs(cfg)
         # The global map keeps its unclamped evidence too, so runs merge exactly (evidence.py).
         self.global_map = OccupancyGrid(keep_evidence=True, **kw)
-        self.local_map = LocalMap(**cfg.local_map.options(), **kw)
+        self.local_map = LocalMap(**local_map_kwargs(cfg))
         self.times = StageTimes()
         self.frames = 0
         self.points = 0
