@@ -19,7 +19,7 @@ use crate::grid::{tile_of, Grid, Tile, TILE_BITS, TILE_CELLS, TILE_SIZE};
 use crate::grid_options::RayWalk;
 use crate::log_odds::Evidence;
 use crate::pose::Point2;
-use crate::raycast::{segment_fits, CellIndex, FixedPoint, GridWalk, SUBCELL};
+use crate::raycast::{segment_fits, CellIndex, CellWalk, FixedPoint, GridWalk, SUBCELL};
 use crate::thin_walk::ThinWalk;
 
 /// One ray in world coordinates [m]: free space from `from` to `to`; if `hit`, the cell at
@@ -131,7 +131,7 @@ impl RayUpdater {
     /// Applies the free update to every cell of one walk, tile by tile; returns the cells
     /// visited.
     #[inline(always)]
-    fn clear_along<W: TiledWalk>(
+    fn clear_along<W: CellWalk>(
         &mut self,
         grid: &mut Grid,
         mut walk: W,
@@ -297,56 +297,6 @@ impl RayUpdater {
         self.slots_used += 1;
     }
 }
-
-/// A grid walk that map updates run tile by tile: [`GridWalk`] and [`ThinWalk`].
-trait TiledWalk {
-    fn cell(&self) -> CellIndex;
-    fn is_at_end(&self) -> bool;
-    fn step(&mut self);
-    fn last_cell_inside(&self, min: CellIndex, max: CellIndex) -> CellIndex;
-    fn run_to(
-        &mut self,
-        stop: CellIndex,
-        index: usize,
-        row_stride: usize,
-        visit: impl FnMut(usize),
-    ) -> u64;
-}
-
-macro_rules! tiled_walk {
-    ($walk:ty) => {
-        impl TiledWalk for $walk {
-            #[inline(always)]
-            fn cell(&self) -> CellIndex {
-                <$walk>::cell(self)
-            }
-            #[inline(always)]
-            fn is_at_end(&self) -> bool {
-                <$walk>::is_at_end(self)
-            }
-            #[inline(always)]
-            fn step(&mut self) {
-                <$walk>::step(self)
-            }
-            #[inline(always)]
-            fn last_cell_inside(&self, min: CellIndex, max: CellIndex) -> CellIndex {
-                <$walk>::last_cell_inside(self, min, max)
-            }
-            #[inline(always)]
-            fn run_to(
-                &mut self,
-                stop: CellIndex,
-                index: usize,
-                row_stride: usize,
-                visit: impl FnMut(usize),
-            ) -> u64 {
-                <$walk>::run_to(self, stop, index, row_stride, visit)
-            }
-        }
-    };
-}
-tiled_walk!(GridWalk);
-tiled_walk!(ThinWalk);
 
 /// Clips the segment `a`-`b` (cell units) to the closed box `lo`..`hi` (Liang-Barsky); `None`
 /// if it misses the box. End points inside the box are returned unchanged.

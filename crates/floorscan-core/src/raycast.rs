@@ -203,23 +203,25 @@ impl GridWalk {
         })
     }
 
-    /// The current cell.
-    pub fn cell(&self) -> CellIndex {
-        self.cell
-    }
-
     /// The last cell of the walk.
     pub fn end(&self) -> CellIndex {
         self.end
     }
+}
 
-    pub fn is_at_end(&self) -> bool {
+impl CellWalk for GridWalk {
+    /// The current cell.
+    fn cell(&self) -> CellIndex {
+        self.cell
+    }
+
+    fn is_at_end(&self) -> bool {
         self.cell == self.end
     }
 
     /// Moves to the next cell (must not be at the end).
     #[inline]
-    pub fn step(&mut self) {
+    fn step(&mut self) {
         let (sx, sy) = (self.t_x <= self.t_y, self.t_y <= self.t_x);
         if sx {
             self.t_x += self.dt_x;
@@ -233,21 +235,14 @@ impl GridWalk {
 
     /// The last cell the walk visits before it leaves the half-open box `[min, max)` (cells),
     /// or the end cell if it ends inside. The current cell must be inside the box.
-    pub fn last_cell_inside(&self, min: CellIndex, max: CellIndex) -> CellIndex {
+    fn last_cell_inside(&self, min: CellIndex, max: CellIndex) -> CellIndex {
         if inside(self.end, min, max) {
             return self.end; // the walk is monotone on each axis and the box convex
         }
         let rem_x = i64::from((self.end.x - self.cell.x).abs());
         let rem_y = i64::from((self.end.y - self.cell.y).abs());
         // Crossings needed to leave the box on each axis, if the walk gets that far.
-        let exit = |step: i32, c: i32, lo: i32, hi: i32, rem: i64| -> Option<i64> {
-            let n = match step {
-                1 => i64::from(hi - c),
-                -1 => i64::from(c - lo) + 1,
-                _ => return None,
-            };
-            (n <= rem).then_some(n)
-        };
+        let exit = crossings_to_leave;
         let exit_x = exit(self.step_x, self.cell.x, min.x, max.x, rem_x)
             .map(|n| (n, self.t_x + (n - 1) * self.dt_x));
         let exit_y = exit(self.step_y, self.cell.y, min.y, max.y, rem_y)
@@ -286,7 +281,7 @@ impl GridWalk {
     /// axis order is data, not predictable, so it is chosen with masks). A walk that cannot
     /// meet a lattice corner (all but about one ray in a thousand) needs one decision per cell.
     #[inline(always)]
-    pub fn run_to(
+    fn run_to(
         &mut self,
         stop: CellIndex,
         index: usize,
@@ -343,7 +338,45 @@ impl GridWalk {
     }
 }
 
-impl Iterator for GridWalkCells {
+/// A walk over the cells of a segment, in order, that map updates run tile by tile: the exact
+/// [`GridWalk`] and the thin [`crate::thin_walk::ThinWalk`].
+pub trait CellWalk {
+    /// The current cell.
+    fn cell(&self) -> CellIndex;
+    /// Whether the current cell is the last.
+    fn is_at_end(&self) -> bool;
+    /// Moves to the next cell (must not be at the end).
+    fn step(&mut self);
+    /// The last cell the walk visits before it leaves the half-open box `[min, max)` (cells),
+    /// or the end cell if it ends inside. The current cell must be inside the box.
+    fn last_cell_inside(&self, min: CellIndex, max: CellIndex) -> CellIndex;
+    /// Walks from the current cell to `stop` (a later cell of the walk, or the current one),
+    /// calling `visit` with the storage index of every cell, both ends included; returns the
+    /// number of cells visited. `index` is the current cell's index in the caller's row-major
+    /// storage of row length `row_stride`; the cells up to `stop` must all lie in that storage.
+    fn run_to(
+        &mut self,
+        stop: CellIndex,
+        index: usize,
+        row_stride: usize,
+        visit: impl FnMut(usize),
+    ) -> u64;
+}
+
+/// The cells of a walk as an iterator (the simple form; map updates use
+/// [`CellWalk::run_to`]).
+pub struct WalkCells<W> {
+    walk: W,
+    done: bool,
+}
+
+impl<W: CellWalk> WalkCells<W> {
+    pub fn new(walk: W) -> Self {
+        Self { walk, done: false }
+    }
+}
+
+impl<W: CellWalk> Iterator for WalkCells<W> {
     type Item = CellIndex;
     fn next(&mut self) -> Option<CellIndex> {
         if self.done {
@@ -359,17 +392,28 @@ impl Iterator for GridWalkCells {
     }
 }
 
-/// The cells of a walk as an iterator (the simple form; map updates use
-/// [`GridWalk::run_to`]).
-pub struct GridWalkCells {
-    walk: GridWalk,
-    done: bool,
+/// Every cell the segment from `start` to `end` passes through, in order.
+pub fn cells_on_segment(
+    start: FixedPoint,
+    end: FixedPoint,
+) -> Result<WalkCells<GridWalk>, RayTooLong> {
+    Ok(WalkCells::new(GridWalk::new(start, end)?))
 }
 
-/// Every cell the segment from `start` to `end` passes through, in order.
-pub fn cells_on_segment(start: FixedPoint, end: FixedPoint) -> Result<GridWalkCells, RayTooLong> {
-    Ok(GridWalkCells {
-        walk: GridWalk::new(start, end)?,
-        done: false,
-    })
+/// Crossings of one axis that a walk at cell coordinate `c`, stepping `step` (-1, 0, 1) with
+/// `remaining` crossings left, needs to leave `[lo, hi)`; `None` if it ends inside.
+#[inline]
+pub(crate) fn crossings_to_leave(
+    step: i32,
+    c: i32,
+    lo: i32,
+    hi: i32,
+    remaining: i64,
+) -> Option<i64> {
+    let n = match step {
+        1 => i64::from(hi - c),
+        -1 => i64::from(c - lo) + 1,
+        _ => return None,
+    };
+    (n <= remaining).then_some(n)
 }

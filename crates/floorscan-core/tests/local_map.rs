@@ -21,6 +21,16 @@ impl Rng {
     }
 }
 
+/// A local map with the default options at the origin.
+fn default_local() -> LocalMap {
+    LocalMap::new(
+        LocalMapOptions::default(),
+        InserterOptions::default(),
+        Pose2::IDENTITY,
+    )
+    .unwrap()
+}
+
 fn visual_scan(rng: &mut Rng) -> Scan {
     let readings = (0..32)
         .map(|i| {
@@ -174,12 +184,7 @@ fn local_map_equals_global_map_over_the_window_with_absolute_poses() {
 #[test]
 fn local_map_equals_global_map_over_the_window_with_increments() {
     let mut rng = Rng(0x0F0F_1234_ABCD_5555);
-    let mut local = LocalMap::new(
-        LocalMapOptions::default(),
-        InserterOptions::default(),
-        Pose2::IDENTITY,
-    )
-    .unwrap();
+    let mut local = default_local();
     let mut global = Grid::new(GridOptions::default()).unwrap();
     let inside = drive(&mut local, &mut global, &mut rng, 150, 0.06, true);
     let (compared, known) = compare(&local, &global, &inside);
@@ -191,12 +196,7 @@ fn local_map_equals_global_map_over_the_window_with_increments() {
 
 #[test]
 fn cells_that_scroll_out_are_forgotten_and_come_back_unknown() {
-    let mut local = LocalMap::new(
-        LocalMapOptions::default(),
-        InserterOptions::default(),
-        Pose2::IDENTITY,
-    )
-    .unwrap();
+    let mut local = default_local();
     let ranges = [1.0];
     let laser = LaserScan {
         ranges_m: &ranges,
@@ -220,12 +220,7 @@ fn cells_that_scroll_out_are_forgotten_and_come_back_unknown() {
 
 #[test]
 fn window_is_centred_on_the_robot_and_keeps_the_sub_cell_remainder() {
-    let mut local = LocalMap::new(
-        LocalMapOptions::default(),
-        InserterOptions::default(),
-        Pose2::IDENTITY,
-    )
-    .unwrap();
+    let mut local = default_local();
     let w = local.window();
     assert_eq!((w.width(), w.height()), (96, 96));
     assert_eq!(w.min, CellIndex::new(-48, -48));
@@ -283,12 +278,7 @@ fn robot_view_is_the_window_seen_from_the_robot() {
 
 #[test]
 fn bad_moves_and_options_are_refused() {
-    let mut local = LocalMap::new(
-        LocalMapOptions::default(),
-        InserterOptions::default(),
-        Pose2::IDENTITY,
-    )
-    .unwrap();
+    let mut local = default_local();
     assert!(matches!(
         local.move_by(&Pose2::new(f64::NAN, 0.0, 0.0)),
         Err(Error::InvalidGeometry(_))
@@ -328,12 +318,7 @@ fn the_local_map_settles_in_two_frames_with_its_own_visual_evidence() {
     // after the first; the global map's default evidence (-0.4) needs four frames.
     let scan = visual_scan(&mut Rng(0x5EED_0000_0000_0001));
     let mount = Pose2::new(0.12, 0.0, 0.0);
-    let mut local = LocalMap::new(
-        LocalMapOptions::default(),
-        InserterOptions::default(),
-        Pose2::IDENTITY,
-    )
-    .unwrap();
+    let mut local = default_local();
     let mut global = Grid::new(GridOptions::default()).unwrap();
     let mut inserter = Inserter::new(InserterOptions::default()).unwrap();
     let limits = local.grid().limits();

@@ -4,6 +4,8 @@ use floorscan_core::raycast::*;
 use proptest::prelude::*;
 use std::collections::BTreeSet;
 
+mod common;
+
 /// A rational bound `num / den` (den > 0) on the segment parameter t, open or closed.
 #[derive(Clone, Copy)]
 struct Bound {
@@ -204,28 +206,7 @@ fn too_long_rays_are_refused() {
 }
 
 fn collect_in_boxes(a: FixedPoint, b: FixedPoint, tile: i32) -> Vec<CellIndex> {
-    // Splits the walk at the boundaries of `tile`-sized boxes, as tiled storage does.
-    let mut walk = GridWalk::new(a, b).unwrap();
-    let mut out = Vec::new();
-    loop {
-        let c = walk.cell();
-        let min = CellIndex::new(c.x.div_euclid(tile) * tile, c.y.div_euclid(tile) * tile);
-        let max = CellIndex::new(min.x + tile, min.y + tile);
-        let stop = walk.last_cell_inside(min, max);
-        let (w, h) = (tile as usize, tile as usize);
-        let local = ((c.y - min.y) as usize) * w + (c.x - min.x) as usize;
-        walk.run_to(stop, local, w, |i| {
-            assert!(i < w * h, "index left the box");
-            out.push(CellIndex::new(
-                min.x + (i % w) as i32,
-                min.y + (i / w) as i32,
-            ));
-        });
-        if walk.is_at_end() {
-            return out;
-        }
-        walk.step();
-    }
+    common::collect_in_boxes(GridWalk::new(a, b).unwrap(), tile)
 }
 
 proptest! {

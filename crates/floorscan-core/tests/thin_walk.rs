@@ -6,6 +6,8 @@ use floorscan_core::raycast::*;
 use floorscan_core::thin_walk::*;
 use proptest::prelude::*;
 
+mod common;
+
 /// The definition, by filtering the exact walk's cells.
 fn reference(a: FixedPoint, b: FixedPoint) -> Vec<CellIndex> {
     let exact: Vec<CellIndex> = cells_on_segment(a, b).unwrap().collect();
@@ -46,31 +48,7 @@ fn check(a: FixedPoint, b: FixedPoint) {
 }
 
 fn collect_in_boxes(a: FixedPoint, b: FixedPoint, tile: i32) -> Vec<CellIndex> {
-    // Splits the walk at the boundaries of `tile`-sized boxes, as tiled storage does.
-    let mut walk = ThinWalk::new(a, b).unwrap();
-    let mut out = Vec::new();
-    loop {
-        let c = walk.cell();
-        let min = CellIndex::new(c.x.div_euclid(tile) * tile, c.y.div_euclid(tile) * tile);
-        let max = CellIndex::new(min.x + tile, min.y + tile);
-        let stop = walk.last_cell_inside(min, max);
-        let w = tile as usize;
-        let local = ((c.y - min.y) as usize) * w + (c.x - min.x) as usize;
-        let before = out.len();
-        let n = walk.run_to(stop, local, w, |i| {
-            assert!(i < w * w, "index left the box");
-            out.push(CellIndex::new(
-                min.x + (i % w) as i32,
-                min.y + (i / w) as i32,
-            ));
-        });
-        assert_eq!(n as usize, out.len() - before, "visited count");
-        assert_eq!(walk.cell(), stop);
-        if walk.is_at_end() {
-            return out;
-        }
-        walk.step();
-    }
+    common::collect_in_boxes(ThinWalk::new(a, b).unwrap(), tile)
 }
 
 #[test]
