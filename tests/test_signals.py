@@ -263,3 +263,28 @@ def test_a_signal_during_an_import_stops_the_command_once_the_import_has_finishe
     assert raised.value.signum == signal.SIGTERM
     assert went_on == [True]
     monkeypatch.delitem(sys.modules, name)
+
+
+def test_a_signal_held_through_an_import_goes_to_the_handler_in_place_when_it_ends(
+    tmp_path, monkeypatch
+):
+    """The held signal is delivered again to whatever handles it once the import is over (a
+    frame loop that ended meanwhile treats it as a signal while saving), not raised blindly."""
+    from floorscan._signals import handle_signals
+
+    name = "slow_import_for_signal_handover_test"
+    (tmp_path / f"{name}.py").write_text(SLOW_IMPORT.format(sleeps=10))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    got = []
+    with handle_signals():
+        __import__(name)  # SIGTERM raised inside, held: nothing raised here
+        previous = signal.signal(signal.SIGTERM, lambda signum, _frame: got.append(signum))
+        try:
+            deadline = time.monotonic() + 5.0
+            while not got and time.monotonic() < deadline:
+                time.sleep(0.005)
+        finally:
+            signal.signal(signal.SIGTERM, previous)
+    assert got == [signal.SIGTERM]
+    assert sys.modules[name].FINISHED
+    monkeypatch.delitem(sys.modules, name)

@@ -95,18 +95,30 @@ _PENDING: Optional[int] = None
 
 
 def _raise_after_imports(signum: int, frame) -> None:
-    """Raises :class:`Interrupted` now, or once the import in progress has finished."""
+    """Raises :class:`Interrupted` now, or holds the signal until the import in progress has
+    finished (:func:`_recheck`)."""
     global _PENDING
     if not _importing(frame) or not hasattr(signal, "setitimer"):
         _PENDING = None
         raise Interrupted(signum)
     _PENDING = int(signum)
-
-    def recheck(_alarm, later_frame) -> None:
-        _raise_after_imports(signum, later_frame)
-
-    signal.signal(signal.SIGALRM, recheck)
+    signal.signal(signal.SIGALRM, _recheck)
     signal.setitimer(signal.ITIMER_REAL, _RECHECK_S)
+
+
+def _recheck(_alarm, frame) -> None:
+    """The held signal, delivered again to the handler in place now: it decides with the
+    state of now (a frame loop that has ended since treats it as a signal while saving), and
+    holds it again if another import is under way."""
+    global _PENDING
+    signum, _PENDING = _PENDING, None
+    if signum is None:
+        return
+    handler = signal.getsignal(signum)
+    if callable(handler):
+        handler(signum, frame)
+    else:
+        raise Interrupted(signum)
 
 
 def _cancel_recheck() -> Optional[int]:
