@@ -288,3 +288,36 @@ def test_a_signal_held_through_an_import_goes_to_the_handler_in_place_when_it_en
     assert got == [signal.SIGTERM]
     assert sys.modules[name].FINISHED
     monkeypatch.delitem(sys.modules, name)
+
+
+def test_holding_a_signal_leaves_the_host_s_alarm_as_it_found_it(tmp_path, monkeypatch):
+    """The hold borrows SIGALRM: a host's own alarm (a watchdog around `main(argv)`) gets its
+    handler and its timer back, the timer less the time held."""
+    from floorscan._signals import Interrupted, handle_signals
+
+    name = "slow_import_for_signal_alarm_test"
+    (tmp_path / f"{name}.py").write_text(SLOW_IMPORT.format(sleeps=5))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    fired = []
+
+    def host(signum, _frame):
+        fired.append(signum)
+
+    before = signal.signal(signal.SIGALRM, host)
+    signal.setitimer(signal.ITIMER_REAL, 30.0)
+    try:
+        with handle_signals():
+            pass
+        assert signal.getsignal(signal.SIGALRM) is host
+        assert 29.0 < signal.getitimer(signal.ITIMER_REAL)[0] <= 30.0
+        with pytest.raises(Interrupted):
+            with handle_signals():
+                __import__(name)  # SIGTERM held, then delivered
+                time.sleep(5.0)
+        assert signal.getsignal(signal.SIGALRM) is host
+        assert 25.0 < signal.getitimer(signal.ITIMER_REAL)[0] < 30.0
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, before)
+    assert fired == []
+    monkeypatch.delitem(sys.modules, name)

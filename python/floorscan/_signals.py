@@ -14,7 +14,9 @@ A signal that arrives while a module is being imported (the commands import Open
 matplotlib on first use) is raised once the import has finished, not inside it: an exception
 raised inside a C extension's initialisation (pybind11's, for instance) leaves the extension
 half set up, reports it as ``ImportError: initialization failed`` and can crash the interpreter
-as it shuts down. The signal is re-checked every 20 ms through ``SIGALRM``.
+as it shuts down. The signal is re-checked every 20 ms through ``SIGALRM`` (the SIGALRM
+handler and timer of before are put back after); a second signal while one is held stops at
+once.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ import contextlib
 import signal
 import sys
 import threading
+import time
 from typing import Dict, Iterator, Optional
 
 STOP_SIGNALS = tuple(
@@ -70,11 +73,20 @@ def _handlers(handler) -> Iterator[None]:
     try:
         yield
     finally:
+        held = _cancel_recheck()
         for s, h in previous.items():
             signal.signal(s, h)
-        held = _cancel_recheck()
-    if held is not None:  # the block ended within an import's last 20 ms: stop all the same
-        raise Interrupted(held)
+    if held is not None:  # the block ended within an import's last 20 ms: hand it over
+        _deliver(held, previous[held], None)
+
+
+def _deliver(signum: int, handler, frame) -> None:
+    """Delivers ``signum`` to ``handler`` as the interpreter would: called if a function,
+    dropped if ignored, else the stop it stands for."""
+    if callable(handler):
+        handler(signum, frame)
+    elif handler != signal.SIG_IGN:
+        raise Interrupted(signum)
 
 
 _IMPORT_FRAMES = ("<frozen importlib._bootstrap", "<frozen importlib._bootstrap_external")
@@ -92,42 +104,49 @@ def _importing(frame) -> bool:
 
 _PENDING: Optional[int] = None
 """A signal held until the import in progress finishes."""
+_ALARM_BEFORE: Optional[tuple] = None
+"""While a signal is held: the SIGALRM handler and timer it displaced, and when."""
 
 
 def _raise_after_imports(signum: int, frame) -> None:
     """Raises :class:`Interrupted` now, or holds the signal until the import in progress has
-    finished (:func:`_recheck`)."""
-    global _PENDING
-    if not _importing(frame) or not hasattr(signal, "setitimer"):
-        _PENDING = None
+    finished (:func:`_recheck`). A second signal while one is held raises at once: whoever
+    sends it wants out even if an import hangs (a C extension's initialisation may then be
+    left half done)."""
+    global _PENDING, _ALARM_BEFORE
+    if _PENDING is not None or not _importing(frame) or not hasattr(signal, "setitimer"):
+        _cancel_recheck()
         raise Interrupted(signum)
     _PENDING = int(signum)
-    signal.signal(signal.SIGALRM, _recheck)
-    signal.setitimer(signal.ITIMER_REAL, _RECHECK_S)
+    _ALARM_BEFORE = (
+        signal.signal(signal.SIGALRM, _recheck),
+        signal.setitimer(signal.ITIMER_REAL, _RECHECK_S),
+        time.monotonic(),
+    )
 
 
 def _recheck(_alarm, frame) -> None:
     """The held signal, delivered again to the handler in place now: it decides with the
     state of now (a frame loop that has ended since treats it as a signal while saving), and
     holds it again if another import is under way."""
-    global _PENDING
-    signum, _PENDING = _PENDING, None
-    if signum is None:
-        return
-    handler = signal.getsignal(signum)
-    if callable(handler):
-        handler(signum, frame)
-    else:
-        raise Interrupted(signum)
+    signum = _cancel_recheck()
+    if signum is not None:
+        _deliver(signum, signal.getsignal(signum), frame)
 
 
 def _cancel_recheck() -> Optional[int]:
-    """Stops the re-check; returns the signal still held, if one is."""
-    global _PENDING
-    if hasattr(signal, "setitimer"):
+    """Stops holding: the SIGALRM handler and timer of before are put back (the timer less
+    the time held); returns the signal that was held, if one was."""
+    global _PENDING, _ALARM_BEFORE
+    pending, before = _PENDING, _ALARM_BEFORE
+    _PENDING = _ALARM_BEFORE = None
+    if before is not None:
+        handler, (delay_s, interval_s), since = before
         signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, signal.SIG_DFL)
-    pending, _PENDING = _PENDING, None
+        signal.signal(signal.SIGALRM, handler if handler is not None else signal.SIG_DFL)
+        if delay_s > 0:
+            left = max(delay_s - (time.monotonic() - since), 1e-3)
+            signal.setitimer(signal.ITIMER_REAL, left, interval_s)
     return pending
 
 

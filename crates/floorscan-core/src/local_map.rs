@@ -101,7 +101,8 @@ pub struct LocalMap {
 
 impl LocalMap {
     /// An empty window centred on the robot at `local_from_robot` (the identity to start a
-    /// fresh odometry frame at the robot).
+    /// fresh odometry frame at the robot). Visual scans take `options.visual`, not
+    /// `inserter.visual` (the local map's evidence is its own); the rest of `inserter` applies.
     pub fn new(
         options: LocalMapOptions,
         inserter: InserterOptions,

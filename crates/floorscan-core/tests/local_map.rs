@@ -341,14 +341,14 @@ fn the_local_map_settles_in_two_frames_with_its_own_visual_evidence() {
             .insert_scan(&mut global, &scan, &Pose2::IDENTITY, &mount)
             .unwrap();
         let (free, occupied, known) = classes(local.grid(), w);
-        let (g_free, _, g_known) = classes(&global, w);
+        let (g_free, g_occupied, g_known) = classes(&global, w);
         assert!(
             known > 200 && occupied > 10,
             "{known} known, {occupied} occupied"
         );
         assert_eq!(free + occupied == known, frame >= 2, "local, frame {frame}");
         assert_eq!(
-            g_free + occupied == g_known,
+            g_free + g_occupied == g_known,
             frame >= 4,
             "global, frame {frame}"
         );

@@ -154,7 +154,8 @@ def frames_to_reliable(
     ``max_frames`` do not suffice or the view has no truth.
 
     ``local_map``: ``"octomap"``, the robot-fixed :class:`~floorscan.mapping.LocalMap` of
-    ``floorscan run`` with ``grid_kwargs``' constant evidence; or ``"avoidance"``, the drive's
+    ``floorscan run`` (OctoMap's update rule: constant evidence per reading, ``grid_kwargs``'
+    ``visual`` or the local map's default); or ``"avoidance"``, the drive's
     :class:`~floorscan.drive.AvoidanceMap` (its default options, no decay, ``local_size_m``
     wide) fed with the calibrated inverse sensor model (``VisualSensorModel``, the table's
     error bars), scored on its own cells."""
