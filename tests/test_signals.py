@@ -239,9 +239,30 @@ FINISHED = True
 """
 
 
+@pytest.fixture
+def slow_import(tmp_path, monkeypatch):
+    """Writes a module that raises SIGTERM at its own top level and then sleeps ``sleeps`` x
+    10 ms; returns its name. SIGTERM's handler is the default for the test's length: a signal
+    held at a block's end goes to the handler of before, which an earlier test may have left."""
+    monkeypatch.syspath_prepend(str(tmp_path))
+    before = signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    names = []
+
+    def make(sleeps: int) -> str:
+        name = f"slow_import_for_signal_test_{len(names)}_{sleeps}"
+        (tmp_path / f"{name}.py").write_text(SLOW_IMPORT.format(sleeps=sleeps))
+        names.append(name)
+        return name
+
+    yield make
+    signal.signal(signal.SIGTERM, before)
+    for name in names:
+        sys.modules.pop(name, None)
+
+
 @pytest.mark.parametrize("sleeps", [0, 10], ids=["block-ends-at-once", "import-takes-100ms"])
 def test_a_signal_during_an_import_stops_the_command_once_the_import_has_finished(
-    tmp_path, monkeypatch, sleeps
+    slow_import, sleeps
 ):
     """A signal inside an import (the commands import OpenCV and matplotlib on first use) is
     raised after it: raised inside a C extension's initialisation it left pybind11's module
@@ -249,16 +270,9 @@ def test_a_signal_during_an_import_stops_the_command_once_the_import_has_finishe
     Whether the block goes on (the signal arrives at its next line) or ends at once, it stops."""
     from floorscan._signals import Interrupted, handle_signals
 
-    name = f"slow_import_for_signal_test_{sleeps}"
-    (tmp_path / f"{name}.py").write_text(SLOW_IMPORT.format(sleeps=sleeps))
-    monkeypatch.syspath_prepend(str(tmp_path))
+    name = slow_import(sleeps)
     went_on = []
-    # at the block's end a held signal goes to the handler of before: the default's stop here
-    monkeypatch.setattr(signal, "_floorscan_test_guard", None, raising=False)
-    before = signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    request = __import__("contextlib").ExitStack()
-    request.callback(signal.signal, signal.SIGTERM, before)
-    with request, pytest.raises(Interrupted) as raised:
+    with pytest.raises(Interrupted) as raised:
         with handle_signals():
             __import__(name)
             went_on.append(True)
@@ -267,19 +281,16 @@ def test_a_signal_during_an_import_stops_the_command_once_the_import_has_finishe
     assert sys.modules[name].FINISHED  # the import was not interrupted
     assert raised.value.signum == signal.SIGTERM
     assert went_on == [True]
-    monkeypatch.delitem(sys.modules, name)
 
 
 def test_a_signal_held_through_an_import_goes_to_the_handler_in_place_when_it_ends(
-    tmp_path, monkeypatch
+    slow_import,
 ):
     """The held signal is delivered again to whatever handles it once the import is over (a
     frame loop that ended meanwhile treats it as a signal while saving), not raised blindly."""
     from floorscan._signals import handle_signals
 
-    name = "slow_import_for_signal_handover_test"
-    (tmp_path / f"{name}.py").write_text(SLOW_IMPORT.format(sleeps=10))
-    monkeypatch.syspath_prepend(str(tmp_path))
+    name = slow_import(10)
     got = []
     with handle_signals():
         __import__(name)  # SIGTERM raised inside, held: nothing raised here
@@ -292,17 +303,14 @@ def test_a_signal_held_through_an_import_goes_to_the_handler_in_place_when_it_en
             signal.signal(signal.SIGTERM, previous)
     assert got == [signal.SIGTERM]
     assert sys.modules[name].FINISHED
-    monkeypatch.delitem(sys.modules, name)
 
 
-def test_holding_a_signal_leaves_the_host_s_alarm_as_it_found_it(tmp_path, monkeypatch):
+def test_holding_a_signal_leaves_the_host_s_alarm_as_it_found_it(slow_import):
     """The hold borrows SIGALRM: a host's own alarm (a watchdog around `main(argv)`) gets its
     handler and its timer back, the timer less the time held."""
     from floorscan._signals import Interrupted, handle_signals
 
-    name = "slow_import_for_signal_alarm_test"
-    (tmp_path / f"{name}.py").write_text(SLOW_IMPORT.format(sleeps=5))
-    monkeypatch.syspath_prepend(str(tmp_path))
+    name = slow_import(5)
     fired = []
 
     def host(signum, _frame):
@@ -325,4 +333,3 @@ def test_holding_a_signal_leaves_the_host_s_alarm_as_it_found_it(tmp_path, monke
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, before)
     assert fired == []
-    monkeypatch.delitem(sys.modules, name)
