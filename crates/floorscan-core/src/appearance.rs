@@ -28,7 +28,8 @@ struct Plan {
     column: u32,
     start_row: usize,
     near: Option<Point2>,
-    /// Highest row scanned; `None` when the column cannot be scanned (no ground at its start).
+    /// Highest row scanned; `None` when the column cannot be scanned (no ground at or above
+    /// its start).
     top_row: Option<usize>,
     /// Patch columns, inclusive.
     patch: (usize, usize),
@@ -162,15 +163,12 @@ impl AppearanceRanger {
             .map(|c| {
                 let u = c as usize;
                 let start_row = starts[u];
-                let near = table.lookup(u as f64, start_row as f64);
                 let within = |p: Point2| options.max_range_m.is_none_or(|r| p.norm() <= r);
-                let top_row = near.filter(|&p| within(p)).map(|_| {
-                    let mut top = start_row;
-                    while top > 0 && table.lookup(u as f64, (top - 1) as f64).is_some_and(within) {
-                        top -= 1;
-                    }
-                    top
-                });
+                // As the edge ranger: scanned from the start row, placed from the first row
+                // with ground.
+                let rows = table.column_ground_rows(u as f64, start_row, within);
+                let near = rows.and_then(|(first, _)| table.lookup(u as f64, first as f64));
+                let top_row = rows.map(|(_, top)| top);
                 Plan {
                     column: c,
                     start_row,

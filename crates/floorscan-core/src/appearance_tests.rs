@@ -293,6 +293,57 @@ fn wrong_size_and_columns_without_ground_are_reported() {
 }
 
 #[test]
+fn columns_whose_bottom_rows_have_no_ground_are_scanned_from_the_bottom() {
+    // The table of `scan_scene` without ground in two bottom corners (a fisheye's sides near
+    // the robot): u < 40 below row 50 and u >= 120 below row 90. Every column reads as on the
+    // full table, except that a boundary in rows without ground cannot be placed (invalid,
+    // with its row) and free space starts at the column's lowest row with ground.
+    let full = table(0.0);
+    let cornered = GroundTable::from_fn(W, H, 4, |u, v| {
+        let uncovered = (u < 40.0 && v > 50.0) || (u >= 120.0 && v > 90.0);
+        (!uncovered).then(|| full.lookup(u.min(W as f64 - 1.0), v.min(H as f64 - 1.0)).unwrap())
+    })
+    .unwrap();
+    let o = AppearanceOptions {
+        adaptation_rate: 0.02,
+        ..options(AppearanceFeatures::Colour)
+    };
+    let scan_with = |t: &GroundTable| {
+        let mut r = AppearanceRanger::new(t.clone(), o.clone()).unwrap();
+        let before = tiled_image(&earlier_scene, 0);
+        r.scan(&ColourView::interleaved(&before, W, H).unwrap(), 0.0)
+            .unwrap();
+        let img = tiled_image(&scene, 1);
+        r.scan(&ColourView::interleaved(&img, W, H).unwrap(), 0.1)
+            .unwrap()
+    };
+    let (a, b) = (scan_with(&full), scan_with(&cornered));
+    let mut seen = [0usize; 4];
+    for (x, y) in a.readings.iter().zip(&b.readings) {
+        let u = x.column as f64;
+        let first = (0..H).rev().find(|&v| cornered.lookup(u, v as f64).is_some());
+        assert_eq!(y.near, first.and_then(|v| cornered.lookup(u, v as f64)));
+        match (x.outcome, y.outcome) {
+            (ColumnOutcome::Boundary { row, .. }, ColumnOutcome::Boundary { row: r2, point, .. }) => {
+                assert_eq!(row, r2);
+                assert_eq!(Some(point), cornered.lookup(u, row));
+                seen[0] += 1;
+            }
+            (ColumnOutcome::Boundary { row, .. }, ColumnOutcome::Invalid { row: r2 }) => {
+                assert_eq!(Some(row), r2);
+                assert!(cornered.lookup(u, row).is_none());
+                seen[1] += 1;
+            }
+            (ColumnOutcome::TooClose, ColumnOutcome::TooClose) => seen[2] += 1,
+            (ColumnOutcome::NoBoundary { .. }, ColumnOutcome::NoBoundary { .. }) => seen[3] += 1,
+            other => panic!("column {u}: {other:?}"),
+        }
+    }
+    // Every case occurs.
+    assert!(seen.iter().all(|&n| n > 0), "{seen:?}");
+}
+
+#[test]
 fn row_by_row_scan_gives_the_column_by_column_readings() {
     // Dense columns go row by row (each pixel classified once); the readings must be those of
     // the column-by-column scan, whatever the start rows, range limit and features.

@@ -241,6 +241,27 @@ impl GroundTable {
         self.nodes[j * self.nodes_u + i]
     }
 
+    /// The rows of image column `u` that a ranger starting at row `start_row` can place, as
+    /// `(first, top)`: the lowest row at or above the start whose ground `keep` accepts (the
+    /// column's near edge of view) and the highest row above it reached without a row that has
+    /// none. `None` when no row at or above the start has ground. Rows between the start and
+    /// `first` (an image corner the table does not trust) are the ranger's to scan but not to
+    /// place.
+    pub fn column_ground_rows(
+        &self,
+        u: f64,
+        start_row: usize,
+        keep: impl Fn(Point2) -> bool,
+    ) -> Option<(usize, usize)> {
+        let ground = |v: usize| self.lookup(u, v as f64).is_some_and(&keep);
+        let first = (0..=start_row).rev().find(|&v| ground(v))?;
+        let mut top = first;
+        while top > 0 && ground(top - 1) {
+            top -= 1;
+        }
+        Some((first, top))
+    }
+
     /// Ground point [m] seen at pixel (u, v), by bilinear interpolation of the four nodes around
     /// it; `None` if any of them is "no ground" or the pixel is outside the image.
     pub fn lookup(&self, u: f64, v: f64) -> Option<Point2> {

@@ -31,11 +31,13 @@ use crate::scan::{ColumnOutcome, ColumnReading, Scan};
 #[derive(Debug, Clone, Copy)]
 struct ColumnPlan {
     column: u32,
-    /// Start row v (from the top) and its ground point.
+    /// Start row v (from the top).
     start_row: usize,
+    /// The ground point of the column's lowest row with ground, at or above the start row.
     near: Option<Point2>,
-    /// Rows (k, counted from the bottom) where a crossing is tested: `lo..=hi`. `None` when the
-    /// column cannot be scanned (no ground at its start, or too few floor rows for the filter).
+    /// Rows (k, counted from the bottom) where a crossing is tested: `lo..=hi`, from the start
+    /// row up to the last row with ground. `None` when the column cannot be scanned (no ground
+    /// at or above its start, or too few rows for the filter).
     window: Option<(usize, usize)>,
     /// The rows of `window` whose ground lies within the options' `mid_range_m` (the band of
     /// the lower contrast floor), `None` when there are none.
@@ -988,16 +990,16 @@ fn plan_column(
     let height = table.image_height();
     let d = options.half_width_px;
     let u = column as f64;
-    let near = table.lookup(u, start_row as f64);
     let within_range = |p: Point2| options.max_range_m.is_none_or(|r| p.norm() <= r);
+    // The column's near edge of view is its lowest row, from the start up, with ground. Rows
+    // below it (an image corner the table does not trust: a fisheye's sides near the robot)
+    // are still scanned, as the paper's ranger takes the bottom rows for floor, but an edge
+    // there cannot be placed (invalid) and one at the start row is too close.
+    let rows = table.column_ground_rows(u, start_row, within_range);
+    let near = rows.and_then(|(first, _)| table.lookup(u, first as f64));
     let mut window = None;
     let mut band = None;
-    if near.is_some_and(within_range) {
-        // Highest row, going up from the start, that still has ground (within the range limit).
-        let mut top = start_row;
-        while top > 0 && table.lookup(u, (top - 1) as f64).is_some_and(within_range) {
-            top -= 1;
-        }
+    if let Some((_, top)) = rows {
         let k_start = height - 1 - start_row;
         let lo = k_start + d;
         let hi = (height - 1 - top).min(height - 1 - d);

@@ -99,10 +99,14 @@ fn brute_force(
                 .rev()
                 .map(|v| img[v * width + c as usize] as i32)
                 .collect();
-            if table.lookup(u, start as f64).is_none() {
+            // Scanned from the start row, placed from the lowest row with ground above it.
+            let Some(first) = (0..=start)
+                .rev()
+                .find(|&v| table.lookup(u, v as f64).is_some())
+            else {
                 return (c, column, None);
-            }
-            let mut top = start;
+            };
+            let mut top = first;
             while top > 0 && table.lookup(u, (top - 1) as f64).is_some() {
                 top -= 1;
             }
@@ -471,6 +475,63 @@ fn columns_without_ground_are_invalid() {
     let mut r = VisualRanger::new(r.table().clone(), o).unwrap();
     let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
     assert_eq!(scan.readings[0].status(), ColumnStatus::Invalid);
+}
+
+#[test]
+fn columns_whose_bottom_rows_have_no_ground_scan_from_the_bottom_and_place_from_the_first_ground() {
+    // A fisheye's bottom corners: the table trusts ground only from node row 40 up in
+    // columns 0..8; columns 8..16 have ground from the bottom. Each column of the left half
+    // has its own scene: an edge in the covered rows, an edge in the uncovered rows, an
+    // obstacle from the bottom, plain floor.
+    let (w, h) = (16, 60);
+    let t = GroundTable::from_fn(w, h, 1, |u, v| {
+        (v >= 5.0 && (u >= 8.0 || v <= 40.0)).then(|| Point2::new(0.2 + (59.0 - v) * 0.01, 0.0))
+    })
+    .unwrap();
+    let floor_from = [20, 20, 50, 50, 0, 0, 58, 58, 20, 20, 20, 20, 20, 20, 20, 20];
+    let img = step_image(w, h, &floor_from, 90, 180);
+    for refinement in REFINEMENTS {
+        let o = options(
+            3,
+            20.0,
+            refinement,
+            ColumnSelection::Explicit(vec![1, 3, 5, 7, 12]),
+        );
+        let mut r = VisualRanger::new(t.clone(), o.clone()).unwrap();
+        let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+        // The lowest row with ground is 39: row 40's lookup interpolates towards node row 41.
+        let first_ground = t.lookup(1.0, 39.0);
+        assert!(first_ground.is_some() && t.lookup(1.0, 40.0).is_none());
+        // Edge at row 19.5, inside the covered rows: placed, free space from row 39's ground.
+        assert_eq!(scan.readings[0].status(), ColumnStatus::Boundary, "{refinement:?}");
+        // (within the filter's half-width: the first crossing comes up to d rows early)
+        assert!((scan.readings[0].row() - 19.5).abs() <= 3.5, "{refinement:?}");
+        assert_eq!(scan.readings[0].near, first_ground);
+        // Edge at row 49.5, below the first row with ground: seen, but not placeable.
+        assert_eq!(scan.readings[1].status(), ColumnStatus::Invalid, "{refinement:?}");
+        assert!((scan.readings[1].row() - 49.5).abs() <= 3.5, "{refinement:?}");
+        // Plain floor: free from row 39's ground to the last row with ground.
+        assert_eq!(scan.readings[2].status(), ColumnStatus::NoBoundary);
+        assert_eq!(scan.readings[2].near, t.lookup(5.0, 39.0));
+        // An obstacle meeting the floor two rows above the bottom (inside the first window):
+        // too close.
+        assert_eq!(scan.readings[3].status(), ColumnStatus::TooClose);
+        // A column with ground from the bottom is as before.
+        assert_eq!(scan.readings[4].near, t.lookup(12.0, 59.0));
+        // The column-by-column reference agrees on every column.
+        let mut all = o.clone();
+        all.columns = ColumnSelection::Explicit((0..w as u32).collect());
+        let mut r = VisualRanger::new(t.clone(), all.clone()).unwrap();
+        let scan = r.scan(&ImageView::new(&img, w, h).unwrap(), 0.0).unwrap();
+        let expected = brute_force(&t, &all, &img, w, h);
+        for (reading, (c, status, row)) in scan.readings.iter().zip(&expected) {
+            assert_eq!(reading.column, *c);
+            assert_eq!(reading.status(), *status, "column {c} {refinement:?}");
+            if row.is_finite() {
+                assert!((reading.row() - row).abs() < 1e-9, "column {c} {refinement:?}");
+            }
+        }
+    }
 }
 
 #[test]

@@ -76,13 +76,20 @@ def model_spread(
     *,
     min_depression_rad: float,
     weights: Optional[Sequence[float]] = None,
+    fold_margin_px: float = 0.0,
 ) -> np.ndarray:
     """Largest distance [m] between ``best``'s floor point and each of ``others``' whose
     weight (if ``weights`` are given) is at least ``MIN_WEIGHT``: infinite where such a model
     sees the pixel's ray at or above the horizon while ``best`` sees floor (a disagreement
-    that matters), not counted where the model's lens cannot describe the pixel at all (past
-    the radius where its polynomial folds back: it is no candidate for that part of the
-    image)."""
+    that matters), not counted where the model's lens cannot describe the pixel (past the
+    radius where its polynomial folds back, or within ``fold_margin_px`` of it: it is no
+    candidate for that part of the image).
+
+    The margin matters because a lens polynomial flattens as it nears its fold, so its
+    inverse there turns a pixel into a ray far from its neighbours' (a simulated fisheye's
+    pinhole-k3 candidate: 15 cm off at the last node before its fold, 2 cm one node in). Such
+    nodes would raise isolated bars, and so holes, inside a table that is trusted all around
+    them. :func:`node_errors` passes the table's node spacing."""
     g = floor_points(best, u, v, min_depression_rad=min_depression_rad)
     out = np.zeros(np.shape(u))
     for i, m in enumerate(others):
@@ -90,10 +97,22 @@ def model_spread(
             continue
         o = floor_points(m, u, v, min_depression_rad=min_depression_rad)
         d = np.hypot(o[0] - g[0], o[1] - g[1])
-        describable = np.all(np.isfinite(m.rays(u, v)), axis=0)
-        d = np.where(np.isfinite(d), d, np.where(describable, np.inf, 0.0))
+        describable = _describable(m, u, v, fold_margin_px)
+        d = np.where(describable, np.where(np.isfinite(d), d, np.inf), 0.0)
         out = np.maximum(out, d)
     return out
+
+
+def _describable(model: CameraModel, u, v, margin_px: float) -> np.ndarray:
+    """Where ``model``'s lens gives a ray at the pixel and at the eight pixels ``margin_px``
+    around it."""
+    u, v = np.asarray(u, float), np.asarray(v, float)
+    steps = (-margin_px, 0.0, margin_px) if margin_px > 0 else (0.0,)
+    ok = np.ones(np.shape(u), bool)
+    for du in steps:
+        for dv in steps:
+            ok &= np.all(np.isfinite(model.rays(u + du, v + dv)), axis=0)
+    return ok
 
 
 def family_weights(choice) -> Tuple[List[CameraModel], List[float]]:
@@ -161,7 +180,13 @@ def node_errors(
     (:func:`family_weights`; None: the largest distance counts)."""
     sigma = SIGMAS * parameter_sigma(fit, u, v, min_depression_rad=min_depression_rad)
     spread = model_spread(
-        fit.model, plausible, u, v, min_depression_rad=min_depression_rad, weights=weights
+        fit.model,
+        plausible,
+        u,
+        v,
+        min_depression_rad=min_depression_rad,
+        weights=weights,
+        fold_margin_px=float(spacing_px),
     )
     interp = interpolation_error(fit.model, spacing_px, u, v, min_depression_rad=min_depression_rad)
     return alpha * np.hypot(sigma, spread) + interp, sigma, spread, interp
