@@ -301,7 +301,10 @@ fn columns_whose_bottom_rows_have_no_ground_are_scanned_from_the_bottom() {
     let full = table(0.0);
     let cornered = GroundTable::from_fn(W, H, 4, |u, v| {
         let uncovered = (u < 40.0 && v > 50.0) || (u >= 120.0 && v > 90.0);
-        (!uncovered).then(|| full.lookup(u.min(W as f64 - 1.0), v.min(H as f64 - 1.0)).unwrap())
+        (!uncovered).then(|| {
+            full.lookup(u.min(W as f64 - 1.0), v.min(H as f64 - 1.0))
+                .unwrap()
+        })
     })
     .unwrap();
     let o = AppearanceOptions {
@@ -321,10 +324,15 @@ fn columns_whose_bottom_rows_have_no_ground_are_scanned_from_the_bottom() {
     let mut seen = [0usize; 4];
     for (x, y) in a.readings.iter().zip(&b.readings) {
         let u = x.column as f64;
-        let first = (0..H).rev().find(|&v| cornered.lookup(u, v as f64).is_some());
+        let first = (0..H)
+            .rev()
+            .find(|&v| cornered.lookup(u, v as f64).is_some());
         assert_eq!(y.near, first.and_then(|v| cornered.lookup(u, v as f64)));
         match (x.outcome, y.outcome) {
-            (ColumnOutcome::Boundary { row, .. }, ColumnOutcome::Boundary { row: r2, point, .. }) => {
+            (
+                ColumnOutcome::Boundary { row, .. },
+                ColumnOutcome::Boundary { row: r2, point, .. },
+            ) => {
                 assert_eq!(row, r2);
                 assert_eq!(Some(point), cornered.lookup(u, row));
                 seen[0] += 1;

@@ -503,13 +503,27 @@ fn columns_whose_bottom_rows_have_no_ground_scan_from_the_bottom_and_place_from_
         let first_ground = t.lookup(1.0, 39.0);
         assert!(first_ground.is_some() && t.lookup(1.0, 40.0).is_none());
         // Edge at row 19.5, inside the covered rows: placed, free space from row 39's ground.
-        assert_eq!(scan.readings[0].status(), ColumnStatus::Boundary, "{refinement:?}");
+        assert_eq!(
+            scan.readings[0].status(),
+            ColumnStatus::Boundary,
+            "{refinement:?}"
+        );
         // (within the filter's half-width: the first crossing comes up to d rows early)
-        assert!((scan.readings[0].row() - 19.5).abs() <= 3.5, "{refinement:?}");
+        assert!(
+            (scan.readings[0].row() - 19.5).abs() <= 3.5,
+            "{refinement:?}"
+        );
         assert_eq!(scan.readings[0].near, first_ground);
         // Edge at row 49.5, below the first row with ground: seen, but not placeable.
-        assert_eq!(scan.readings[1].status(), ColumnStatus::Invalid, "{refinement:?}");
-        assert!((scan.readings[1].row() - 49.5).abs() <= 3.5, "{refinement:?}");
+        assert_eq!(
+            scan.readings[1].status(),
+            ColumnStatus::Invalid,
+            "{refinement:?}"
+        );
+        assert!(
+            (scan.readings[1].row() - 49.5).abs() <= 3.5,
+            "{refinement:?}"
+        );
         // Plain floor: free from row 39's ground to the last row with ground.
         assert_eq!(scan.readings[2].status(), ColumnStatus::NoBoundary);
         assert_eq!(scan.readings[2].near, t.lookup(5.0, 39.0));
@@ -528,7 +542,10 @@ fn columns_whose_bottom_rows_have_no_ground_scan_from_the_bottom_and_place_from_
             assert_eq!(reading.column, *c);
             assert_eq!(reading.status(), *status, "column {c} {refinement:?}");
             if row.is_finite() {
-                assert!((reading.row() - row).abs() < 1e-9, "column {c} {refinement:?}");
+                assert!(
+                    (reading.row() - row).abs() < 1e-9,
+                    "column {c} {refinement:?}"
+                );
             }
         }
     }
