@@ -88,6 +88,11 @@ pub fn fuse_scans(
                     }
                     // a too-close edge stays: the robot may be at an obstacle already
                     (ColumnOutcome::Boundary { .. }, ColumnOutcome::NoBoundary { .. }) => !textured,
+                    // an edge in rows the table gives no ground (a bottom corner): as a boundary
+                    (ColumnOutcome::Invalid { row: Some(_) }, ColumnOutcome::NoBoundary { .. }) => {
+                        !textured
+                    }
+                    (ColumnOutcome::TooClose, ColumnOutcome::NoBoundary { .. }) => !textured,
                     (_, ColumnOutcome::NoBoundary { .. }) => true,
                     _ => false,
                 };
@@ -196,6 +201,7 @@ mod tests {
                 boundary(2, 50.0),
                 boundary(3, 70.0),
                 reading(4, ColumnOutcome::TooClose),
+                reading(5, ColumnOutcome::Invalid { row: Some(95.0) }),
             ],
         };
         let appearance = Scan {
@@ -206,6 +212,7 @@ mod tests {
                 boundary(2, 49.5),
                 reading(3, nb()),
                 reading(4, nb()),
+                reading(5, nb()),
             ],
         };
         // 2 of 4 edge boundaries lie below the appearance boundary by more than the snap
@@ -215,8 +222,11 @@ mod tests {
         assert_eq!(out.readings[3], appearance.readings[3]); // textured: the floor stands
         assert_eq!(out.readings[2], edge.readings[2]); // agreement still snaps to the edge
         assert_eq!(out.readings[4], edge.readings[4]); // too close stays
+                                                       // an edge in rows without ground (a corner the table does not cover) is pattern too
+        assert_eq!(out.readings[5], appearance.readings[5]);
         fuse_scans(&edge, &appearance, 3.0, 0.5, &mut out).unwrap();
         assert_eq!(out.readings[3], edge.readings[3]); // not above the share: the edge stands
+        assert_eq!(out.readings[5], edge.readings[5]);
         let none = Scan {
             timestamp_s: 1.0,
             readings: vec![reading(0, nb())],
