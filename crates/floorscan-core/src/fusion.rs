@@ -9,9 +9,11 @@
 //! A frame whose floor breaks the texture assumption (more than `texture_share` of its edge
 //! boundaries lie farther than `snap_rows` below an appearance boundary: grout lines, plank
 //! joints, a printed pattern) also gives the appearance ranger's "only floor" columns to the
-//! appearance reading where the edge ranger found a boundary: in such a frame an edge where
-//! the floor's look does not end is the floor's own pattern, not a grey obstacle on a grey
-//! floor. A too-close edge reading stays (the robot may be touching an obstacle).
+//! appearance reading where the edge ranger found a boundary, an edge in rows the ground table
+//! does not cover, or an edge in its first window (too close): in such a frame an edge where
+//! the floor's look does not end is the floor's own pattern (a grout line at the image's
+//! bottom), not a grey obstacle on a grey floor. Elsewhere a too-close edge reading stays (the
+//! robot may be touching an obstacle).
 
 use crate::error::{Error, Result};
 use crate::scan::{ColumnOutcome, Scan};
@@ -86,12 +88,15 @@ pub fn fuse_scans(
                     (ColumnOutcome::Boundary { row, .. }, ColumnOutcome::TooClose) => {
                         (row - a.start_row).abs() <= snap_rows
                     }
-                    // a too-close edge stays: the robot may be at an obstacle already
+                    // an edge boundary where the floor's look does not end: a grey obstacle on a
+                    // grey floor, or in a textured frame the floor's pattern
                     (ColumnOutcome::Boundary { .. }, ColumnOutcome::NoBoundary { .. }) => !textured,
                     // an edge in rows the table gives no ground (a bottom corner): as a boundary
                     (ColumnOutcome::Invalid { row: Some(_) }, ColumnOutcome::NoBoundary { .. }) => {
                         !textured
                     }
+                    // a too-close edge stays (the robot may be at an obstacle already) unless
+                    // the frame is textured (then a line of the pattern at the image's bottom)
                     (ColumnOutcome::TooClose, ColumnOutcome::NoBoundary { .. }) => !textured,
                     (_, ColumnOutcome::NoBoundary { .. }) => true,
                     _ => false,
@@ -221,11 +226,13 @@ mod tests {
         fuse_scans(&edge, &appearance, 3.0, 0.4, &mut out).unwrap();
         assert_eq!(out.readings[3], appearance.readings[3]); // textured: the floor stands
         assert_eq!(out.readings[2], edge.readings[2]); // agreement still snaps to the edge
-        assert_eq!(out.readings[4], edge.readings[4]); // too close stays
-                                                       // an edge in rows without ground (a corner the table does not cover) is pattern too
+                                                       // a too-close edge and an edge in rows without ground (a corner the table does not
+                                                       // cover) under floor the appearance ranger recognises are pattern too
+        assert_eq!(out.readings[4], appearance.readings[4]);
         assert_eq!(out.readings[5], appearance.readings[5]);
         fuse_scans(&edge, &appearance, 3.0, 0.5, &mut out).unwrap();
         assert_eq!(out.readings[3], edge.readings[3]); // not above the share: the edge stands
+        assert_eq!(out.readings[4], edge.readings[4]); // and a too-close edge stays
         assert_eq!(out.readings[5], edge.readings[5]);
         let none = Scan {
             timestamp_s: 1.0,
