@@ -144,6 +144,48 @@ def test_fused_takes_nearby_edges_and_ignores_grout_lines():
         FusedRanger(edge, fs.AppearanceRanger(table, columns=4), snap_rows=1)
 
 
+def test_fused_keeps_a_textured_floor_through_frames_that_cannot_tell():
+    # Frame 1: a grout line at row 60 below a blue wall from row 30 up; the edge ranger stops
+    # at the grout in every column, 30 rows below the appearance boundary: a textured floor.
+    # Frame 2: the same floor to the top of the image; the appearance ranger sees floor
+    # throughout, so the frame has no column to compare: it keeps frame 1's judgement and the
+    # grout line is not an obstacle. On its own (or after reset_model) the frame is plain and
+    # the edge ranger's boundary stands (a grey obstacle on a grey floor looks like this).
+    wall = np.zeros((H, W, 3), np.uint8)
+    wall[:] = (150, 140, 120)
+    wall[60] = (90, 90, 90)
+    wall[:30] = (30, 60, 160)
+    open_floor = wall.copy()
+    open_floor[:30] = (150, 140, 120)
+    table = image_row_table(W, H)
+
+    def fused():
+        edge = fs.VisualRanger(
+            table,
+            columns=8,
+            max_range_m=None,
+            threshold=5,
+            noise_multiple=0,
+            contrast=0,
+            half_width_px=2,
+        )
+        app = fs.AppearanceRanger(table, columns=8, max_range_m=None, reference_fraction=0.3)
+        return FusedRanger(edge, app, snap_rows=3)
+
+    r = fused()
+    assert not r.textured
+    np.testing.assert_array_equal(r.scan(wall).rows, 29.5)
+    assert r.textured
+    after = r.scan(open_floor)
+    assert r.textured
+    assert np.all(after.status == "no_boundary")
+    alone = fused().scan(open_floor)
+    assert np.all(alone.status == "boundary") and np.all(alone.rows > 55)
+    r.reset_model()
+    assert not r.textured
+    assert np.all(r.scan(open_floor).status == "boundary")
+
+
 @pytest.mark.parametrize("share", [-0.1, 1.5, float("nan")])
 def test_fused_texture_share_out_of_range_is_an_option_error(share):
     table = image_row_table(W, H)

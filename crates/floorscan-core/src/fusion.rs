@@ -38,9 +38,45 @@ pub fn texture_edge_share(edge: &Scan, appearance: &Scan, snap_rows: f64) -> f64
     }
 }
 
+/// Fewest columns with a boundary from both rangers for a frame to judge whether its floor
+/// breaks the texture assumption.
+pub const MIN_TEXTURE_EVIDENCE: usize = 3;
+
+/// Whether this frame's floor breaks the texture assumption: its [`texture_edge_share`]
+/// exceeds `texture_share` (in [0, 1]; 1: never). A frame that could not show it keeps
+/// `previous` (the judgement of the frames before; `false` for a first frame): one where
+/// fewer than [`MIN_TEXTURE_EVIDENCE`] columns, or no more than `texture_share` of the edge
+/// ranger's boundary columns, have an appearance boundary to compare with (the appearance
+/// ranger saw floor in nearly every column, so even a floor of grout lines would leave the
+/// share below the bar). The floor does not change from one frame to the next.
+pub fn frame_textured(
+    edge: &Scan,
+    appearance: &Scan,
+    snap_rows: f64,
+    texture_share: f64,
+    previous: bool,
+) -> bool {
+    if texture_share >= 1.0 {
+        return false;
+    }
+    let (mut boundaries, mut compared) = (0usize, 0usize);
+    for (e, a) in edge.readings.iter().zip(&appearance.readings) {
+        if matches!(e.outcome, ColumnOutcome::Boundary { .. }) {
+            boundaries += 1;
+            compared += usize::from(matches!(a.outcome, ColumnOutcome::Boundary { .. }));
+        }
+    }
+    let could_show = compared as f64 > texture_share * boundaries as f64;
+    if compared < MIN_TEXTURE_EVIDENCE || !could_show {
+        return previous;
+    }
+    texture_edge_share(edge, appearance, snap_rows) > texture_share
+}
+
 /// Fuses two scans of the same frame and columns into `out` (its buffer reused); a frame
 /// whose [`texture_edge_share`] exceeds `texture_share` (in [0, 1]; 1: never) takes the
-/// appearance reading where the appearance ranger saw only floor.
+/// appearance reading where the appearance ranger saw only floor. Each frame on its own:
+/// [`fuse_scans_after`] carries the decision over frames that cannot make it.
 pub fn fuse_scans(
     edge: &Scan,
     appearance: &Scan,
@@ -48,6 +84,20 @@ pub fn fuse_scans(
     texture_share: f64,
     out: &mut Scan,
 ) -> Result<()> {
+    fuse_scans_after(edge, appearance, snap_rows, texture_share, false, out).map(|_| ())
+}
+
+/// As [`fuse_scans`] for a frame that follows others whose floor was judged textured or not
+/// (`previous_textured`, see [`frame_textured`]); returns this frame's judgement, for the
+/// next.
+pub fn fuse_scans_after(
+    edge: &Scan,
+    appearance: &Scan,
+    snap_rows: f64,
+    texture_share: f64,
+    previous_textured: bool,
+    out: &mut Scan,
+) -> Result<bool> {
     if edge.len() != appearance.len()
         || edge
             .readings
@@ -71,7 +121,13 @@ pub fn fuse_scans(
             format!("must be in [0, 1], got {texture_share}"),
         ));
     }
-    let textured = texture_edge_share(edge, appearance, snap_rows) > texture_share;
+    let textured = frame_textured(
+        edge,
+        appearance,
+        snap_rows,
+        texture_share,
+        previous_textured,
+    );
     out.timestamp_s = appearance.timestamp_s;
     out.readings.clear();
     out.readings.extend(
@@ -108,7 +164,7 @@ pub fn fuse_scans(
                 }
             }),
     );
-    Ok(())
+    Ok(textured)
 }
 
 #[cfg(test)]
@@ -239,5 +295,71 @@ mod tests {
             readings: vec![reading(0, nb())],
         };
         assert_eq!(texture_edge_share(&none, &none, 3.0), 0.0);
+    }
+
+    #[test]
+    fn a_frame_without_appearance_boundaries_keeps_the_floors_judgement() {
+        // The edge ranger stops at a grout line in every column; the appearance ranger sees
+        // floor throughout: no column where both found a boundary, so the frame cannot tell
+        // a pattern from obstacles that look like the floor.
+        let nb = || ColumnOutcome::NoBoundary {
+            top_row: 0.0,
+            farthest: Point2::new(3.0, 0.0),
+        };
+        let edge = Scan {
+            timestamp_s: 1.0,
+            readings: (0..6).map(|c| boundary(c, 90.0)).collect(),
+        };
+        let floor = Scan {
+            timestamp_s: 1.0,
+            readings: (0..6).map(|c| reading(c, nb())).collect(),
+        };
+        let mut out = Scan::default();
+        // After a textured floor: still textured, the appearance ranger's floor stands.
+        assert!(fuse_scans_after(&edge, &floor, 3.0, 0.15, true, &mut out).unwrap());
+        assert_eq!(out.readings, floor.readings);
+        // After a plain floor, or on its own: the edge ranger's boundaries stand.
+        assert!(!fuse_scans_after(&edge, &floor, 3.0, 0.15, false, &mut out).unwrap());
+        assert_eq!(out.readings, edge.readings);
+        fuse_scans(&edge, &floor, 3.0, 0.15, &mut out).unwrap();
+        assert_eq!(out.readings, edge.readings);
+        // With texture_share 1 (off) a textured past counts for nothing.
+        assert!(!fuse_scans_after(&edge, &floor, 3.0, 1.0, true, &mut out).unwrap());
+        // A frame with evidence decides for itself: MIN_TEXTURE_EVIDENCE (3) of the 6 edge
+        // boundary columns compared, none far apart: plain, whatever came before.
+        let mut app = floor.clone();
+        for c in 0..MIN_TEXTURE_EVIDENCE {
+            app.readings[c] = boundary(c as u32, 89.5);
+        }
+        assert!(!frame_textured(&edge, &app, 3.0, 0.15, true));
+        // ... and with them far above the edges: textured, whatever came before.
+        for c in 0..MIN_TEXTURE_EVIDENCE {
+            app.readings[c] = boundary(c as u32, 40.0);
+        }
+        assert!(frame_textured(&edge, &app, 3.0, 0.15, false));
+        // One column fewer is no evidence.
+        app.readings[0] = reading(0, nb());
+        assert!(frame_textured(&edge, &app, 3.0, 0.15, true));
+        assert!(!frame_textured(&edge, &app, 3.0, 0.15, false));
+        // Nor are 3 compared columns among 40 edge boundaries (7.5 %): had every one of them
+        // lain below its appearance boundary, the share could not pass 0.15.
+        let many = Scan {
+            timestamp_s: 1.0,
+            readings: (0..40).map(|c| boundary(c, 90.0)).collect(),
+        };
+        let mut few = Scan {
+            timestamp_s: 1.0,
+            readings: (0..40).map(|c| reading(c, nb())).collect(),
+        };
+        for c in 0..3 {
+            few.readings[c] = boundary(c as u32, 89.5);
+        }
+        assert!(frame_textured(&many, &few, 3.0, 0.15, true));
+        assert!(!frame_textured(&many, &few, 3.0, 0.15, false));
+        // 7 of 40 (17.5 %) could: the frame decides (plain here).
+        for c in 0..7 {
+            few.readings[c] = boundary(c as u32, 89.5);
+        }
+        assert!(!frame_textured(&many, &few, 3.0, 0.15, true));
     }
 }

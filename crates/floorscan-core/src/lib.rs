@@ -63,7 +63,7 @@ pub use edge::Refinement;
 pub use error::{Error, Result};
 pub use evidence::EvidenceRaster;
 pub use floor_model::FloorModel;
-pub use fusion::fuse_scans;
+pub use fusion::{frame_textured, fuse_scans, fuse_scans_after, MIN_TEXTURE_EVIDENCE};
 pub use grid::{CellRect, Grid};
 pub use grid_options::{Bounds, GridOptions, Occupancy};
 pub use ground_table::GroundTable;

@@ -1,7 +1,9 @@
 //! Bindings of `floorscan_core::appearance`. Options arrive as a dict of `AppearanceOptions`
 //! fields (its serde form; the others take their defaults), read and validated here.
 
-use floorscan_core::{fuse_scans, AppearanceOptions, AppearanceRanger, ColourView, Pixel, Scan};
+use floorscan_core::{
+    fuse_scans_after, AppearanceOptions, AppearanceRanger, ColourView, Pixel, Scan,
+};
 use numpy::{Element, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
@@ -113,22 +115,26 @@ impl PyAppearanceRanger {
 }
 
 /// Fuses an edge scan and an appearance scan of the same frame and columns
-/// (`floorscan_core::fusion`).
+/// (`floorscan_core::fusion`), after frames whose floor was judged textured or not
+/// (`previous_textured`); returns the fused scan and this frame's judgement.
 #[pyfunction]
+#[pyo3(signature = (edge, appearance, snap_rows, texture_share, previous_textured = false))]
 pub fn fuse(
     edge: &PyScan,
     appearance: &PyScan,
     snap_rows: f64,
     texture_share: f64,
-) -> PyResult<PyScan> {
+    previous_textured: bool,
+) -> PyResult<(PyScan, bool)> {
     let mut out = Scan::default();
-    fuse_scans(
+    let textured = fuse_scans_after(
         &edge.inner,
         &appearance.inner,
         snap_rows,
         texture_share,
+        previous_textured,
         &mut out,
     )
     .py()?;
-    Ok(PyScan { inner: out })
+    Ok((PyScan { inner: out }, textured))
 }

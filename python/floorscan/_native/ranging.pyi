@@ -182,10 +182,11 @@ def default_ranger_options() -> Any:
     The default `RangerOptions` (its serde form, a dict).
     """
 
-def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex, texture_share: SupportsFloat | SupportsIndex) -> Scan:
+def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex, texture_share: SupportsFloat | SupportsIndex, previous_textured: bool = False) -> tuple[Scan, bool]:
     """
     Fuses an edge scan and an appearance scan of the same frame and columns
-    (`floorscan_core::fusion`).
+    (`floorscan_core::fusion`), after frames whose floor was judged textured or not
+    (`previous_textured`); returns the fused scan and this frame's judgement.
     """
 
 def ranger_options_schema() -> Any:

@@ -52,9 +52,12 @@ class FusedRanger:
         texture_share: in [0, 1]: a frame in which more than this share of the edge ranger's
             boundaries lie farther than the snap distance below an appearance boundary breaks
             the texture assumption (grout, joints, a printed pattern), and its columns where
-            the edge ranger found a boundary and the appearance ranger only floor take the
-            appearance reading (elsewhere such columns take the edge's: a grey obstacle on a
-            grey floor; a too-close edge always stays). 1 turns it off.
+            the appearance ranger saw only floor take the appearance reading where the edge
+            ranger found a boundary, an edge it could not place or a too-close edge
+            (elsewhere such columns take the edge's: a grey obstacle on a grey floor). A frame
+            with fewer than ``MIN_TEXTURE_EVIDENCE`` (3) columns where both rangers found a
+            boundary cannot tell and keeps the judgement of the frames before it
+            (:attr:`textured`; :meth:`reset_model` forgets it). 1 turns it off.
             Default :data:`TEXTURE_SHARE` (0.15).
     """
 
@@ -87,6 +90,18 @@ class FusedRanger:
         self.edge, self.appearance, self.snap_rows, self.snap_fraction = edge, appearance, s, f
         self.texture_share = t
         self._snap = max(s, f * edge.table.image_height)
+        self._textured = False
+
+    @property
+    def textured(self) -> bool:
+        """Whether the last frames' floor broke the texture assumption."""
+        return self._textured
+
+    def reset_model(self) -> None:
+        """Forgets the learned floor and the judgement of its texture (e.g. on entering
+        another building)."""
+        self.appearance.reset_model()
+        self._textured = False
 
     @property
     def table(self):
@@ -111,4 +126,7 @@ class FusedRanger:
         conversion to the edge ranger) and fuses the two scans."""
         e = self.edge.scan(image, timestamp=timestamp)
         a = self.appearance.scan(image, timestamp=timestamp)
-        return Scan(_native.fuse(e._native, a._native, self._snap, self.texture_share))
+        fused, self._textured = _native.fuse(
+            e._native, a._native, self._snap, self.texture_share, self._textured
+        )
+        return Scan(fused)
