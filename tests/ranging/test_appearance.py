@@ -111,24 +111,36 @@ def test_bad_input_raises_floorscan_errors():
             fs.AppearanceRanger(image_row_table(W, H), **bad)
 
 
-def test_fused_takes_nearby_edges_and_ignores_grout_lines():
-    # A plain floor with a thin grey grout line at row 60 (in the reference band: floor to the
-    # appearance model, an edge to the edge ranger) and a blue wall from row 30 up.
+def grout_frame() -> np.ndarray:
+    """A plain floor with a thin grey grout line at row 60 (in the reference band: floor to the
+    appearance model, an edge to the edge ranger) and a blue wall from row 30 up."""
     img = np.zeros((H, W, 3), np.uint8)
     img[:] = (150, 140, 120)
     img[60] = (90, 90, 90)
     img[:30] = (30, 60, 160)
-    table = image_row_table(W, H)
+    return img
+
+
+def grout_rangers(table):
+    """(edge, appearance) rangers for :func:`grout_frame`: the edge ranger with a fixed
+    threshold, so that the grout line (R = 12.5) is an edge."""
     edge = fs.VisualRanger(
         table,
         columns=8,
         max_range_m=None,
         threshold=5,
         noise_multiple=0,
-        contrast=0,  # a fixed threshold: the grout line (R = 12.5) is an edge
+        contrast=0,
         half_width_px=2,
     )
     app = fs.AppearanceRanger(table, columns=8, max_range_m=None, reference_fraction=0.3)
+    return edge, app
+
+
+def test_fused_takes_nearby_edges_and_ignores_grout_lines():
+    img = grout_frame()
+    table = image_row_table(W, H)
+    edge, app = grout_rangers(table)
     e, a = edge.scan(img), app.scan(img)
     assert np.all(e.rows > 55)  # the edge ranger stops at the grout line
     np.testing.assert_array_equal(a.rows, 29.5)
@@ -151,26 +163,13 @@ def test_fused_keeps_a_textured_floor_through_frames_that_cannot_tell():
     # throughout, so the frame has no column to compare: it keeps frame 1's judgement and the
     # grout line is not an obstacle. On its own (or after reset_model) the frame is plain and
     # the edge ranger's boundary stands (a grey obstacle on a grey floor looks like this).
-    wall = np.zeros((H, W, 3), np.uint8)
-    wall[:] = (150, 140, 120)
-    wall[60] = (90, 90, 90)
-    wall[:30] = (30, 60, 160)
+    wall = grout_frame()
     open_floor = wall.copy()
     open_floor[:30] = (150, 140, 120)
     table = image_row_table(W, H)
 
     def fused():
-        edge = fs.VisualRanger(
-            table,
-            columns=8,
-            max_range_m=None,
-            threshold=5,
-            noise_multiple=0,
-            contrast=0,
-            half_width_px=2,
-        )
-        app = fs.AppearanceRanger(table, columns=8, max_range_m=None, reference_fraction=0.3)
-        return FusedRanger(edge, app, snap_rows=3)
+        return FusedRanger(*grout_rangers(table), snap_rows=3)
 
     r = fused()
     assert not r.textured
