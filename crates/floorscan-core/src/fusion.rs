@@ -42,6 +42,48 @@ pub fn texture_edge_share(edge: &Scan, appearance: &Scan, snap_rows: f64) -> f64
 /// breaks the texture assumption.
 pub const MIN_TEXTURE_EVIDENCE: usize = 3;
 
+/// Frames in a row that may inherit a textured judgement before it lapses to plain (5 s at
+/// 10 frames/s): a robot that leaves a tiled floor for a plain one whose obstacles the
+/// appearance ranger cannot see would otherwise keep handing the edge ranger's boundaries to
+/// "floor" for ever.
+pub const TEXTURE_MEMORY_FRAMES: u32 = 50;
+
+/// The fused ranger's judgement of the floor, carried from frame to frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TextureState {
+    /// Whether the floor breaks the texture assumption.
+    pub textured: bool,
+    /// Frames in a row that inherited the judgement (0: the last frame made it).
+    pub frames_inherited: u32,
+}
+
+impl TextureState {
+    /// The state after a frame: its own judgement when it could make one (see
+    /// [`frame_textured`]), else the previous one, which lapses to plain after
+    /// [`TEXTURE_MEMORY_FRAMES`] inherited frames.
+    pub fn after(
+        self,
+        edge: &Scan,
+        appearance: &Scan,
+        snap_rows: f64,
+        texture_share: f64,
+    ) -> TextureState {
+        match frame_judgement(edge, appearance, snap_rows, texture_share) {
+            Some(textured) => TextureState {
+                textured,
+                frames_inherited: 0,
+            },
+            None if self.textured && self.frames_inherited < TEXTURE_MEMORY_FRAMES => {
+                TextureState {
+                    textured: true,
+                    frames_inherited: self.frames_inherited + 1,
+                }
+            }
+            None => TextureState::default(),
+        }
+    }
+}
+
 /// Whether this frame's floor breaks the texture assumption: its [`texture_edge_share`]
 /// exceeds `texture_share` (in [0, 1]; 1: never). A frame that could not show it keeps
 /// `previous` (the judgement of the frames before; `false` for a first frame): one where
@@ -56,8 +98,18 @@ pub fn frame_textured(
     texture_share: f64,
     previous: bool,
 ) -> bool {
+    frame_judgement(edge, appearance, snap_rows, texture_share).unwrap_or(previous)
+}
+
+/// The frame's own judgement, `None` when it could not show a textured floor.
+fn frame_judgement(
+    edge: &Scan,
+    appearance: &Scan,
+    snap_rows: f64,
+    texture_share: f64,
+) -> Option<bool> {
     if texture_share >= 1.0 {
-        return false;
+        return Some(false);
     }
     let (mut boundaries, mut compared) = (0usize, 0usize);
     for (e, a) in edge.readings.iter().zip(&appearance.readings) {
@@ -68,9 +120,9 @@ pub fn frame_textured(
     }
     let could_show = compared as f64 > texture_share * boundaries as f64;
     if compared < MIN_TEXTURE_EVIDENCE || !could_show {
-        return previous;
+        return None;
     }
-    texture_edge_share(edge, appearance, snap_rows) > texture_share
+    Some(texture_edge_share(edge, appearance, snap_rows) > texture_share)
 }
 
 /// Fuses two scans of the same frame and columns into `out` (its buffer reused); a frame
@@ -84,20 +136,27 @@ pub fn fuse_scans(
     texture_share: f64,
     out: &mut Scan,
 ) -> Result<()> {
-    fuse_scans_after(edge, appearance, snap_rows, texture_share, false, out).map(|_| ())
+    fuse_scans_after(
+        edge,
+        appearance,
+        snap_rows,
+        texture_share,
+        TextureState::default(),
+        out,
+    )
+    .map(|_| ())
 }
 
-/// As [`fuse_scans`] for a frame that follows others whose floor was judged textured or not
-/// (`previous_textured`, see [`frame_textured`]); returns this frame's judgement, for the
-/// next.
+/// As [`fuse_scans`] for a frame that follows others (`previous`: their judgement of the
+/// floor, see [`TextureState::after`]); returns the state after this frame, for the next.
 pub fn fuse_scans_after(
     edge: &Scan,
     appearance: &Scan,
     snap_rows: f64,
     texture_share: f64,
-    previous_textured: bool,
+    previous: TextureState,
     out: &mut Scan,
-) -> Result<bool> {
+) -> Result<TextureState> {
     if edge.len() != appearance.len()
         || edge
             .readings
@@ -121,13 +180,8 @@ pub fn fuse_scans_after(
             format!("must be in [0, 1], got {texture_share}"),
         ));
     }
-    let textured = frame_textured(
-        edge,
-        appearance,
-        snap_rows,
-        texture_share,
-        previous_textured,
-    );
+    let state = previous.after(edge, appearance, snap_rows, texture_share);
+    let textured = state.textured;
     out.timestamp_s = appearance.timestamp_s;
     out.readings.clear();
     out.readings.extend(
@@ -164,7 +218,7 @@ pub fn fuse_scans_after(
                 }
             }),
     );
-    Ok(textured)
+    Ok(state)
 }
 
 #[cfg(test)]
@@ -315,16 +369,31 @@ mod tests {
             readings: (0..6).map(|c| reading(c, nb())).collect(),
         };
         let mut out = Scan::default();
-        // After a textured floor: still textured, the appearance ranger's floor stands.
-        assert!(fuse_scans_after(&edge, &floor, 3.0, 0.15, true, &mut out).unwrap());
-        assert_eq!(out.readings, floor.readings);
+        let textured = TextureState {
+            textured: true,
+            frames_inherited: 0,
+        };
+        // After a textured floor: still textured, the appearance ranger's floor stands ...
+        let mut s = textured;
+        for k in 1..=TEXTURE_MEMORY_FRAMES {
+            s = fuse_scans_after(&edge, &floor, 3.0, 0.15, s, &mut out).unwrap();
+            assert!(s.textured && s.frames_inherited == k);
+            assert_eq!(out.readings, floor.readings);
+        }
+        // ... for TEXTURE_MEMORY_FRAMES frames in a row, then it lapses to plain.
+        s = fuse_scans_after(&edge, &floor, 3.0, 0.15, s, &mut out).unwrap();
+        assert_eq!(s, TextureState::default());
+        assert_eq!(out.readings, edge.readings);
         // After a plain floor, or on its own: the edge ranger's boundaries stand.
-        assert!(!fuse_scans_after(&edge, &floor, 3.0, 0.15, false, &mut out).unwrap());
+        let plain = TextureState::default();
+        let s = fuse_scans_after(&edge, &floor, 3.0, 0.15, plain, &mut out).unwrap();
+        assert!(!s.textured);
         assert_eq!(out.readings, edge.readings);
         fuse_scans(&edge, &floor, 3.0, 0.15, &mut out).unwrap();
         assert_eq!(out.readings, edge.readings);
         // With texture_share 1 (off) a textured past counts for nothing.
-        assert!(!fuse_scans_after(&edge, &floor, 3.0, 1.0, true, &mut out).unwrap());
+        let s = fuse_scans_after(&edge, &floor, 3.0, 1.0, textured, &mut out).unwrap();
+        assert!(!s.textured);
         // A frame with evidence decides for itself: MIN_TEXTURE_EVIDENCE (3) of the 6 edge
         // boundary columns compared, none far apart: plain, whatever came before.
         let mut app = floor.clone();

@@ -994,7 +994,9 @@ fn plan_column(
     // The column's near edge of view is its lowest row, from the start up, with ground. Rows
     // below it (an image corner the table does not trust: a fisheye's sides near the robot)
     // are still scanned, as the paper's ranger takes the bottom rows for floor, but an edge
-    // there cannot be placed (invalid) and one at the start row is too close.
+    // there cannot be placed (invalid). One in the first window is too close: the obstacle
+    // then covers the column up to its first row with ground, so it stands on that row's ray
+    // at or before `near`, where the map marks it (as for any too-close column).
     let rows = table.column_ground_rows(u, start_row, within_range);
     let near = rows.and_then(|(first, _)| table.lookup(u, first as f64));
     let mut window = None;

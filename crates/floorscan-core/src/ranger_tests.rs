@@ -528,8 +528,10 @@ fn columns_whose_bottom_rows_have_no_ground_scan_from_the_bottom_and_place_from_
         assert_eq!(scan.readings[2].status(), ColumnStatus::NoBoundary);
         assert_eq!(scan.readings[2].near, t.lookup(5.0, 39.0));
         // An obstacle meeting the floor two rows above the bottom (inside the first window):
-        // too close.
+        // too close; it covers the column up to row 39, so it stands on that row's ray at or
+        // before `near`, where the map marks a too-close column.
         assert_eq!(scan.readings[3].status(), ColumnStatus::TooClose);
+        assert_eq!(scan.readings[3].near, t.lookup(7.0, 39.0));
         // A column with ground from the bottom is as before.
         assert_eq!(scan.readings[4].near, t.lookup(12.0, 59.0));
         // The column-by-column reference agrees on every column.

@@ -67,7 +67,9 @@ pub enum ColumnOutcome {
     NoBoundary { top_row: f64, farthest: Point2 },
     /// The first window at the bottom already holds an edge.
     TooClose,
-    /// The column start or the boundary row has no ground point; `row` is the row found, if any.
+    /// No row from the column's start up has a ground point, or the edge found above the first
+    /// window has none (in rows below the column's first row with ground); `row` is the row
+    /// found, if any.
     Invalid { row: Option<f64> },
 }
 
@@ -78,8 +80,9 @@ pub struct ColumnReading {
     pub column: u32,
     /// Row [px] where the column's scan starts (the nearest floor it looks at).
     pub start_row: f64,
-    /// Ground point of the start row [m], `None` if it has none: the near edge of the column's
-    /// field of view on the floor. The map builder starts free space here.
+    /// Ground point [m] of the column's lowest row with ground, at or above the start row
+    /// (the start row's own where it has one), `None` if there is none: the near edge of the
+    /// column's field of view on the floor. The map builder starts free space here.
     pub near: Option<Point2>,
     pub outcome: ColumnOutcome,
     /// How sure the ranger is of the outcome, in [0, 1] (edge ranger: how far the edge response

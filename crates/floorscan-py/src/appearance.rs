@@ -2,7 +2,7 @@
 //! fields (its serde form; the others take their defaults), read and validated here.
 
 use floorscan_core::{
-    fuse_scans_after, AppearanceOptions, AppearanceRanger, ColourView, Pixel, Scan,
+    fuse_scans_after, AppearanceOptions, AppearanceRanger, ColourView, Pixel, Scan, TextureState,
 };
 use numpy::{Element, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -116,25 +116,35 @@ impl PyAppearanceRanger {
 
 /// Fuses an edge scan and an appearance scan of the same frame and columns
 /// (`floorscan_core::fusion`), after frames whose floor was judged textured or not
-/// (`previous_textured`); returns the fused scan and this frame's judgement.
+/// (`previous_textured`, inherited `frames_inherited` frames in a row); returns the fused
+/// scan and the judgement after this frame, `(scan, textured, frames_inherited)`.
 #[pyfunction]
-#[pyo3(signature = (edge, appearance, snap_rows, texture_share, previous_textured = false))]
+#[pyo3(signature = (edge, appearance, snap_rows, texture_share, previous_textured = false, frames_inherited = 0))]
 pub fn fuse(
     edge: &PyScan,
     appearance: &PyScan,
     snap_rows: f64,
     texture_share: f64,
     previous_textured: bool,
-) -> PyResult<(PyScan, bool)> {
+    frames_inherited: u32,
+) -> PyResult<(PyScan, bool, u32)> {
     let mut out = Scan::default();
-    let textured = fuse_scans_after(
+    let previous = TextureState {
+        textured: previous_textured,
+        frames_inherited,
+    };
+    let state = fuse_scans_after(
         &edge.inner,
         &appearance.inner,
         snap_rows,
         texture_share,
-        previous_textured,
+        previous,
         &mut out,
     )
     .py()?;
-    Ok((PyScan { inner: out }, textured))
+    Ok((
+        PyScan { inner: out },
+        state.textured,
+        state.frames_inherited,
+    ))
 }

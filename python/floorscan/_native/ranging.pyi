@@ -182,11 +182,12 @@ def default_ranger_options() -> Any:
     The default `RangerOptions` (its serde form, a dict).
     """
 
-def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex, texture_share: SupportsFloat | SupportsIndex, previous_textured: bool = False) -> tuple[Scan, bool]:
+def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex, texture_share: SupportsFloat | SupportsIndex, previous_textured: bool = False, frames_inherited: SupportsIndex = 0) -> tuple[Scan, bool, int]:
     """
     Fuses an edge scan and an appearance scan of the same frame and columns
     (`floorscan_core::fusion`), after frames whose floor was judged textured or not
-    (`previous_textured`); returns the fused scan and this frame's judgement.
+    (`previous_textured`, inherited `frames_inherited` frames in a row); returns the fused
+    scan and the judgement after this frame, `(scan, textured, frames_inherited)`.
     """
 
 def ranger_options_schema() -> Any:

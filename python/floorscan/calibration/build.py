@@ -169,7 +169,7 @@ def calibrate(
     det = model.jacobian_det(u, v)
     valid = np.isfinite(x) & (np.sign(det) == chirality)
     valid &= np.hypot(x - model.centre_m[0], y - model.centre_m[1]) <= opts.max_range_m
-    alpha = inflation(choice, uv, g)
+    alpha = inflation(choice, uv, g, fold_margin_px=float(opts.spacing_px))
     others, weights = family_weights(choice)
     bar, _sigma, _spread, _interp = node_errors(
         choice.best.fit,

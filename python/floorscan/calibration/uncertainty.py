@@ -199,9 +199,12 @@ MIN_INFLATION = 0.5
 wide."""
 
 
-def inflation(choice, uv: np.ndarray, ground: np.ndarray) -> float:
+def inflation(
+    choice, uv: np.ndarray, ground: np.ndarray, *, fold_margin_px: float = 0.0
+) -> float:
     """``alpha`` (>= 1): the factor by which the bars of the cross-validation refits must grow
-    to cover ``COVERAGE`` of their held-out points' floor errors."""
+    to cover ``COVERAGE`` of their held-out points' floor errors; ``fold_margin_px`` as the
+    bars it scales (:func:`model_spread`)."""
     best = choice.best
     plausible, weights = family_weights(choice)
     used_uv, used_g = uv[choice.used], ground[choice.used]
@@ -219,6 +222,7 @@ def inflation(choice, uv: np.ndarray, ground: np.ndarray) -> float:
             v,
             min_depression_rad=0.0,
             weights=weights,
+            fold_margin_px=fold_margin_px,
         )
         bar = np.hypot(sigma, spread)
         ratios.append(np.where(np.isfinite(e), e, np.inf) / np.maximum(bar, 1e-9))

@@ -55,9 +55,11 @@ class FusedRanger:
             the appearance ranger saw only floor take the appearance reading where the edge
             ranger found a boundary, an edge it could not place or a too-close edge
             (elsewhere such columns take the edge's: a grey obstacle on a grey floor). A frame
-            with fewer than ``MIN_TEXTURE_EVIDENCE`` (3) columns where both rangers found a
-            boundary cannot tell and keeps the judgement of the frames before it
-            (:attr:`textured`; :meth:`reset_model` forgets it). 1 turns it off.
+            that cannot show a textured floor (fewer than 3 columns, or no more than this share
+            of the edge ranger's boundary columns, have an appearance boundary to compare with)
+            keeps the judgement of the frames before it (:attr:`textured`), for at most 50
+            frames in a row (``floorscan_core::fusion::TEXTURE_MEMORY_FRAMES``);
+            :meth:`reset_model` forgets it. 1 turns it off.
             Default :data:`TEXTURE_SHARE` (0.15).
     """
 
@@ -90,7 +92,7 @@ class FusedRanger:
         self.edge, self.appearance, self.snap_rows, self.snap_fraction = edge, appearance, s, f
         self.texture_share = t
         self._snap = max(s, f * edge.table.image_height)
-        self._textured = False
+        self._textured, self._inherited = False, 0
 
     @property
     def textured(self) -> bool:
@@ -101,7 +103,7 @@ class FusedRanger:
         """Forgets the learned floor and the judgement of its texture (e.g. on entering
         another building)."""
         self.appearance.reset_model()
-        self._textured = False
+        self._textured, self._inherited = False, 0
 
     @property
     def table(self):
@@ -126,7 +128,7 @@ class FusedRanger:
         conversion to the edge ranger) and fuses the two scans."""
         e = self.edge.scan(image, timestamp=timestamp)
         a = self.appearance.scan(image, timestamp=timestamp)
-        fused, self._textured = _native.fuse(
-            e._native, a._native, self._snap, self.texture_share, self._textured
+        fused, self._textured, self._inherited = _native.fuse(
+            e._native, a._native, self._snap, self.texture_share, self._textured, self._inherited
         )
         return Scan(fused)
