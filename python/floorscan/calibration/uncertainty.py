@@ -199,9 +199,7 @@ MIN_INFLATION = 0.5
 wide."""
 
 
-def inflation(
-    choice, uv: np.ndarray, ground: np.ndarray, *, fold_margin_px: float = 0.0
-) -> float:
+def inflation(choice, uv: np.ndarray, ground: np.ndarray, *, fold_margin_px: float = 0.0) -> float:
     """``alpha`` (>= 1): the factor by which the bars of the cross-validation refits must grow
     to cover ``COVERAGE`` of their held-out points' floor errors; ``fold_margin_px`` as the
     bars it scales (:func:`model_spread`)."""
