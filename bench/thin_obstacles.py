@@ -1,9 +1,11 @@
 """Recall of chair and table legs within 1 m (issue 13, thin obstacles) against the number of
 sampled columns, on the simulator's worlds with legs: the edge ranger at its defaults but
-`columns`, exact ground table, 30 s of each world's tour per seed.
+`columns`, exact ground table, 30 s of each world's tour per seed; or, with `--defaults`,
+what a new user gets: the configuration's default ranger (fused) and the default calibrated
+table (from the simulated checkerboard, as `floorscan eval`).
 
     .venv/bin/python bench/thin_obstacles.py [--seconds 30] [--seeds 0 1] [--worlds room lab]
-        [--columns 64 160 0 spaced] [--obstacle-width-m 0.03] [--at-range-m 1.0]
+        [--columns 64 160 0 spaced] [--obstacle-width-m 0.03] [--at-range-m 1.0] [--defaults]
 
 Prints a markdown table: legs in view (sightings), found, recall, per world and column count
 (all = every image column).
@@ -14,7 +16,10 @@ from __future__ import annotations
 import argparse
 
 from floorscan import VisualRanger
+from floorscan.evaluation.calibration_error import calibrated_table
 from floorscan.evaluation.thin_obstacles import Legs, leg_recall
+from floorscan.pipeline.config import Config
+from floorscan.pipeline.mapper import ranger_from_config
 from floorscan.sim import World, simulate_run
 
 
@@ -33,7 +38,13 @@ def main() -> None:
     ap.add_argument("--obstacle-width-m", type=float, default=0.03)
     ap.add_argument("--at-range-m", type=float, default=1.0)
     ap.add_argument("--within", type=float, default=1.0)
+    ap.add_argument(
+        "--defaults",
+        action="store_true",
+        help="the configuration's default ranger and calibrated table (not edge, exact)",
+    )
     args = ap.parse_args()
+    cfg = Config()
     worlds = args.worlds or [
         n for n in World.builtin_names() if len(Legs.of_world(World.builtin(n)))
     ]
@@ -46,13 +57,19 @@ def main() -> None:
         counts = {c: [0, 0] for c in args.columns}
         for seed in args.seeds:
             run = simulate_run(world, seconds=args.seconds, seed=seed, labels=False, threads=2)
-            table = run.camera.ground_table(spacing_px=4, max_range_m=4.0)
+            if args.defaults:
+                table, _ = calibrated_table(run.camera, calibration=cfg.calibration.kwargs())
+            else:
+                table = run.camera.ground_table(spacing_px=4, max_range_m=4.0)
             for c in args.columns:
                 if c == "spaced":
                     cols = {"obstacle_width_m": args.obstacle_width_m, "range_m": args.at_range_m}
                 else:
                     cols = int(c) or run.camera.width
-                ranger = VisualRanger(table, columns=cols)
+                if args.defaults:
+                    ranger = ranger_from_config(table, cfg, columns=cols)
+                else:
+                    ranger = VisualRanger(table, columns=cols)
                 scans = [ranger.scan(im, timestamp=0.1 * k) for k, im in enumerate(run.images)]
                 r = leg_recall(legs, run.truth, scans, within_m=args.within)
                 counts[c][0] += r.seen
