@@ -6,6 +6,7 @@ table (from the simulated checkerboard, as `floorscan eval`).
 
     .venv/bin/python bench/thin_obstacles.py [--seconds 30] [--seeds 0 1] [--worlds room lab]
         [--columns 64 160 0 spaced] [--obstacle-width-m 0.03] [--at-range-m 1.0] [--defaults]
+        [--config CONFIG]
 
 Prints a markdown table: legs in view (sightings), found, recall, per world and column count
 (all = every image column).
@@ -43,8 +44,14 @@ def main() -> None:
         action="store_true",
         help="the configuration's default ranger and calibrated table (not edge, exact)",
     )
+    ap.add_argument(
+        "--config",
+        default=None,
+        help="with --defaults: this configuration TOML instead of the defaults "
+        "(its ranger and [calibration])",
+    )
     args = ap.parse_args()
-    cfg = Config()
+    cfg = Config.load(args.config) if args.config else Config()
     worlds = args.worlds or [
         n for n in World.builtin_names() if len(Legs.of_world(World.builtin(n)))
     ]
