@@ -355,3 +355,27 @@ def test_the_trusted_table_has_no_holes_inside_its_field_of_view(default_table, 
     assert kept.sum() > 0.3 * kept.size
     assert _gaps_in_rows(kept) == 0
     assert _gaps_in_rows(kept.T) == 0
+
+
+def test_a_camera_low_over_the_floor_gets_a_board_it_can_calibrate_from():
+    # A Duckiebot-like wide lens 11 cm up sees the default 10 cm board only where it fits,
+    # 0.5 m out, with its far rows 3 px apart: no detector finds them. The default scene now
+    # takes the largest smaller board that is legible there; the table built from it must
+    # agree with the simulator's exact mapping within its own error bars.
+    cam = Camera(
+        lens=Lens.pinhole_radial(
+            fx=296, fy=300, cx=321.3, cy=241.7, k1=-0.235, k2=0.036, p1=-0.0033, p2=-0.0012
+        ),
+        mount=CameraMount(height_m=0.11, tilt_rad=0.3),
+        width=640,
+        height=480,
+    )
+    default = CalibrationPattern.default_for(Camera(), kind="checkerboard")
+    image, pattern = render_calibration(cam, kind="checkerboard")
+    assert pattern.square < default.square
+    table, report = calibrate(image, as_pattern(pattern))
+    assert report.used.sum() == 63
+    err, bar, _rng, covered = truth_errors(table, cam, within_m=1.0)
+    assert covered > 0.5
+    assert np.mean(err <= bar) > 0.9
+    assert np.max(err) < 0.03

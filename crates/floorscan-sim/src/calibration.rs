@@ -178,11 +178,109 @@ impl PatternSpec {
     }
 }
 
+/// Checkerboard sizes [`default_pattern`] tries, as fractions of the default 10 cm square,
+/// largest first (down to 2.5 cm).
+const PATTERN_SCALES: [f64; 5] = [1.0, 0.7, 0.5, 0.35, 0.25];
+
+/// A placed checkerboard is legible when, between every two neighbouring points one row apart,
+/// the image distance is at least this [px] or at least [`LEGIBLE_ROW_ASPECT`] times the
+/// distance to the farther point's neighbour in its row. A camera low over the floor sees the
+/// default board only far out, where its rows flatten (a Duckiebot-like lens 11 cm up: 3.2 px
+/// against 26 px across) and the detector loses them; the default 320 x 240 camera's board has
+/// 7.3 px rows, a 160 x 120 camera's 3.6 px rows at half their width, and both are found.
+pub const LEGIBLE_ROW_STEP_PX: f64 = 7.0;
+/// See [`LEGIBLE_ROW_STEP_PX`].
+pub const LEGIBLE_ROW_ASPECT: f64 = 0.4;
+
 /// Places a default pattern of `kind` in front of `camera`: centred across the view, as near as
 /// possible while every outline point and every inner point is inside the image (4 px margin).
+/// A checkerboard is the largest of [`PATTERN_SCALES`] that is legible there
+/// ([`LEGIBLE_ROW_STEP_PX`]), or when none is the one with the widest rows ([`row_step_px`]);
+/// the line grid keeps the paper's size.
 pub fn default_pattern(kind: PatternKind, camera: &Camera) -> Result<PatternSpec> {
-    let base = PatternSpec::new(kind, Point2::new(0.0, 0.0));
-    let (n_i, step) = match kind {
+    // The line grid is the paper's pattern for the whole working range: its size stays.
+    let scales: &[f64] = match kind {
+        PatternKind::Checkerboard => &PATTERN_SCALES,
+        PatternKind::Lines => &PATTERN_SCALES[..1],
+    };
+    let mut best: Option<(f64, PatternSpec)> = None;
+    for &scale in scales {
+        let mut base = PatternSpec::new(kind, Point2::new(0.0, 0.0));
+        // Whole micrometres, so pattern.toml reads 0.035, not 0.034999999999999996.
+        let um = |v: f64| (v * scale * 1e6).round() / 1e6;
+        base.square_m = um(base.square_m);
+        base.spacing_m = um(base.spacing_m);
+        base.line_width_m = um(base.line_width_m);
+        let Some(spec) = nearest_fit(base, scale, camera) else {
+            continue;
+        };
+        if legible(&spec, camera) {
+            return Ok(spec);
+        }
+        let step = row_step_px(&spec, camera).unwrap_or(0.0);
+        if best.as_ref().is_none_or(|(b, _)| step > *b) {
+            best = Some((step, spec));
+        }
+    }
+    best.map(|(_, spec)| spec).ok_or_else(|| {
+        invalid_option(
+            "camera",
+            "the calibration pattern does not fit in this camera's view of the floor",
+        )
+    })
+}
+
+/// The smallest image distance [px] between two points of `spec` one row apart (same column,
+/// rows j and j + 1 away from the camera): how flat its farthest row looks. `None` when a
+/// point is not seen.
+pub fn row_step_px(spec: &PatternSpec, camera: &Camera) -> Option<f64> {
+    let n_i = match spec.kind {
+        PatternKind::Checkerboard => spec.inner_corners[0],
+        PatternKind::Lines => spec.lines[0],
+    } as usize;
+    let px: Option<Vec<[f64; 2]>> = spec
+        .points()
+        .into_iter()
+        .map(|p| ground_to_pixel(&camera.lens, &camera.mount, p))
+        .collect();
+    let px = px?;
+    px.iter()
+        .zip(px.iter().skip(n_i))
+        .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
+        .reduce(f64::min)
+}
+
+/// Whether every row step of `spec` is legible (see [`LEGIBLE_ROW_STEP_PX`]).
+pub fn legible(spec: &PatternSpec, camera: &Camera) -> bool {
+    let n_i = match spec.kind {
+        PatternKind::Checkerboard => spec.inner_corners[0],
+        PatternKind::Lines => spec.lines[0],
+    } as usize;
+    let px: Option<Vec<[f64; 2]>> = spec
+        .points()
+        .into_iter()
+        .map(|p| ground_to_pixel(&camera.lens, &camera.mount, p))
+        .collect();
+    let Some(px) = px else {
+        return false;
+    };
+    let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    (n_i..px.len()).all(|k| {
+        let step = dist(px[k - n_i], px[k]);
+        let i = k % n_i;
+        let across = if i + 1 < n_i {
+            dist(px[k], px[k + 1])
+        } else {
+            dist(px[k], px[k - 1])
+        };
+        step >= LEGIBLE_ROW_STEP_PX || step >= LEGIBLE_ROW_ASPECT * across
+    })
+}
+
+/// `base` (the default pattern at `scale`) moved away from the camera in steps until it lies
+/// wholly inside the image.
+fn nearest_fit(base: PatternSpec, scale: f64, camera: &Camera) -> Option<PatternSpec> {
+    let (n_i, step) = match base.kind {
         PatternKind::Checkerboard => (base.inner_corners[0], base.square_m),
         PatternKind::Lines => (base.lines[0], base.spacing_m),
     };
@@ -209,23 +307,20 @@ pub fn default_pattern(kind: PatternKind, camera: &Camera) -> Result<PatternSpec
                 && px[1] <= camera.height as f64 - 1.0 - margin
         })
     };
-    for k in 0..300 {
-        let spec = PatternSpec {
-            near_left: Point2::new(0.05 + 0.02 * k as f64, half_width),
+    // Steps of 2 cm for the default pattern, out to 6 m.
+    let advance = 0.02 * scale;
+    let steps = (6.0 / advance).ceil() as usize;
+    (0..steps)
+        .map(|k| PatternSpec {
+            near_left: Point2::new(0.05 + advance * k as f64, half_width),
             ..base.clone()
-        };
-        if along_outline(&spec)
-            .into_iter()
-            .chain(spec.points())
-            .all(inside)
-        {
-            return Ok(spec);
-        }
-    }
-    Err(invalid_option(
-        "camera",
-        "the calibration pattern does not fit in this camera's view of the floor",
-    ))
+        })
+        .find(|spec| {
+            along_outline(spec)
+                .into_iter()
+                .chain(spec.points())
+                .all(inside)
+        })
 }
 
 /// The room of the calibration scene: 8 x 8 m around the camera, evenly lit.
@@ -270,4 +365,111 @@ pub fn calibration_world(spec: &PatternSpec) -> Result<World> {
 /// The robot pose that puts the camera ground frame at the world origin.
 pub fn robot_pose(camera: &Camera) -> Pose2 {
     camera.robot_from_camera.inverse()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use floorscan_core::lens::Lens;
+    use floorscan_core::mount::CameraMount;
+
+    fn low_camera() -> Camera {
+        // A Duckiebot-like wide lens 0.11 m above the floor, tilted 0.3 rad down.
+        Camera {
+            lens: Lens::PinholeRadial {
+                fx: 296.0,
+                fy: 300.0,
+                cx: 321.3,
+                cy: 241.7,
+                k1: -0.235,
+                k2: 0.036,
+                p1: -0.0033,
+                p2: -0.0012,
+                k3: 0.0,
+            },
+            mount: CameraMount {
+                height_m: 0.11,
+                tilt_rad: 0.3,
+                roll_rad: 0.0,
+            },
+            width: 640,
+            height: 480,
+            ..Camera::default()
+        }
+    }
+
+    fn fits(spec: &PatternSpec, camera: &Camera) -> bool {
+        spec.points().into_iter().chain(spec.outline()).all(|p| {
+            ground_to_pixel(&camera.lens, &camera.mount, p).is_some_and(|px| {
+                px[0] >= 0.0
+                    && px[1] >= 0.0
+                    && px[0] <= camera.width as f64 - 1.0
+                    && px[1] <= camera.height as f64 - 1.0
+            })
+        })
+    }
+
+    #[test]
+    fn row_step_matches_a_camera_looking_straight_down() {
+        // Straight down from h, a pinhole images the floor at f / h px per metre everywhere.
+        let camera = Camera {
+            lens: Lens::Pinhole {
+                fx: 200.0,
+                fy: 200.0,
+                cx: 159.5,
+                cy: 119.5,
+            },
+            mount: CameraMount {
+                height_m: 2.0,
+                tilt_rad: std::f64::consts::FRAC_PI_2,
+                roll_rad: 0.0,
+            },
+            ..Camera::default()
+        };
+        let mut spec = PatternSpec::new(PatternKind::Checkerboard, Point2::new(-0.3, 0.4));
+        spec.inner_corners = [5, 4];
+        let step = row_step_px(&spec, &camera).unwrap();
+        assert!((step - 200.0 * 0.10 / 2.0).abs() < 1e-6, "{step}");
+    }
+
+    #[test]
+    fn the_default_camera_keeps_the_default_board() {
+        for (w, h) in [(160, 120), (320, 240), (640, 480)] {
+            let camera = Camera::wide_angle(w, h);
+            for kind in [PatternKind::Checkerboard, PatternKind::Lines] {
+                let spec = default_pattern(kind, &camera).unwrap();
+                let base = PatternSpec::new(kind, spec.near_left);
+                assert_eq!(spec, base, "{w} x {h} {kind:?}");
+                assert!(fits(&spec, &camera));
+            }
+            let board = default_pattern(PatternKind::Checkerboard, &camera).unwrap();
+            assert!(legible(&board, &camera));
+        }
+    }
+
+    #[test]
+    fn a_low_camera_gets_a_smaller_legible_board() {
+        let camera = low_camera();
+        // The default board fits only far away, where its rows flatten.
+        let base = nearest_fit(
+            PatternSpec::new(PatternKind::Checkerboard, Point2::new(0.0, 0.0)),
+            1.0,
+            &camera,
+        )
+        .unwrap();
+        assert!(!legible(&base, &camera));
+        let spec = default_pattern(PatternKind::Checkerboard, &camera).unwrap();
+        assert!(spec.square_m < 0.10, "{}", spec.square_m);
+        assert!(fits(&spec, &camera));
+        assert!(legible(&spec, &camera));
+        // The largest legible board of the sizes tried: the next larger one is not legible.
+        let k = PATTERN_SCALES
+            .iter()
+            .position(|s| (s * 0.10 - spec.square_m).abs() < 1e-9)
+            .unwrap();
+        let mut larger = PatternSpec::new(PatternKind::Checkerboard, Point2::new(0.0, 0.0));
+        larger.square_m *= PATTERN_SCALES[k - 1];
+        let larger = nearest_fit(larger, PATTERN_SCALES[k - 1], &camera);
+        assert!(larger.is_none_or(|l| !legible(&l, &camera)));
+    }
 }

@@ -51,7 +51,10 @@ class CalibrationPattern:
     def default_for(cls, camera: Camera, *, kind: str = "checkerboard") -> CalibrationPattern:
         """The default pattern of ``kind`` placed in front of ``camera``: a 9 x 7 inner-corner
         checkerboard of 10 cm squares, or 7 x 9 lines 2 cm wide at 20 cm; centred across the
-        view, as near as it fits entirely in the image."""
+        view, as near as it fits entirely in the image. A checkerboard whose rows would be
+        flattened there (a camera low over the floor: a row step under 7 px and under 0.4 of
+        the squares' width) shrinks to the largest of 7, 5, 3.5 and 2.5 cm squares that is
+        legible (docs/simulator.md)."""
         if kind not in PATTERN_KINDS:
             raise OptionError(
                 f"invalid option `kind`: expected one of {PATTERN_KINDS}, got {kind!r}"
