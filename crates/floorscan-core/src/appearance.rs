@@ -12,6 +12,7 @@
 
 use crate::appearance_options::{AppearanceFeatures, AppearanceOptions};
 use crate::colour_image::ColourView;
+use crate::dark_rim::is_dark_rim;
 use crate::error::{invalid_option, Error, Result};
 use crate::floor_model::{colour_bin, texture_bin, FloorModel};
 use crate::ground_table::GroundTable;
@@ -27,6 +28,11 @@ const REFERENCE_STRIDE: usize = 2;
 struct Plan {
     column: u32,
     start_row: usize,
+    /// The start row as configured; `start_row` moves to `first_ground_row` while the rows at
+    /// this one are a lens's dark rim (`dark_rim`).
+    nominal_start: usize,
+    /// The column's lowest row with ground at or above the start row, `None` without ground.
+    first_ground_row: Option<usize>,
     near: Option<Point2>,
     /// Highest row scanned; `None` when the column cannot be scanned (no ground at or above
     /// its start).
@@ -172,6 +178,8 @@ impl AppearanceRanger {
                 Plan {
                     column: c,
                     start_row,
+                    nominal_start: start_row,
+                    first_ground_row: rows.map(|(first, _)| first),
                     near,
                     top_row,
                     patch: (u.saturating_sub(w), (u + w).min(width - 1)),
@@ -226,6 +234,7 @@ impl AppearanceRanger {
         out: &mut Scan,
     ) -> Result<()> {
         self.check_size(image)?;
+        self.follow_dark_rim(image);
         self.learn(image);
         if self.row_major_pays(image.width()) {
             self.scan_rows(image);
@@ -247,6 +256,24 @@ impl AppearanceRanger {
                 confidence: self.confidence[j],
             }));
         Ok(())
+    }
+
+    /// Starts each column whose start row has no ground at its first row with ground while
+    /// this frame shows a lens's dark rim there (`dark_rim`; the brightest channel), and at
+    /// its configured start row otherwise.
+    fn follow_dark_rim<P: Pixel>(&mut self, image: &ColourView<P>) {
+        for plan in &mut self.plans {
+            let Some(first) = plan.first_ground_row.filter(|&f| f < plan.nominal_start) else {
+                continue;
+            };
+            let c = plan.column as usize;
+            let brightest = |v: usize| (0..3).map(|k| image.channel(k).get(c, v).to_i32()).max();
+            let floor = brightest(first).unwrap_or(0);
+            let rim = is_dark_rim(plan.nominal_start, floor, P::MAX, |v| {
+                brightest(v).unwrap_or(0)
+            });
+            plan.start_row = if rim { first } else { plan.nominal_start };
+        }
     }
 
     /// Whether pixel (u, v) looks like floor to the current model.

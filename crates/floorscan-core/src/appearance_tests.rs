@@ -428,3 +428,60 @@ fn a_centred_reference_band_does_not_learn_furniture_at_the_bottom_corners() {
     assert_eq!(corner_reading(&centred), ColumnStatus2::TooClose);
     assert_eq!(corner_reading(&whole), ColumnStatus2::NoBoundary);
 }
+
+#[test]
+fn a_dark_lens_rim_below_the_first_ground_row_is_not_an_obstacle() {
+    // A circular fisheye's unlit corners: columns u < 40 have ground only from row 50 up and
+    // the bottom 20 rows of the image are black there. Black is not floor, so from the bottom
+    // every such column read too close; they now read as a ranger told to start them at their
+    // first row with ground. Columns with ground from the bottom keep their start.
+    let full = table(0.0);
+    let cornered = GroundTable::from_fn(W, H, 4, |u, v| {
+        (!(u < 40.0 && v > 50.0)).then(|| {
+            full.lookup(u.min(W as f64 - 1.0), v.min(H as f64 - 1.0))
+                .unwrap()
+        })
+    })
+    .unwrap();
+    let o = AppearanceOptions {
+        adaptation_rate: 0.02,
+        ..options(AppearanceFeatures::Colour)
+    };
+    let mut img = tiled_image(&scene, 1);
+    for v in H - 20..H {
+        for u in 0..40 {
+            img[(v * W + u) * 3..(v * W + u) * 3 + 3].copy_from_slice(&[2, 2, 3]);
+        }
+    }
+    let first = |u: usize| {
+        (0..H)
+            .rev()
+            .find(|&v| cornered.lookup(u as f64, v as f64).is_some())
+            .unwrap()
+    };
+    let starts: Vec<u32> = (0..W)
+        .map(|u| if u < 40 { first(u) } else { H - 1 } as u32)
+        .collect();
+    let told = AppearanceOptions {
+        start: ColumnStart::PerColumn(starts),
+        ..o.clone()
+    };
+    let view = ColourView::interleaved(&img, W, H).unwrap();
+    let before = tiled_image(&earlier_scene, 0);
+    let scan_with = |opts: &AppearanceOptions| {
+        let mut r = AppearanceRanger::new(cornered.clone(), opts.clone()).unwrap();
+        r.scan(&ColourView::interleaved(&before, W, H).unwrap(), 0.0)
+            .unwrap();
+        r.scan(&view, 0.1).unwrap()
+    };
+    let (got, want) = (scan_with(&o), scan_with(&told));
+    for (a, b) in got.readings.iter().zip(&want.readings) {
+        assert_eq!(a.outcome, b.outcome, "column {}", a.column);
+        assert_eq!(a.start_row, b.start_row, "column {}", a.column);
+    }
+    // Where the box's base stands well above the first row with ground (u < 8: rows 40-43
+    // against 47-48), a boundary; the columns of black read too close without the rim rule.
+    let clear: Vec<_> = got.readings.iter().filter(|r| r.column < 8).collect();
+    assert!(!clear.is_empty());
+    assert!(clear.iter().all(|r| r.status() == ColumnStatus::Boundary));
+}

@@ -21,6 +21,7 @@ pub mod avoidance_map;
 pub mod branchless;
 pub mod colour_image;
 pub mod column_spacing;
+pub mod dark_rim;
 pub mod dynamic_window;
 pub mod edge;
 pub mod error;

@@ -12,6 +12,7 @@
 //! images use 32-bit sums in plain Rust. Both give the readings of the direct filter of eq. (1)
 //! (the tests check every column of random images against it, for every kernel).
 
+use crate::dark_rim::is_dark_rim;
 use crate::edge::{
     direct_response_at, next_response, ramp_above, refine_crossing, sharpest_step,
     threshold_to_sum, Refinement, RAMP_ROWS_PER_HALF_WIDTH,
@@ -35,6 +36,8 @@ struct ColumnPlan {
     start_row: usize,
     /// The ground point of the column's lowest row with ground, at or above the start row.
     near: Option<Point2>,
+    /// That row (v), `None` without ground.
+    first_ground_row: Option<usize>,
     /// Rows (k, counted from the bottom) where a crossing is tested: `lo..=hi`, from the start
     /// row up to the last row with ground. `None` when the column cannot be scanned (no ground
     /// at or above its start, or too few rows for the filter).
@@ -53,6 +56,9 @@ pub struct VisualRanger {
     /// frame's own with `noise_multiple` / `contrast`).
     column_threshold_sum: Vec<i32>,
     plans: Vec<ColumnPlan>,
+    /// Each plan's start row as configured; a plan starts at its first row with ground instead
+    /// while the rows at this one are a lens's dark rim (`dark_rim`).
+    nominal_starts: Vec<usize>,
     /// Indices (into `plans`) of scannable columns, sorted by window start and by window end.
     by_lo: Vec<usize>,
     by_hi: Vec<usize>,
@@ -155,32 +161,12 @@ impl VisualRanger {
                 (0..height).map(move |v| row_footprint_m(table, p.column, v as f64) as f32)
             })
             .collect();
-        let scannable: Vec<usize> = (0..plans.len())
-            .filter(|&j| plans[j].window.is_some())
-            .collect();
-        let mut by_lo = scannable.clone();
-        by_lo.sort_by_key(|&j| plans[j].window.unwrap().0);
-        let mut by_hi = scannable;
-        by_hi.sort_by_key(|&j| plans[j].window.unwrap().1);
+        let nominal_starts = plans.iter().map(|p| p.start_row).collect();
         let n = plans.len();
-        let band = near_band_rows(height, d);
-        let band_samples: usize = plans
-            .iter()
-            .filter_map(|p| p.window)
-            .map(|(lo, hi)| (hi - lo + 1).min(band))
-            .sum();
-        let noise_samples = vec![
-            0;
-            if options.noise_multiple > 0.0 {
-                band_samples
-            } else {
-                0
-            }
-        ];
         let threshold_sum = threshold_to_sum(options.threshold, d);
         let prefilter = lanes::prefilter_threshold(d, threshold_sum);
         let small_d = d <= MAX_HALF_WIDTH_I16;
-        Ok(Self {
+        let mut ranger = Self {
             column_threshold_sum: vec![threshold_sum; n],
             offsets: vec![0; n],
             ring: vec![0; (2 * d + 2) * n],
@@ -199,7 +185,7 @@ impl VisualRanger {
             outcomes: vec![None; n],
             confidence: vec![1.0; n],
             footprints_m,
-            noise_samples,
+            noise_samples: Vec::new(),
             noise_histogram: vec![0; MAX_HISTOGRAM_SPAN],
             column_brightness: vec![0.0; n],
             frame_threshold: options.threshold,
@@ -209,9 +195,64 @@ impl VisualRanger {
             table,
             options,
             plans,
-            by_lo,
-            by_hi,
-        })
+            nominal_starts,
+            by_lo: Vec::new(),
+            by_hi: Vec::new(),
+        };
+        ranger.index_plans();
+        Ok(ranger)
+    }
+
+    /// The scannable columns sorted by window start and end, and the noise samples' buffer,
+    /// from the plans (at construction, and again when a plan's start row moves).
+    fn index_plans(&mut self) {
+        let plans = &self.plans;
+        let scannable: Vec<usize> = (0..plans.len())
+            .filter(|&j| plans[j].window.is_some())
+            .collect();
+        let mut by_lo = scannable.clone();
+        by_lo.sort_by_key(|&j| plans[j].window.unwrap().0);
+        let mut by_hi = scannable;
+        by_hi.sort_by_key(|&j| plans[j].window.unwrap().1);
+        let band = near_band_rows(self.table.image_height(), self.options.half_width_px);
+        let band_samples: usize = plans
+            .iter()
+            .filter_map(|p| p.window)
+            .map(|(lo, hi)| (hi - lo + 1).min(band))
+            .sum();
+        let samples = if self.options.noise_multiple > 0.0 {
+            band_samples
+        } else {
+            0
+        };
+        self.noise_samples.resize(samples, 0);
+        self.by_lo = by_lo;
+        self.by_hi = by_hi;
+    }
+
+    /// Moves the start of each column whose start row has no ground to its first row with
+    /// ground while this frame shows a dark rim there (`dark_rim`), and back when it does not;
+    /// re-indexes the plans when one moved (no allocation otherwise).
+    fn follow_dark_rim<P: Pixel>(&mut self, image: &ImageView<P>) {
+        let mut moved = false;
+        for j in 0..self.plans.len() {
+            let nominal = self.nominal_starts[j];
+            let plan = self.plans[j];
+            let Some(first) = plan.first_ground_row.filter(|&f| f < nominal) else {
+                continue;
+            };
+            let c = plan.column as usize;
+            let floor = image.get(c, first).to_i32();
+            let rim = is_dark_rim(nominal, floor, P::MAX, |v| image.get(c, v).to_i32());
+            let start = if rim { first } else { nominal };
+            if start != plan.start_row {
+                self.plans[j] = plan_column(&self.table, &self.options, plan.column, start);
+                moved = true;
+            }
+        }
+        if moved {
+            self.index_plans();
+        }
     }
 
     pub fn table(&self) -> &GroundTable {
@@ -339,6 +380,7 @@ impl VisualRanger {
         out: &mut Scan,
     ) -> Result<()> {
         self.check_size(image)?;
+        self.follow_dark_rim(image);
         self.set_frame_threshold(image);
         self.run_columns(image);
         self.scan_band(image);
@@ -355,6 +397,7 @@ impl VisualRanger {
         out: &mut Scan,
     ) -> Result<()> {
         self.check_size(image)?;
+        self.follow_dark_rim(image);
         self.set_frame_threshold(image);
         let d = self.options.half_width_px;
         self.crossings.fill(usize::MAX);
@@ -1029,6 +1072,7 @@ fn plan_column(
         column,
         start_row,
         near,
+        first_ground_row: rows.map(|(first, _)| first),
         window,
         band,
     }

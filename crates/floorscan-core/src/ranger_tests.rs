@@ -110,7 +110,14 @@ fn brute_force(
             while top > 0 && table.lookup(u, (top - 1) as f64).is_some() {
                 top -= 1;
             }
-            let lo = (height - 1 - start) + d;
+            // Below the first row with ground, two black rows at the start (at most 1/16 of
+            // full scale and a quarter of the first ground row's pixel) are a lens's dark
+            // rim: the column starts at its first row with ground.
+            let px = |v: usize| img[v * width + c as usize] as i32;
+            let rim =
+                first < start && (start - 1..=start).all(|v| px(v) <= 15 && 4 * px(v) <= px(first));
+            let from = if rim { first } else { start };
+            let lo = (height - 1 - from) + d;
             let hi = (height - 1 - top).min(height - 1 - d);
             (c, column, (lo <= hi).then_some((lo, hi)))
         })
@@ -550,6 +557,98 @@ fn columns_whose_bottom_rows_have_no_ground_scan_from_the_bottom_and_place_from_
                 );
             }
         }
+    }
+}
+
+#[test]
+fn a_dark_lens_rim_below_the_first_ground_row_is_not_an_obstacle() {
+    // A circular fisheye's unlit corners: columns 0..8 have ground only from row 39 up, and
+    // the bottom of the image is black there (outside the image circle). The step from black
+    // to floor is the lens's rim, not an obstacle: those columns start at their first row
+    // with ground, as a ranger told so by its start rows. Column 1's rim reaches row 41 (the
+    // step was an unplaceable edge), column 3's only the bottom 5 rows (the step lay in the
+    // first window: a phantom obstacle touching the robot); column 5's bottom rows are floor,
+    // scanned from the bottom as before; columns 12 and 14 have ground from the bottom.
+    let (w, h) = (16, 60);
+    let t = GroundTable::from_fn(w, h, 1, |u, v| {
+        (v >= 5.0 && (u >= 8.0 || v <= 40.0)).then(|| Point2::new(0.2 + (59.0 - v) * 0.01, 0.0))
+    })
+    .unwrap();
+    let floor_from = [20; 16];
+    let mut img = step_image(w, h, &floor_from, 90, 180);
+    let mut blacken = |u: usize, rows: std::ops::RangeInclusive<usize>| {
+        for v in rows {
+            img[v * w + u] = 2;
+        }
+    };
+    blacken(0, 41..=59);
+    blacken(1, 41..=59);
+    blacken(2, 55..=59);
+    blacken(3, 55..=59);
+    blacken(14, 55..=59); // ground from the bottom: black there is an obstacle, not a rim
+    let cols = vec![1, 3, 5, 12, 14];
+    for refinement in REFINEMENTS {
+        let o = options(3, 20.0, refinement, ColumnSelection::Explicit(cols.clone()));
+        let mut r = VisualRanger::new(t.clone(), o.clone()).unwrap();
+        let view = ImageView::new(&img, w, h).unwrap();
+        let scan = r.scan(&view, 0.0).unwrap();
+        let ColumnStart::BottomMargin(margin) = o.start else {
+            unreachable!()
+        };
+        let bottom = (h - 1 - margin) as u32;
+        let mut starts: Vec<u32> = vec![bottom; w];
+        starts[1] = 39;
+        starts[3] = 39;
+        let mut told = o.clone();
+        told.start = ColumnStart::PerColumn(starts);
+        let expected = VisualRanger::new(t.clone(), told)
+            .unwrap()
+            .scan(&view, 0.0)
+            .unwrap();
+        for (k, c) in cols.iter().enumerate() {
+            let (got, want) = (&scan.readings[k], &expected.readings[k]);
+            assert_eq!(got.status(), want.status(), "column {c} {refinement:?}");
+            assert_eq!(got.start_row, want.start_row, "column {c} {refinement:?}");
+            if want.row().is_finite() {
+                assert!(
+                    (got.row() - want.row()).abs() < 1e-9,
+                    "column {c} {refinement:?}"
+                );
+            }
+        }
+        for k in 0..2 {
+            assert_eq!(
+                scan.readings[k].status(),
+                ColumnStatus::Boundary,
+                "{refinement:?}"
+            );
+            assert!(
+                (scan.readings[k].row() - 19.5).abs() <= 3.5,
+                "{refinement:?}"
+            );
+        }
+        assert_eq!(scan.readings[2].start_row, bottom as f64);
+        assert_eq!(scan.readings[4].status(), ColumnStatus::TooClose);
+        // The direct filter and the column-by-column reference agree on every column.
+        let mut all = o.clone();
+        all.columns = ColumnSelection::Explicit((0..w as u32).collect());
+        let mut r = VisualRanger::new(t.clone(), all.clone()).unwrap();
+        let mut direct = Scan::default();
+        r.scan_direct_into(&view, 0.0, &mut direct).unwrap();
+        let scan = r.scan(&view, 0.0).unwrap();
+        let reference = brute_force(&t, &all, &img, w, h);
+        for ((a, b), (c, status, row)) in scan.readings.iter().zip(&direct.readings).zip(&reference)
+        {
+            assert_eq!(a.status(), *status, "column {c} {refinement:?}");
+            assert_eq!(b.status(), *status, "column {c} {refinement:?}");
+            if row.is_finite() {
+                assert!((a.row() - row).abs() < 1e-9, "column {c} {refinement:?}");
+            }
+        }
+        // Once the rim is lit (a frame without it), the columns start at the bottom again.
+        let lit = step_image(w, h, &floor_from, 90, 180);
+        let again = r.scan(&ImageView::new(&lit, w, h).unwrap(), 0.0).unwrap();
+        assert!(again.readings.iter().all(|x| x.start_row == bottom as f64));
     }
 }
 
