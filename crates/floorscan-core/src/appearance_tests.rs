@@ -292,6 +292,19 @@ fn wrong_size_and_columns_without_ground_are_reported() {
     assert!(AppearanceRanger::new(table(0.0), bad).is_err());
 }
 
+/// The table of `scan_scene` without ground where `uncovered(u, v)` (a fisheye's bottom
+/// corners near the robot).
+fn table_without(uncovered: impl Fn(f64, f64) -> bool) -> GroundTable {
+    let full = table(0.0);
+    GroundTable::from_fn(W, H, 4, |u, v| {
+        (!uncovered(u, v)).then(|| {
+            full.lookup(u.min(W as f64 - 1.0), v.min(H as f64 - 1.0))
+                .unwrap()
+        })
+    })
+    .unwrap()
+}
+
 #[test]
 fn columns_whose_bottom_rows_have_no_ground_are_scanned_from_the_bottom() {
     // The table of `scan_scene` without ground in two bottom corners (a fisheye's sides near
@@ -299,14 +312,7 @@ fn columns_whose_bottom_rows_have_no_ground_are_scanned_from_the_bottom() {
     // full table, except that a boundary in rows without ground cannot be placed (invalid,
     // with its row) and free space starts at the column's lowest row with ground.
     let full = table(0.0);
-    let cornered = GroundTable::from_fn(W, H, 4, |u, v| {
-        let uncovered = (u < 40.0 && v > 50.0) || (u >= 120.0 && v > 90.0);
-        (!uncovered).then(|| {
-            full.lookup(u.min(W as f64 - 1.0), v.min(H as f64 - 1.0))
-                .unwrap()
-        })
-    })
-    .unwrap();
+    let cornered = table_without(|u, v| (u < 40.0 && v > 50.0) || (u >= 120.0 && v > 90.0));
     let o = AppearanceOptions {
         adaptation_rate: 0.02,
         ..options(AppearanceFeatures::Colour)
@@ -435,14 +441,7 @@ fn a_dark_lens_rim_below_the_first_ground_row_is_not_an_obstacle() {
     // the bottom 20 rows of the image are black there. Black is not floor, so from the bottom
     // every such column read too close; they now read as a ranger told to start them at their
     // first row with ground. Columns with ground from the bottom keep their start.
-    let full = table(0.0);
-    let cornered = GroundTable::from_fn(W, H, 4, |u, v| {
-        (!(u < 40.0 && v > 50.0)).then(|| {
-            full.lookup(u.min(W as f64 - 1.0), v.min(H as f64 - 1.0))
-                .unwrap()
-        })
-    })
-    .unwrap();
+    let cornered = table_without(|u, v| u < 40.0 && v > 50.0);
     let o = AppearanceOptions {
         adaptation_rate: 0.02,
         ..options(AppearanceFeatures::Colour)

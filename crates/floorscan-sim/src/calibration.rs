@@ -234,16 +234,7 @@ pub fn default_pattern(kind: PatternKind, camera: &Camera) -> Result<PatternSpec
 /// rows j and j + 1 away from the camera): how flat its farthest row looks. `None` when a
 /// point is not seen.
 pub fn row_step_px(spec: &PatternSpec, camera: &Camera) -> Option<f64> {
-    let n_i = match spec.kind {
-        PatternKind::Checkerboard => spec.inner_corners[0],
-        PatternKind::Lines => spec.lines[0],
-    } as usize;
-    let px: Option<Vec<[f64; 2]>> = spec
-        .points()
-        .into_iter()
-        .map(|p| ground_to_pixel(&camera.lens, &camera.mount, p))
-        .collect();
-    let px = px?;
+    let (n_i, px) = image_points(spec, camera)?;
     px.iter()
         .zip(px.iter().skip(n_i))
         .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
@@ -252,16 +243,7 @@ pub fn row_step_px(spec: &PatternSpec, camera: &Camera) -> Option<f64> {
 
 /// Whether every row step of `spec` is legible (see [`LEGIBLE_ROW_STEP_PX`]).
 pub fn legible(spec: &PatternSpec, camera: &Camera) -> bool {
-    let n_i = match spec.kind {
-        PatternKind::Checkerboard => spec.inner_corners[0],
-        PatternKind::Lines => spec.lines[0],
-    } as usize;
-    let px: Option<Vec<[f64; 2]>> = spec
-        .points()
-        .into_iter()
-        .map(|p| ground_to_pixel(&camera.lens, &camera.mount, p))
-        .collect();
-    let Some(px) = px else {
+    let Some((n_i, px)) = image_points(spec, camera) else {
         return false;
     };
     let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
@@ -275,6 +257,21 @@ pub fn legible(spec: &PatternSpec, camera: &Camera) -> bool {
         };
         step >= LEGIBLE_ROW_STEP_PX || step >= LEGIBLE_ROW_ASPECT * across
     })
+}
+
+/// The points of `spec` per row (n_i) and their pixels, row by row; `None` when a point is not
+/// seen.
+fn image_points(spec: &PatternSpec, camera: &Camera) -> Option<(usize, Vec<[f64; 2]>)> {
+    let n_i = match spec.kind {
+        PatternKind::Checkerboard => spec.inner_corners[0],
+        PatternKind::Lines => spec.lines[0],
+    } as usize;
+    let px = spec
+        .points()
+        .into_iter()
+        .map(|p| ground_to_pixel(&camera.lens, &camera.mount, p))
+        .collect::<Option<Vec<_>>>()?;
+    Some((n_i, px))
 }
 
 /// `base` (the default pattern at `scale`) moved away from the camera in steps until it lies
