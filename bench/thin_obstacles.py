@@ -51,6 +51,8 @@ def main() -> None:
         "(its ranger and [calibration])",
     )
     args = ap.parse_args()
+    if args.config and not args.defaults:
+        ap.error("--config needs --defaults (without it: the edge ranger and the exact table)")
     cfg = Config.load(args.config) if args.config else Config()
     worlds = args.worlds or [
         n for n in World.builtin_names() if len(Legs.of_world(World.builtin(n)))

@@ -207,13 +207,17 @@ impl VisualRanger {
     /// from the plans (at construction, and again when a plan's start row moves).
     fn index_plans(&mut self) {
         let plans = &self.plans;
-        let scannable: Vec<usize> = (0..plans.len())
-            .filter(|&j| plans[j].window.is_some())
-            .collect();
-        let mut by_lo = scannable.clone();
-        by_lo.sort_by_key(|&j| plans[j].window.unwrap().0);
-        let mut by_hi = scannable;
-        by_hi.sort_by_key(|&j| plans[j].window.unwrap().1);
+        // Into the buffers already held (no allocation once they have grown: a plan's move
+        // only ever shrinks its window).
+        let scannable = (0..plans.len()).filter(|&j| plans[j].window.is_some());
+        self.by_lo.clear();
+        self.by_lo.extend(scannable.clone());
+        self.by_lo
+            .sort_unstable_by_key(|&j| plans[j].window.unwrap().0);
+        self.by_hi.clear();
+        self.by_hi.extend(scannable);
+        self.by_hi
+            .sort_unstable_by_key(|&j| plans[j].window.unwrap().1);
         let band = near_band_rows(self.table.image_height(), self.options.half_width_px);
         let band_samples: usize = plans
             .iter()
@@ -226,8 +230,6 @@ impl VisualRanger {
             0
         };
         self.noise_samples.resize(samples, 0);
-        self.by_lo = by_lo;
-        self.by_hi = by_hi;
     }
 
     /// Moves the start of each column whose start row has no ground to its first row with

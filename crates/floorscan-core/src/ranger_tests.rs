@@ -114,8 +114,9 @@ fn brute_force(
             // full scale and a quarter of the first ground row's pixel) are a lens's dark
             // rim: the column starts at its first row with ground.
             let px = |v: usize| img[v * width + c as usize] as i32;
-            let rim =
-                first < start && (start - 1..=start).all(|v| px(v) <= 15 && 4 * px(v) <= px(first));
+            let rim = first < start
+                && px(first) > 3
+                && (start - 1..=start).all(|v| px(v) <= 15 && 4 * px(v) <= px(first));
             let from = if rim { first } else { start };
             let lo = (height - 1 - from) + d;
             let hi = (height - 1 - top).min(height - 1 - d);
@@ -183,7 +184,8 @@ fn brute_force(
                 let thr = if in_band(u, k) { thr_band } else { thr_out };
                 if direct_response(&column, k, d).abs() > thr {
                     if k == lo {
-                        return (c, ColumnStatus::TooClose, start as f64);
+                        // the column's start row (its first row with ground below a dark rim)
+                        return (c, ColumnStatus::TooClose, (height - 1 - (lo - d)) as f64);
                     }
                     let k_max = height - 1 - d;
                     let response = |k| direct_response(&column, k, d);
@@ -629,9 +631,41 @@ fn a_dark_lens_rim_below_the_first_ground_row_is_not_an_obstacle() {
         }
         assert_eq!(scan.readings[2].start_row, bottom as f64);
         assert_eq!(scan.readings[4].status(), ColumnStatus::TooClose);
-        // The direct filter and the column-by-column reference agree on every column.
+        // The direct filter and the column-by-column reference agree on every column, at
+        // half-widths of every kernel path (2 and 4: the 8-bit prefilter), with the frame's
+        // noise threshold and a mid-range band.
         let mut all = o.clone();
         all.columns = ColumnSelection::Explicit((0..w as u32).collect());
+        for (d, noise, band) in [
+            (2, 4.0, [0.3, 0.5]),
+            (4, 4.0, [0.0, 0.0]),
+            (4, 0.0, [0.3, 0.5]),
+        ] {
+            let mut other = all.clone();
+            other.half_width_px = d;
+            other.noise_multiple = noise;
+            other.mid_contrast = 0.05;
+            other.contrast = 0.1;
+            other.mid_range_m = band.to_vec();
+            let mut r = VisualRanger::new(t.clone(), other.clone()).unwrap();
+            // a lit frame first: the plans move on the second
+            r.scan(
+                &ImageView::new(&step_image(w, h, &floor_from, 90, 180), w, h).unwrap(),
+                0.0,
+            )
+            .unwrap();
+            let scan = r.scan(&view, 0.0).unwrap();
+            let reference = brute_force(&t, &other, &img, w, h);
+            for (a, (c, status, row)) in scan.readings.iter().zip(&reference) {
+                assert_eq!(a.status(), *status, "column {c} d {d} {refinement:?}");
+                if row.is_finite() {
+                    assert!(
+                        (a.row() - row).abs() < 1e-9,
+                        "column {c} d {d} {refinement:?}"
+                    );
+                }
+            }
+        }
         let mut r = VisualRanger::new(t.clone(), all.clone()).unwrap();
         let mut direct = Scan::default();
         r.scan_direct_into(&view, 0.0, &mut direct).unwrap();

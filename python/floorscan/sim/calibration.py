@@ -54,7 +54,8 @@ class CalibrationPattern:
         view, as near as it fits entirely in the image. A checkerboard whose rows would be
         flattened there (a camera low over the floor: a row step under 7 px and under 0.4 of
         the squares' width) shrinks to the largest of 7, 5, 3.5 and 2.5 cm squares that is
-        legible (docs/simulator.md)."""
+        legible, or when none is to the size whose rows lie widest apart
+        (docs/simulator.md)."""
         if kind not in PATTERN_KINDS:
             raise OptionError(
                 f"invalid option `kind`: expected one of {PATTERN_KINDS}, got {kind!r}"
