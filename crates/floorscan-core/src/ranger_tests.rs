@@ -679,6 +679,24 @@ fn a_dark_lens_rim_below_the_first_ground_row_is_not_an_obstacle() {
                 assert!((a.row() - row).abs() < 1e-9, "column {c} {refinement:?}");
             }
         }
+        // 16-bit pixels (x 257, threshold alike) and a strided copy read the same rim.
+        let wide: Vec<u16> = img.iter().map(|&p| p as u16 * 257).collect();
+        let mut o16 = all.clone();
+        o16.threshold *= 257.0;
+        let mut r16 = VisualRanger::new(t.clone(), o16).unwrap();
+        let b = r16
+            .scan(&ImageView::new(&wide, w, h).unwrap(), 0.0)
+            .unwrap();
+        let mut strided = vec![0u8; 2 * w * h];
+        for v in 0..h {
+            for u in 0..w {
+                strided[v * 2 * w + 2 * u] = img[v * w + u];
+            }
+        }
+        let view2 = ImageView::with_strides(&strided, w, h, 2 * w, 2).unwrap();
+        let c = r.scan(&view2, 0.0).unwrap();
+        assert_eq!(scan, b, "{refinement:?}");
+        assert_eq!(scan, c, "{refinement:?}");
         // Once the rim is lit (a frame without it), the columns start at the bottom again.
         let lit = step_image(w, h, &floor_from, 90, 180);
         let again = r.scan(&ImageView::new(&lit, w, h).unwrap(), 0.0).unwrap();
