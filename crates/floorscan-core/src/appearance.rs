@@ -267,11 +267,9 @@ impl AppearanceRanger {
                 continue;
             };
             let c = plan.column as usize;
-            let brightest = |v: usize| (0..3).map(|k| image.channel(k).get(c, v).to_i32()).max();
-            let floor = brightest(first).unwrap_or(0);
-            let rim = is_dark_rim(plan.nominal_start, floor, P::MAX, |v| {
-                brightest(v).unwrap_or(0)
-            });
+            let brightest =
+                |v: usize| (0..3).fold(0, |m, k| m.max(image.channel(k).get(c, v).to_i32()));
+            let rim = is_dark_rim(plan.nominal_start, brightest(first), P::MAX, brightest);
             plan.start_row = if rim { first } else { plan.nominal_start };
         }
     }

@@ -59,7 +59,7 @@ pub struct TextureState {
 
 impl TextureState {
     /// The state after a frame: its own judgement when it could make one (see
-    /// [`frame_textured`]), else the previous one, which lapses to plain after
+    /// [`frame_judgement`]), else the previous one, which lapses to plain after
     /// [`TEXTURE_MEMORY_FRAMES`] inherited frames.
     pub fn after(
         self,
@@ -84,24 +84,13 @@ impl TextureState {
     }
 }
 
-/// Whether this frame's floor breaks the texture assumption: its [`texture_edge_share`]
-/// exceeds `texture_share` (in [0, 1]; 1: never). A frame that could not show it keeps
-/// `previous` (the judgement of the frames before; `false` for a first frame): one where
-/// fewer than [`MIN_TEXTURE_EVIDENCE`] columns, or no more than `texture_share` of the edge
-/// ranger's boundary columns, have an appearance boundary to compare with (the appearance
-/// ranger saw floor in nearly every column, so even a floor of grout lines would leave the
-/// share below the bar). The floor does not change from one frame to the next.
-pub fn frame_textured(
-    edge: &Scan,
-    appearance: &Scan,
-    snap_rows: f64,
-    texture_share: f64,
-    previous: bool,
-) -> bool {
-    frame_judgement(edge, appearance, snap_rows, texture_share).unwrap_or(previous)
-}
-
-/// The frame's own judgement, `None` when it could not show a textured floor.
+/// The frame's own judgement of whether its floor breaks the texture assumption (its
+/// [`texture_edge_share`] exceeds `texture_share`, in [0, 1]; 1: never), `None` when it could
+/// not show it: fewer than [`MIN_TEXTURE_EVIDENCE`] columns, or no more than `texture_share`
+/// of the edge ranger's boundary columns, have an appearance boundary to compare with (the
+/// appearance ranger saw floor in nearly every column, so even a floor of grout lines would
+/// leave the share below the bar). [`TextureState::after`] then keeps the judgement of the
+/// frames before: the floor does not change from one frame to the next.
 fn frame_judgement(
     edge: &Scan,
     appearance: &Scan,
@@ -334,10 +323,11 @@ mod tests {
         assert_eq!(texture_edge_share(&edge, &appearance, 3.0), 0.5);
         let mut out = Scan::default();
         fuse_scans(&edge, &appearance, 3.0, 0.4, &mut out).unwrap();
-        assert_eq!(out.readings[3], appearance.readings[3]); // textured: the floor stands
-        assert_eq!(out.readings[2], edge.readings[2]); // agreement still snaps to the edge
-                                                       // a too-close edge and an edge in rows without ground (a corner the table does not
-                                                       // cover) under floor the appearance ranger recognises are pattern too
+        // textured: the floor stands; agreement still snaps to the edge
+        assert_eq!(out.readings[3], appearance.readings[3]);
+        assert_eq!(out.readings[2], edge.readings[2]);
+        // a too-close edge and an edge in rows without ground (a corner the table does not
+        // cover) under floor the appearance ranger recognises are pattern too
         assert_eq!(out.readings[4], appearance.readings[4]);
         assert_eq!(out.readings[5], appearance.readings[5]);
         fuse_scans(&edge, &appearance, 3.0, 0.5, &mut out).unwrap();
@@ -349,6 +339,23 @@ mod tests {
             readings: vec![reading(0, nb())],
         };
         assert_eq!(texture_edge_share(&none, &none, 3.0), 0.0);
+    }
+
+    /// The judgement after a frame that follows a (fresh) judgement `previous`.
+    fn frame_textured(
+        edge: &Scan,
+        appearance: &Scan,
+        snap_rows: f64,
+        texture_share: f64,
+        previous: bool,
+    ) -> bool {
+        let before = TextureState {
+            textured: previous,
+            frames_inherited: 0,
+        };
+        before
+            .after(edge, appearance, snap_rows, texture_share)
+            .textured
     }
 
     #[test]

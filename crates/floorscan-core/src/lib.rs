@@ -65,8 +65,7 @@ pub use error::{Error, Result};
 pub use evidence::EvidenceRaster;
 pub use floor_model::FloorModel;
 pub use fusion::{
-    frame_textured, fuse_scans, fuse_scans_after, TextureState, MIN_TEXTURE_EVIDENCE,
-    TEXTURE_MEMORY_FRAMES,
+    fuse_scans, fuse_scans_after, TextureState, MIN_TEXTURE_EVIDENCE, TEXTURE_MEMORY_FRAMES,
 };
 pub use grid::{CellRect, Grid};
 pub use grid_options::{Bounds, GridOptions, Occupancy};

@@ -34,6 +34,9 @@ struct ColumnPlan {
     column: u32,
     /// Start row v (from the top).
     start_row: usize,
+    /// The start row as configured; `start_row` moves to `first_ground_row` while the rows at
+    /// this one are a lens's dark rim (`dark_rim`).
+    nominal_start: usize,
     /// The ground point of the column's lowest row with ground, at or above the start row.
     near: Option<Point2>,
     /// That row (v), `None` without ground.
@@ -56,9 +59,6 @@ pub struct VisualRanger {
     /// frame's own with `noise_multiple` / `contrast`).
     column_threshold_sum: Vec<i32>,
     plans: Vec<ColumnPlan>,
-    /// Each plan's start row as configured; a plan starts at its first row with ground instead
-    /// while the rows at this one are a lens's dark rim (`dark_rim`).
-    nominal_starts: Vec<usize>,
     /// Indices (into `plans`) of scannable columns, sorted by window start and by window end.
     by_lo: Vec<usize>,
     by_hi: Vec<usize>,
@@ -161,7 +161,6 @@ impl VisualRanger {
                 (0..height).map(move |v| row_footprint_m(table, p.column, v as f64) as f32)
             })
             .collect();
-        let nominal_starts = plans.iter().map(|p| p.start_row).collect();
         let n = plans.len();
         let threshold_sum = threshold_to_sum(options.threshold, d);
         let prefilter = lanes::prefilter_threshold(d, threshold_sum);
@@ -195,7 +194,6 @@ impl VisualRanger {
             table,
             options,
             plans,
-            nominal_starts,
             by_lo: Vec::new(),
             by_hi: Vec::new(),
         };
@@ -238,8 +236,8 @@ impl VisualRanger {
     fn follow_dark_rim<P: Pixel>(&mut self, image: &ImageView<P>) {
         let mut moved = false;
         for j in 0..self.plans.len() {
-            let nominal = self.nominal_starts[j];
             let plan = self.plans[j];
+            let nominal = plan.nominal_start;
             let Some(first) = plan.first_ground_row.filter(|&f| f < nominal) else {
                 continue;
             };
@@ -248,7 +246,10 @@ impl VisualRanger {
             let rim = is_dark_rim(nominal, floor, P::MAX, |v| image.get(c, v).to_i32());
             let start = if rim { first } else { nominal };
             if start != plan.start_row {
-                self.plans[j] = plan_column(&self.table, &self.options, plan.column, start);
+                self.plans[j] = ColumnPlan {
+                    nominal_start: nominal,
+                    ..plan_column(&self.table, &self.options, plan.column, start)
+                };
                 moved = true;
             }
         }
@@ -1073,6 +1074,7 @@ fn plan_column(
     ColumnPlan {
         column,
         start_row,
+        nominal_start: start_row,
         near,
         first_ground_row: rows.map(|(first, _)| first),
         window,
