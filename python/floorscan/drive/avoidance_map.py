@@ -60,8 +60,10 @@ class AvoidanceMapOptions:
     - ``probability_scale``, ``probability_offset``: the map's probability of a cell is
       logistic(scale * log_odds + offset), a Platt calibration of the fused evidence
       (successive frames are correlated, so summed evidence overstates certainty). Defaults
-      0.612 / -1.581, fitted by ``bench/drive_sensor_model.py`` on the corridor and room
-      (EVALUATION.md); (1, 0) reads the log odds as they are (the laser robot).
+      0.807 / -1.111, fitted by ``bench/drive_sensor_model.py`` on the corridor and room
+      with today's sensor model and ranger (its ``shipped`` row shows whether they still
+      fit: EVALUATION.md, "Sensor model and reliability"); (1, 0) reads the log odds as they
+      are (the laser robot).
     - ``probability_knots``: instead of the Platt curve, a monotone calibration: knots
       ((log_odds, probability), ...) with increasing log odds and non-decreasing
       probabilities in [0, 1], interpolated linearly (constant beyond the ends); fitted by
@@ -79,8 +81,8 @@ class AvoidanceMapOptions:
         default_factory=lambda: defaults("grid")["occupied_threshold"]
     )
     free_threshold: float = field(default_factory=lambda: defaults("grid")["free_threshold"])
-    probability_scale: float = 0.612
-    probability_offset: float = -1.581
+    probability_scale: float = 0.807
+    probability_offset: float = -1.111
     probability_knots: Optional[Tuple[Tuple[float, float], ...]] = None
 
     def __post_init__(self) -> None:
