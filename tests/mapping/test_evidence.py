@@ -65,6 +65,39 @@ def test_evidence_file_round_trip_and_refusals(tmp_path):
         EvidenceMap.load(tmp_path / "missing.npz")
 
 
+def test_evidence_records_the_ray_walk_and_merges_only_one(tmp_path):
+    # A diagonal beam clears different cells under the two walks (the thin walk fewer), so
+    # the file says which one its free evidence followed.
+    def beam(walk):
+        g = OccupancyGrid(cell_size_m=0.1, keep_evidence=True, ray_walk=walk)
+        g.insert_laser([1.0], angles=[0.6], range_max_m=5.0, pose=(0.05, 0.05, 0.0))
+        return g.evidence(name=walk)
+
+    exact, thin = beam("exact"), beam("thin")
+    assert (exact.ray_walk, thin.ray_walk) == ("exact", "thin")
+    assert (exact.values < 0).sum() > (thin.values < 0).sum()
+    back = EvidenceMap.load(thin.save(tmp_path / "thin.evidence.npz"))
+    assert back.ray_walk == "thin" and np.array_equal(back.values, thin.values)
+    # A file written before the walk was recorded reads as unknown; a bad value is refused.
+    fields = dict(np.load(tmp_path / "thin.evidence.npz"))
+    del fields["ray_walk"]
+    np.savez(tmp_path / "old.npz", **fields)
+    old = EvidenceMap.load(tmp_path / "old.npz")
+    assert old.ray_walk is None and np.array_equal(old.values, thin.values)
+    fields["ray_walk"] = np.array("diagonal")
+    np.savez(tmp_path / "bad.npz", **fields)
+    with pytest.raises(FileFormatError, match="ray_walk"):
+        EvidenceMap.load(tmp_path / "bad.npz")
+    # Merging: one walk keeps it, an unknown one makes the result unknown, two walks refuse.
+    assert merge_evidence([thin, back]).ray_walk == "thin"
+    assert merge_evidence([thin, old]).ray_walk is None
+    with pytest.raises(OptionError, match="ray walks"):
+        merge_evidence([exact, thin])
+    assert (
+        EvidenceMap.load(merge_evidence([thin, back]).save(tmp_path / "m.npz")).ray_walk == "thin"
+    )
+
+
 def test_merge_refuses_other_lattices_and_options():
     a = EvidenceMap(values=np.ones((2, 2), np.int32), cell_size_m=0.04, origin_m=(0.0, 0.0))
     with pytest.raises(OptionError, match="cell size"):

@@ -15,14 +15,14 @@ from __future__ import annotations
 import zipfile
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Dict, Sequence, Tuple
+from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .._atomic import PathLike, deferred_signals, write_atomic_with
 from .._native import mapping as _native
 from ..errors import FileFormatError, OptionError, UnsupportedVersionError
-from ..options import defaults
+from ..options import check, defaults
 from .log_odds import UNITS_PER_NAT
 
 FORMAT = "floorscan-evidence"
@@ -51,7 +51,9 @@ class EvidenceMap:
 
     ``values[row, col]`` [1/1000 nat] is the cell whose lower-left corner is ``origin_m +
     cell_size_m * (col, row)`` (row 0 the lowest y, as ``nav_msgs/OccupancyGrid``). The grid
-    options say how to turn it back into an occupancy map; ``recordings`` names what was summed.
+    options say how to turn it back into an occupancy map; ``recordings`` names what was summed;
+    ``ray_walk`` is the grid's ray walk the free evidence followed (``GridOptions.ray_walk``:
+    which cells a ray clears), None where unknown (files written before it was recorded).
     """
 
     values: np.ndarray
@@ -62,6 +64,7 @@ class EvidenceMap:
     occupied_threshold: float = field(default_factory=lambda: _grid_default("occupied_threshold"))
     free_threshold: float = field(default_factory=lambda: _grid_default("free_threshold"))
     recordings: Tuple[str, ...] = field(default=())
+    ray_walk: Optional[str] = None
 
     @classmethod
     def from_grid(cls, grid, *, name: str = "") -> EvidenceMap:
@@ -84,6 +87,7 @@ class EvidenceMap:
             cell_size_m=s,
             origin_m=origin,
             recordings=(name,) if name else (),
+            ray_walk=str(go["ray_walk"]),
             **{k: float(go[k]) for k in _OPTION_NAMES},
         )
 
@@ -110,6 +114,8 @@ class EvidenceMap:
             "recordings": np.array(list(self.recordings), dtype=str).reshape(-1),
             **{k: np.array(v, dtype=np.float64) for k, v in self.options.items()},
         }
+        if self.ray_walk is not None:
+            arrays["ray_walk"] = np.array(self.ray_walk)
         return write_atomic_with(path, lambda f: _savez_whole(f, arrays))
 
     @classmethod
@@ -137,22 +143,30 @@ class EvidenceMap:
             scalars = {k: float(d[k]) for k in ("cell_size_m",) + _OPTION_NAMES}
             origin = tuple(float(v) for v in d["origin_m"].reshape(-1))
             names = tuple(str(n) for n in d.get("recordings", np.array([], dtype=str)).reshape(-1))
+            ray_walk = str(d["ray_walk"]) if "ray_walk" in d else None
         except (KeyError, TypeError, ValueError) as e:
             raise FileFormatError(f"{path}: missing or malformed field ({e})") from None
+        if ray_walk is not None:
+            try:
+                check("grid", {"ray_walk": ray_walk})
+            except OptionError as e:
+                raise FileFormatError(f"{path}: {e}") from None
         if values.dtype != np.int32 or values.ndim != 2 or len(origin) != 2:
             raise FileFormatError(f"{path}: `evidence` must be a 2-D int32 array, origin (x, y)")
         if not all(np.isfinite(v) for v in (*origin, *scalars.values())):
             raise FileFormatError(f"{path}: cell size, origin and options must be finite")
         if scalars["cell_size_m"] <= 0:
             raise FileFormatError(f"{path}: cell_size_m must be > 0")
-        return cls(values=values, origin_m=origin, recordings=names, **scalars)  # type: ignore[arg-type]
+        return cls(values=values, origin_m=origin, recordings=names, ray_walk=ray_walk, **scalars)  # type: ignore[arg-type]
 
 
 def merge_evidence(maps: Sequence[EvidenceMap]) -> EvidenceMap:
     """The exact, order-free sum of evidence maps on one cell lattice, over the union of their
     extents. Maps of different cell sizes or on shifted lattices are refused
     (:class:`~floorscan.OptionError` / :class:`~floorscan.GeometryError`), never resampled;
-    so are maps with different clamps or thresholds (the merged map would be ambiguous)."""
+    so are maps with different clamps or thresholds (the merged map would be ambiguous), and
+    maps whose free evidence followed different ray walks. The merged ray walk is unknown
+    (None) when a map's is."""
     maps = list(maps)
     if not maps:
         raise OptionError("no evidence maps to merge")
@@ -164,16 +178,26 @@ def merge_evidence(maps: Sequence[EvidenceMap]) -> EvidenceMap:
                     f"evidence map {k} has {name} = {getattr(m, name)}, map 0 has {getattr(first, name)}: "
                     "maps made with different grid options do not merge"
                 )
+    walks = {m.ray_walk for m in maps}
+    known = sorted(w for w in walks if w is not None)
+    if len(known) > 1:
+        raise OptionError(
+            f"evidence maps made with ray walks {known} do not merge: each clears other cells "
+            "(GridOptions.ray_walk)"
+        )
+    ray_walk = None if None in walks else known[0]
     names = tuple(n for m in maps for n in m.recordings)
     nonempty = [m for m in maps if m.values.size]
     if not nonempty:
-        return replace(first, recordings=names)
+        return replace(first, recordings=names, ray_walk=ray_walk)
     origin, values = _native.merge_evidence(
         [m.cell_size_m for m in nonempty],
         [tuple(m.origin_m) for m in nonempty],
         [np.ascontiguousarray(m.values, dtype=np.int32) for m in nonempty],
     )
-    return replace(first, values=values, origin_m=tuple(origin), recordings=names)
+    return replace(
+        first, values=values, origin_m=tuple(origin), recordings=names, ray_walk=ray_walk
+    )
 
 
 def _savez_whole(f, arrays: Dict[str, np.ndarray]) -> None:
