@@ -316,3 +316,40 @@ def test_rust_png_decoding_gives_the_outputs_of_pillow_decoding_byte_for_byte(
         grey = image_io._read_grey_pillow(images[k])
         want = draw_scan_overlay_indexed(grey, scans[k], max_width=OVERLAY_MAX_WIDTH)
         np.testing.assert_array_equal(got[k], OVERLAY_PALETTE[want])
+
+
+class _BagSignallingOnAbort:
+    """Wraps the run's bag: its abort is where a third signal of a burst lands."""
+
+    def __init__(self, bag):
+        self.bag = bag
+
+    def abort(self):
+        os.kill(os.getpid(), signal.SIGTERM)
+        self.bag.abort()
+
+
+class _OutputsAbandonedWhileSaving(RunOutputs):
+    """Two signals while the map is saved (the second abandons the rest), a third while the
+    abandoned outputs are cleaned up."""
+
+    def _finish_map(self, mapper):
+        self._bag = _BagSignallingOnAbort(self._bag)
+        os.kill(os.getpid(), signal.SIGTERM)
+        os.kill(os.getpid(), signal.SIGTERM)
+        super()._finish_map(mapper)
+
+
+def test_a_signal_during_the_clean_up_of_abandoned_outputs_leaves_no_temporary_file(
+    dataset, tmp_path, monkeypatch
+):
+    monkeypatch.setattr(floorscan._signals, "_ABANDONED", None)
+    cfg = Config()
+    mapper = Mapper(floorscan.GroundTable.load(dataset / "table.json"), cfg)
+    out = tmp_path / "out"
+    outputs = _OutputsAbandonedWhileSaving(out, cfg)
+    with pytest.raises(KeyboardInterrupt):
+        run(DatasetSource(dataset / "room"), mapper, outputs)
+    assert mapper.frames == 30  # the run itself finished; only the saving was abandoned
+    assert sorted(p.name for p in out.iterdir() if p.name.startswith(".")) == []
+    assert not (out / "overlay.gif").exists()

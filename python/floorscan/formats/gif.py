@@ -83,11 +83,13 @@ class GifWriter:
         return self.path
 
     def abort(self) -> None:
-        """Stops the encoder and removes the temporary file (idempotent)."""
-        try:
-            self._native.abort()
-        finally:
-            self._remove_temporary()
+        """Stops the encoder and removes the temporary file (idempotent). A signal meanwhile
+        is delivered once the file is gone."""
+        with deferred_signals():
+            try:
+                self._native.abort()
+            finally:
+                self._remove_temporary()
 
     def _remove_temporary(self) -> None:
         if self._tmp is not None:

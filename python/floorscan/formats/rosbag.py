@@ -18,7 +18,7 @@ from typing import Dict, Iterable, Iterator, List, Sequence, Tuple
 
 import numpy as np
 
-from .._atomic import PathLike
+from .._atomic import PathLike, deferred_signals
 from ..errors import DatasetError, FloorscanError, ImageError
 from .image_io import as_grey, check_image_size, open_image
 from .trajectory import Trajectory, quaternion_from_yaw, yaw_from_quaternion
@@ -306,10 +306,13 @@ class Ros2BagWriter:
         return self.path
 
     def abort(self) -> None:
-        try:
-            self._writer.close()
-        finally:
-            shutil.rmtree(self._tmpdir, ignore_errors=True)
+        """Drops the unfinished bag and its temporary folder (a signal meanwhile is delivered
+        once the folder is gone)."""
+        with deferred_signals():
+            try:
+                self._writer.close()
+            finally:
+                shutil.rmtree(self._tmpdir, ignore_errors=True)
 
 
 def write_image_odometry_bag(

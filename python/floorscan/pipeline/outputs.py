@@ -275,7 +275,13 @@ class RunOutputs:
 
     def _discard_temporaries(self) -> None:
         """Removes what an interrupted or failed finish left: the scans' temporary file, an
-        unfinished bag, a half-written overlay."""
+        unfinished bag, a half-written overlay. Signals are held back until all are removed
+        (a burst of signals abandons the outputs and would otherwise interrupt this clean-up
+        part way, leaving the rest behind)."""
+        with deferred_signals():
+            self._discard_held()
+
+    def _discard_held(self) -> None:
         if self._csv is not None and not self._csv.closed:
             self._csv.close()
         if self._csv_tmp is not None:
