@@ -88,6 +88,10 @@ def test_evidence_records_the_ray_walk_and_merges_only_one(tmp_path):
     np.savez(tmp_path / "bad.npz", **fields)
     with pytest.raises(FileFormatError, match="ray_walk"):
         EvidenceMap.load(tmp_path / "bad.npz")
+    # So is one built by hand (the same list of walks as the grid's options).
+    for bad in ("diagonal", 3):
+        with pytest.raises(OptionError, match="ray_walk"):
+            EvidenceMap(values=thin.values, cell_size_m=0.1, origin_m=(0.0, 0.0), ray_walk=bad)
     # Merging: one walk keeps it, an unknown one makes the result unknown, two walks refuse.
     assert merge_evidence([thin, back]).ray_walk == "thin"
     assert merge_evidence([thin, old]).ray_walk is None

@@ -66,6 +66,14 @@ class EvidenceMap:
     recordings: Tuple[str, ...] = field(default=())
     ray_walk: Optional[str] = None
 
+    def __post_init__(self) -> None:
+        if self.ray_walk is not None:
+            if not isinstance(self.ray_walk, str):
+                raise OptionError(
+                    f"invalid option `ray_walk`: must be a string or None, got {self.ray_walk!r}"
+                )
+            check("grid", {"ray_walk": self.ray_walk})  # the core's own list of walks
+
     @classmethod
     def from_grid(cls, grid, *, name: str = "") -> EvidenceMap:
         """The evidence layer of an :class:`~floorscan.OccupancyGrid` made with
