@@ -7,7 +7,14 @@ the training runs), ``default_raw``, ``default``, ``default_isotonic``, ``fitted
 model fitted on the training runs) and ``octomap_constant``.
 
     .venv/bin/python bench/drive_sensor_model.py [--seconds 30] [--views 16]
-        [--out sensor_model.json]
+        [--held-out-worlds W.toml ...] [--rows shipped ...] [--out sensor_model.json]
+
+The reliability diagram and the log loss pool the held-out office below with the worlds of
+``--held-out-worlds`` (default: every ``bench/worlds/*.toml``, none of them used to fit
+anything), each driven ``--seconds`` with true poses; each decile carries its observed
+frequency's 95 % Wilson interval, so a sparse decile's gap can be told from noise
+(``pooled_deciles_off``: the deciles whose interval lies entirely more than 5 points from
+the prediction). Frames to a reliable view are measured on the office alone.
 
 Frames to a reliable view are reported over all views and over the views where the ranger is
 right (issue 15: "reliable within <= 2 frames for views where the ranger is right"): at most
@@ -19,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from pathlib import Path
 
 import numpy as np
 from floorscan.drive import AvoidanceMapOptions, VisualSensorModel, make_table
@@ -29,6 +37,8 @@ from floorscan.drive.sensor_fit import (
     fused_map,
     log_loss,
     reliability,
+    reliability_cells,
+    reliability_of,
 )
 from floorscan.sim import Camera, World, simulate_run
 
@@ -152,6 +162,14 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=30.0)
     ap.add_argument("--views", type=int, default=16)
     ap.add_argument("--out", default="sensor_model.json")
+    here = Path(__file__).resolve().parent
+    ap.add_argument(
+        "--held-out-worlds",
+        nargs="*",
+        default=[str(p) for p in sorted((here / "worlds").glob("*.toml"))],
+        help="more held-out worlds pooled into the reliability diagram (default bench/worlds)",
+    )
+    ap.add_argument("--rows", nargs="*", default=None, help="only these rows (default all)")
     args = ap.parse_args()
     camera = Camera()
     table = make_table(camera, "exact")
@@ -162,6 +180,11 @@ def main() -> None:
     fitted, counts = fit_sensor_model(train, table)
     test = simulate_run(World.from_toml(HELD_OUT), camera=camera, seconds=args.seconds, seed=3)
     raster = test.world.occupancy(resolution_m=0.05)
+    more = [
+        simulate_run(World.load(w), camera=camera, seconds=args.seconds, seed=3)
+        for w in args.held_out_worlds
+    ]
+    held_out_names = ["held-out office"] + [Path(w).stem for w in args.held_out_worlds]
     constant = VisualSensorModel(
         free_a=-0.4,
         free_b=0.0,
@@ -188,7 +211,10 @@ def main() -> None:
         ("fitted", fitted, True),
         ("octomap_constant", constant, False),
     )
+    report["held_out_runs"] = held_out_names
     for name, m, calibrate_output in cases:
+        if args.rows is not None and name not in args.rows:
+            continue
         knots = None
         if calibrate_output == "shipped":
             # the output calibration the code ships (a stale default shows here)
@@ -207,6 +233,16 @@ def main() -> None:
         fm = fused_map(test, table, m, map_options=mo)
         frames = frames_to_reliable_view(test, table, m, starts, map_options=mo)
         rel = reliability(fm, raster)
+        cells = [reliability_cells(fm, raster)]
+        for run in more:
+            cells.append(
+                reliability_cells(
+                    fused_map(run, table, m, map_options=mo), run.world.occupancy(resolution_m=0.05)
+                )
+            )
+        pooled = reliability_of(
+            np.concatenate([c[0] for c in cells]), np.concatenate([c[1] for c in cells])
+        )
         report[name] = {
             "model": m.as_dict(),
             "probability_scale": scale,
@@ -214,6 +250,17 @@ def main() -> None:
             "probability_knots": knots,
             "reliability": rel,
             "max_gap_points": max(100 * abs(r["predicted"] - r["observed"]) for r in rel),
+            "pooled_reliability": pooled,
+            "pooled_max_gap_points": max(100 * abs(r["predicted"] - r["observed"]) for r in pooled),
+            "pooled_calibration_error_points": 100
+            * sum(r["cells"] * abs(r["predicted"] - r["observed"]) for r in pooled)
+            / sum(r["cells"] for r in pooled),
+            "pooled_deciles_off": [
+                r["decile"]
+                for r in pooled
+                if r["observed_low"] > r["predicted"] + 0.05
+                or r["observed_high"] < r["predicted"] - 0.05
+            ],
             "log_loss": log_loss(fm, raster),
             "frames_to_reliable": frames,
             "median_frames": median_frames(frames),

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from floorscan import OptionError
 from floorscan.drive import AvoidanceMap, AvoidanceMapOptions, VisualSensorModel
-from floorscan.drive.sensor_fit import _logistic_fit, reliability
+from floorscan.drive.sensor_fit import _logistic_fit, reliability, reliability_of, wilson_interval
 from floorscan.sim import OccupancyRaster
 
 
@@ -40,6 +40,30 @@ def test_reliability_diagram_of_a_hand_made_map():
     assert rows["0.8-0.9"]["predicted"] == pytest.approx(0.8, abs=1e-6)
     assert rows["0.1-0.2"]["observed"] == pytest.approx(0.15)
     assert sum(r["cells"] for r in rows.values()) == 30  # cells without evidence left out
+    # 8 of 10: the Wilson interval (textbook value 0.490-0.943) holds the frequency
+    assert rows["0.8-0.9"]["observed_low"] == pytest.approx(0.490, abs=1e-3)
+    assert rows["0.8-0.9"]["observed_high"] == pytest.approx(0.943, abs=1e-3)
+
+
+def test_wilson_interval_covers_the_true_frequency_95_percent_of_the_time():
+    # brute force: many binomial draws at a few true frequencies and sizes
+    rng = np.random.default_rng(3)
+    for q, n in ((0.05, 40), (0.5, 12), (0.8, 200)):
+        k = rng.binomial(n, q, size=4000)
+        cover = np.mean([lo <= q <= hi for lo, hi in (wilson_interval(int(x), n) for x in k)])
+        assert 0.93 <= cover <= 0.99
+    assert wilson_interval(0, 0) == (0.0, 1.0)
+
+
+def test_pooled_reliability_is_the_reliability_of_the_pooled_cells():
+    rng = np.random.default_rng(4)
+    p = rng.uniform(size=5000)
+    occ = rng.uniform(size=5000) < p  # calibrated by construction
+    rows = reliability_of(p, occ)
+    assert len(rows) == 10 and sum(r["cells"] for r in rows) == 5000
+    for r in rows:
+        assert r["observed_low"] <= r["observed"] <= r["observed_high"]
+        assert abs(r["predicted"] - r["observed"]) < 0.06
 
 
 def test_sigma_grows_with_footprint_and_error():

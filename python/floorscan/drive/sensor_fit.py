@@ -10,6 +10,7 @@ whose fused map has the lowest log loss against the truth.
 
 from __future__ import annotations
 
+import math
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -120,22 +121,51 @@ def fused_map(
 def reliability(amap: AvoidanceMap, raster) -> List[Dict]:
     """Per decile of predicted occupancy probability over the cells the map has evidence
     on (|log odds| > 0.05) and the truth knows: mean prediction, observed frequency of
-    occupied, cell count."""
+    occupied, cell count, and the observed frequency's 95 % Wilson interval
+    (``observed_low``, ``observed_high``). Pool several maps with :func:`reliability_cells`
+    and :func:`reliability_of`."""
+    return reliability_of(*reliability_cells(amap, raster))
+
+
+def reliability_cells(amap: AvoidanceMap, raster) -> Tuple[np.ndarray, np.ndarray]:
+    """The predicted occupancy probabilities of the cells the map has evidence on
+    (|log odds| > 0.05) and the truth knows, and whether each is occupied in truth."""
     truth = _cells_truth(amap, raster)
     p = amap.probabilities()
     sel = (np.abs(amap.log_odds) > 0.05) & (truth >= 0)
-    p, occ = p[sel], truth[sel] == 100
+    return p[sel], truth[sel] == 100
+
+
+def wilson_interval(successes: int, n: int, z: float = 1.96) -> Tuple[float, float]:
+    """The Wilson score interval of a binomial proportion (95 % at z = 1.96)."""
+    if n <= 0:
+        return 0.0, 1.0
+    f = successes / n
+    d = 1 + z * z / n
+    centre = (f + z * z / (2 * n)) / d
+    half = z * math.sqrt(f * (1 - f) / n + z * z / (4 * n * n)) / d
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+def reliability_of(p: np.ndarray, occupied: np.ndarray) -> List[Dict]:
+    """The reliability diagram (see :func:`reliability`) of predictions ``p`` against the
+    truth ``occupied`` (bool), one row per non-empty decile."""
+    p, occupied = np.asarray(p, np.float64), np.asarray(occupied, bool)
     out = []
     for d in range(10):
         lo, hi = d / 10, (d + 1) / 10
         s = (p >= lo) & ((p < hi) if d < 9 else (p <= hi))
         if s.any():
+            n, k = int(s.sum()), int(occupied[s].sum())
+            low, high = wilson_interval(k, n)
             out.append(
                 {
                     "decile": f"{lo:.1f}-{hi:.1f}",
                     "predicted": float(p[s].mean()),
-                    "observed": float(occ[s].mean()),
-                    "cells": int(s.sum()),
+                    "observed": k / n,
+                    "cells": n,
+                    "observed_low": low,
+                    "observed_high": high,
                 }
             )
     return out
