@@ -243,3 +243,46 @@ def test_config_kind_builds_that_ranger(kind):
     assert len(r.scan(textured_scene(0))) == 64
     with pytest.raises(fs.FloorscanError):
         ranger_from_config(image_row_table(W, H), Config().with_overrides({"ranger.kind": "x"}))
+
+
+def test_boundary_samples_teach_the_floor_through_the_python_api():
+    from floorscan.ranging.appearance import NO_SAMPLE
+
+    table = fs.GroundTable.from_camera(
+        fs.Lens.equidistant(f=140, cx=159.5, cy=119.5),
+        fs.CameraMount(height_m=0.4, tilt_rad=0.6),
+        image_width=320,
+        image_height=240,
+    )
+    # the reference relearned every frame: the patch stays floor only as driven-over floor
+    ranger = fs.AppearanceRanger(table, columns=16, driven_floor_samples=8, adaptation_rate=1.0)
+    image = np.zeros((240, 320, 3), np.uint8)
+    image[150:] = (120, 110, 90)  # floor
+    image[:150] = (30, 60, 160)  # a blue patch beyond it
+    scan = ranger.scan(image)
+    assert set(scan.status) == {"boundary"} and ranger.last_scan is scan
+    samples = ranger.boundary_samples()
+    assert samples.shape == (16, 4) and samples.dtype == np.uint32
+    # min_run_px (3) rows of each boundary's run are kept; their colour part is the blue's
+    # bin, written out here from docs/appearance-ranger.md (intensity x two chroma axes)
+    r, g, b = 30, 60, 160
+    chroma = lambda c: (min(max(c + 96, 0), 16 * 12 - 1)) >> 4  # noqa: E731
+    blue = (((r + g + b) // 3 >> 4) * 12 + chroma(r - g)) * 12 + chroma((r + g) // 2 - b)
+    assert (samples[:, :3] // 8 == blue).all() and (samples[:, 3] == NO_SAMPLE).all()
+    # Refused whole: not packed samples; skipped: empty slots.
+    for bad in (np.array([-1]), np.array([0.5]), np.array([2304 * 8], np.uint32)):
+        with pytest.raises(fs.OptionError, match="samples"):
+            ranger.learn_driven_floor(np.concatenate([samples.ravel(), bad]))
+    assert ranger.learn_driven_floor(np.full(3, NO_SAMPLE, np.uint32)) == 0
+    # not confirmed by this frame's reference band (floor, not blue): nothing learned
+    assert ranger.learn_driven_floor(samples) == 0
+    assert ranger.scan(image).status.tolist() == ["boundary"] * 16
+    assert not ranger.driven_floor_columns.any()
+    # driven over: the frame taken there shows the blue in its reference band
+    on_it = np.full_like(image, (30, 60, 160))
+    ranger.scan(on_it)
+    assert 24 < ranger.learn_driven_floor(samples) <= 48
+    assert set(ranger.scan(image).status) == {"no_boundary"}
+    assert ranger.driven_floor_columns.all()
+    ranger.reset_model()
+    assert set(ranger.scan(image).status) == {"boundary"}

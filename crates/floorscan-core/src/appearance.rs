@@ -14,7 +14,7 @@ use crate::appearance_options::{AppearanceFeatures, AppearanceOptions};
 use crate::colour_image::ColourView;
 use crate::dark_rim::is_dark_rim;
 use crate::error::{invalid_option, Error, Result};
-use crate::floor_model::{colour_bin, texture_bin, FloorModel};
+use crate::floor_model::{colour_bin, texture_bin, FloorModel, COLOUR_BINS, TEXTURE_BINS};
 use crate::ground_table::GroundTable;
 use crate::image::Pixel;
 use crate::pose::Point2;
@@ -23,6 +23,17 @@ use crate::scan::{ColumnOutcome, ColumnReading, Scan};
 
 /// Reference pixels are sampled every this many columns and rows.
 const REFERENCE_STRIDE: usize = 2;
+
+/// Pixels kept per boundary for the driven-over refresh: the column's pixel in each of the
+/// first (lowest) rows of the run that stopped its scan.
+pub const BOUNDARY_SAMPLES: usize = 4;
+/// A slot of [`AppearanceRanger::boundary_samples`] without a pixel.
+pub const NO_SAMPLE: u32 = u32::MAX;
+
+/// A pixel's bins packed in one sample: `colour * TEXTURE_BINS + texture`.
+pub fn pack_sample(colour: usize, texture: usize) -> u32 {
+    (colour * TEXTURE_BINS + texture) as u32
+}
 
 #[derive(Debug, Clone, Copy)]
 struct Plan {
@@ -57,6 +68,14 @@ pub struct AppearanceRanger {
     /// classification as a prefix count (width + 1).
     states: Vec<ColumnState>,
     row_prefix: Vec<u32>,
+    /// As `row_prefix`, for the reference's floor alone (while driven-over floor is known).
+    row_prefix_reference: Vec<u32>,
+    /// Per column of the last scan: whether it crossed at least `min_run_px` rows that look
+    /// like floor only through the driven-over floor.
+    driven_columns: Vec<bool>,
+    /// Per column of the last scan: the pixels of the run that made its boundary (packed
+    /// bins, [`NO_SAMPLE`] where none), for the driven-over refresh.
+    samples: Vec<[u32; BOUNDARY_SAMPLES]>,
 }
 
 /// One column's scan state: the current run of non-floor rows and the floor rows below it.
@@ -67,18 +86,21 @@ struct ColumnState {
     run_not_floor: f32,
     floor_rows: usize,
     floor_sum: f32,
+    /// Floor rows that look like floor only through the driven-over floor.
+    driven_rows: usize,
     /// The scan has ended: at a boundary (its lowest row and confidence) or without one.
     done: bool,
 }
 
 impl ColumnState {
-    /// Takes row `v` with `floor` of its `patch_n` patch pixels looking like floor; returns
-    /// the run's lowest row and the reading's confidence once `min_run` rows are not floor.
+    /// Takes row `v` with `floor` of its `patch_n` patch pixels looking like floor (`reference`
+    /// of them to the reference alone); returns the run's lowest row and the reading's
+    /// confidence once `min_run` rows are not floor.
     #[inline]
     fn step(
         &mut self,
         v: usize,
-        floor: usize,
+        (floor, reference): (usize, usize),
         patch_n: usize,
         min_run: usize,
     ) -> Option<(usize, f32)> {
@@ -104,6 +126,7 @@ impl ColumnState {
             self.run = 0;
             self.floor_rows += 1;
             self.floor_sum += share;
+            self.driven_rows += usize::from(2 * reference < patch_n);
         }
         None
     }
@@ -197,6 +220,9 @@ impl AppearanceRanger {
             confidence: vec![0.0; n],
             states: vec![ColumnState::default(); n],
             row_prefix: vec![0; width + 1],
+            row_prefix_reference: vec![0; width + 1],
+            driven_columns: vec![false; n],
+            samples: vec![[NO_SAMPLE; BOUNDARY_SAMPLES]; n],
         })
     }
 
@@ -217,6 +243,51 @@ impl AppearanceRanger {
     /// Forgets the learned floor (e.g. on entering another building).
     pub fn reset_model(&mut self) {
         self.model.reset();
+    }
+
+    /// Per sampled column (output order) of the last scan: the packed bins
+    /// ([`pack_sample`]) of the column's pixel in the lowest [`BOUNDARY_SAMPLES`] rows of the
+    /// run of non-floor rows that made its boundary, [`NO_SAMPLE`] in the other slots and for
+    /// readings other than a boundary.
+    pub fn boundary_samples(&self) -> &[[u32; BOUNDARY_SAMPLES]] {
+        &self.samples
+    }
+
+    /// Per sampled column (output order) of the last scan: whether its scan crossed at least
+    /// `min_run_px` rows that look like floor only through the driven-over floor (a rug the
+    /// robot drove across): there an edge where the floor's look changes is that floor's
+    /// border, not an obstacle of the floor's colour (see `fusion`).
+    pub fn driven_floor_columns(&self) -> &[bool] {
+        &self.driven_columns
+    }
+
+    /// Learns `samples` (from [`Self::boundary_samples`] of boundaries the robot has since
+    /// driven through: they were floor) as floor from the next frame on, for as long as
+    /// `driven_floor_half_life_frames` keeps them. Call it right after the scan of the frame
+    /// taken where the robot drove through them: a sample is learned only if that frame's
+    /// reference band (the floor just in front of the robot there) confirms it, i.e. the
+    /// reference's own model takes its bins as floor now; a boundary the robot only seemed to
+    /// drive through (odometry drift past a wall's base) shows other pixels there and teaches
+    /// nothing. [`NO_SAMPLE`] entries are skipped; any other value that is not a packed sample
+    /// is an error and nothing is learned. Returns the samples learned.
+    pub fn learn_driven_floor(&mut self, samples: &[u32]) -> Result<usize> {
+        let limit = (COLOUR_BINS * TEXTURE_BINS) as u32;
+        if let Some(bad) = samples.iter().find(|&&s| s != NO_SAMPLE && s >= limit) {
+            return Err(invalid_option(
+                "samples",
+                format!("{bad} is not a packed (colour, texture) sample (below {limit})"),
+            ));
+        }
+        let reach = self.options.intensity_reach_bins;
+        let mut n = 0;
+        for &s in samples.iter().filter(|&&s| s != NO_SAMPLE) {
+            let (colour, texture) = (s as usize / TEXTURE_BINS, s as usize % TEXTURE_BINS);
+            if self.model.is_reference_floor(colour, Some(texture)) {
+                self.model.add_driven(colour, texture, reach);
+                n += 1;
+            }
+        }
+        Ok(n)
     }
 
     /// Learns from this frame's reference band, then scans it into a new [`Scan`].
@@ -240,10 +311,15 @@ impl AppearanceRanger {
             self.scan_rows(image);
         } else {
             for j in 0..self.plans.len() {
-                let (outcome, confidence) = self.scan_column(image, j);
+                let (outcome, confidence, state) = self.scan_column(image, j);
                 self.outcomes[j] = outcome;
                 self.confidence[j] = confidence;
+                self.states[j] = state;
             }
+        }
+        let min_run = self.options.min_run_px;
+        for (d, s) in self.driven_columns.iter_mut().zip(&self.states) {
+            *d = s.driven_rows >= min_run;
         }
         out.timestamp_s = timestamp_s;
         out.readings.clear();
@@ -255,7 +331,28 @@ impl AppearanceRanger {
                 outcome: self.outcomes[j],
                 confidence: self.confidence[j],
             }));
+        self.record_boundary_samples(image);
         Ok(())
+    }
+
+    /// Fills `samples` from this frame's boundaries (see [`Self::boundary_samples`]).
+    fn record_boundary_samples<P: Pixel>(&mut self, image: &ColourView<P>) {
+        let rows = self.options.min_run_px.min(BOUNDARY_SAMPLES);
+        for j in 0..self.plans.len() {
+            let slots = &mut self.samples[j];
+            *slots = [NO_SAMPLE; BOUNDARY_SAMPLES];
+            let ColumnOutcome::Boundary { row, .. } = self.outcomes[j] else {
+                continue;
+            };
+            let (u, v0) = (self.plans[j].column as usize, row.floor() as usize);
+            for (k, slot) in slots.iter_mut().take(rows).enumerate() {
+                let Some(v) = v0.checked_sub(k) else { break };
+                let px = RowPixels::new(image, v, AppearanceFeatures::ColourAndTexture);
+                if let (colour, Some(texture)) = px.bins(u) {
+                    *slot = pack_sample(colour, texture);
+                }
+            }
+        }
     }
 
     /// Starts each column whose start row has no ground at its first row with ground while
@@ -291,8 +388,18 @@ impl AppearanceRanger {
         let row = RowPixels::new(image, v, self.options.features);
         let prefix = &mut self.row_prefix;
         prefix[u_lo] = 0;
+        if !self.model.driven_active() {
+            for u in u_lo..=u_hi {
+                prefix[u + 1] = prefix[u] + row.is_floor(&self.model, u) as u32;
+            }
+            return;
+        }
+        let reference = &mut self.row_prefix_reference;
+        reference[u_lo] = 0;
         for u in u_lo..=u_hi {
-            prefix[u + 1] = prefix[u] + row.is_floor(&self.model, u) as u32;
+            let (colour, texture) = row.bins(u);
+            prefix[u + 1] = prefix[u] + self.model.is_floor(colour, texture) as u32;
+            reference[u + 1] = reference[u] + self.model.is_reference_floor(colour, texture) as u32;
         }
     }
 
@@ -325,6 +432,9 @@ impl AppearanceRanger {
             self.options.min_floor_share,
             self.options.intensity_reach_bins,
         );
+        let decay = 0.5f64.powf(1.0 / self.options.driven_floor_half_life_frames);
+        self.model
+            .apply_driven(decay as f32, self.options.driven_floor_samples as f32);
     }
 
     /// Whether classifying each pixel of a row once, shared by the patches that cover it,
@@ -338,23 +448,38 @@ impl AppearanceRanger {
     }
 
     /// Column by column: each row's patch classified on its own.
-    fn scan_column<P: Pixel>(&self, image: &ColourView<P>, j: usize) -> (ColumnOutcome, f32) {
+    fn scan_column<P: Pixel>(
+        &self,
+        image: &ColourView<P>,
+        j: usize,
+    ) -> (ColumnOutcome, f32, ColumnState) {
         let plan = self.plans[j];
+        let mut state = ColumnState::default();
         let Some(top) = plan.top_row else {
-            return (ColumnOutcome::Invalid { row: None }, 0.0);
+            return (ColumnOutcome::Invalid { row: None }, 0.0, state);
         };
         let (a, b) = plan.patch;
-        let mut state = ColumnState::default();
+        let driven = self.model.driven_active();
         for v in (top..=plan.start_row).rev() {
             let row = RowPixels::new(image, v, self.options.features);
-            let floor = (a..=b).filter(|&u| row.is_floor(&self.model, u)).count();
+            let (mut floor, mut reference) = (0, 0);
+            for u in a..=b {
+                let (colour, texture) = row.bins(u);
+                floor += usize::from(self.model.is_floor(colour, texture));
+                reference += usize::from(if driven {
+                    self.model.is_reference_floor(colour, texture)
+                } else {
+                    self.model.is_floor(colour, texture)
+                });
+            }
             if let Some((run_start, confidence)) =
-                state.step(v, floor, b - a + 1, self.options.min_run_px)
+                state.step(v, (floor, reference), b - a + 1, self.options.min_run_px)
             {
-                return (self.boundary(j, run_start), confidence);
+                return (self.boundary(j, run_start), confidence, state);
             }
         }
-        self.no_boundary(j, top, state.no_boundary_confidence())
+        let (outcome, confidence) = self.no_boundary(j, top, state.no_boundary_confidence());
+        (outcome, confidence, state)
     }
 
     /// Row by row from the bottom (dense columns): each pixel of a row that some active patch
@@ -362,6 +487,7 @@ impl AppearanceRanger {
     /// sums. The same readings as [`Self::scan_column`] (tested).
     fn scan_rows<P: Pixel>(&mut self, image: &ColourView<P>) {
         let min_run = self.options.min_run_px;
+        let driven = self.model.driven_active();
         let (mut v_lo, mut v_hi, mut active) = (usize::MAX, 0usize, 0usize);
         for (j, plan) in self.plans.iter().enumerate() {
             self.states[j] = ColumnState::default();
@@ -407,8 +533,13 @@ impl AppearanceRanger {
                 }
                 let (a, b) = plan.patch;
                 let floor = (self.row_prefix[b + 1] - self.row_prefix[a]) as usize;
+                let reference = if driven {
+                    (self.row_prefix_reference[b + 1] - self.row_prefix_reference[a]) as usize
+                } else {
+                    floor
+                };
                 if let Some((run_start, confidence)) =
-                    self.states[j].step(v, floor, b - a + 1, min_run)
+                    self.states[j].step(v, (floor, reference), b - a + 1, min_run)
                 {
                     self.outcomes[j] = self.boundary(j, run_start);
                     self.confidence[j] = confidence;

@@ -60,6 +60,20 @@ pub struct AppearanceOptions {
     /// Weight of the newest frame's reference in the model, in (0, 1]; 1 relearns every frame.
     /// Default 0.5.
     pub adaptation_rate: f64,
+    /// Refresh from floor the robot has driven over: a boundary whose ground point the robot's
+    /// origin later passes within this distance [m] was floor, and its pixels (the run that
+    /// stopped the scan) are learned as floor where the frame taken there confirms them (its
+    /// reference band looks like them); in [0, 2], 0 turns the refresh off. Used where the poses are known (`floorscan
+    /// run`, `floorscan eval`, `floorscan drive`). Default 0.1 (well inside a small robot's
+    /// footprint, so a boundary passed beside is not taken as driven over).
+    pub driven_floor_radius_m: f64,
+    /// Driven-over pixels within one bin of a colour (or texture) needed to take it as floor,
+    /// in [1, 10000]. Default 8 (two boundaries' worth: one odometry slip past a real
+    /// obstacle's base does not teach it).
+    pub driven_floor_samples: f64,
+    /// Half-life of the driven-over samples [frames], in [1, 1e6]. Default 600 (a minute at
+    /// 10 frames/s: the floor of the rooms just driven through).
+    pub driven_floor_half_life_frames: f64,
 }
 
 impl Default for AppearanceOptions {
@@ -77,6 +91,9 @@ impl Default for AppearanceOptions {
             patch_half_width_px: 2,
             min_run_px: 3,
             adaptation_rate: 0.5,
+            driven_floor_radius_m: 0.1,
+            driven_floor_samples: 8.0,
+            driven_floor_half_life_frames: 600.0,
         }
     }
 }
@@ -117,6 +134,29 @@ impl AppearanceOptions {
         )?;
         share("min_floor_share", self.min_floor_share, false)?;
         share("adaptation_rate", self.adaptation_rate, true)?;
+        let within = |name: &'static str, v: f64, lo: f64, hi: f64| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(invalid_option(
+                    name,
+                    format!("must be in [{lo}, {hi}], got {v}"),
+                ))
+            }
+        };
+        within(
+            "driven_floor_radius_m",
+            self.driven_floor_radius_m,
+            0.0,
+            2.0,
+        )?;
+        within("driven_floor_samples", self.driven_floor_samples, 1.0, 1e4)?;
+        within(
+            "driven_floor_half_life_frames",
+            self.driven_floor_half_life_frames,
+            1.0,
+            1e6,
+        )?;
         if !(1..INTENSITY_BINS).contains(&self.intensity_reach_bins) {
             return Err(invalid_option(
                 "intensity_reach_bins",
@@ -196,6 +236,22 @@ mod tests {
             },
             AppearanceOptions {
                 adaptation_rate: 0.0,
+                ..d()
+            },
+            AppearanceOptions {
+                driven_floor_radius_m: -0.1,
+                ..d()
+            },
+            AppearanceOptions {
+                driven_floor_radius_m: f64::NAN,
+                ..d()
+            },
+            AppearanceOptions {
+                driven_floor_samples: 0.5,
+                ..d()
+            },
+            AppearanceOptions {
+                driven_floor_half_life_frames: f64::INFINITY,
                 ..d()
             },
             AppearanceOptions {

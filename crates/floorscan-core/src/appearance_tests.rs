@@ -393,7 +393,7 @@ fn row_by_row_scan_gives_the_column_by_column_readings() {
             let scan = ranger.scan(&view, seed as f64).unwrap();
             by_column.learn(&view);
             for (j, reading) in scan.readings.iter().enumerate() {
-                let (outcome, confidence) = by_column.scan_column(&view, j);
+                let (outcome, confidence, _) = by_column.scan_column(&view, j);
                 assert_eq!(reading.outcome, outcome, "column {j}, seed {seed}");
                 assert_eq!(reading.confidence, confidence, "column {j}, seed {seed}");
             }
@@ -483,4 +483,156 @@ fn a_dark_lens_rim_below_the_first_ground_row_is_not_an_obstacle() {
     let clear: Vec<_> = got.readings.iter().filter(|r| r.column < 8).collect();
     assert!(!clear.is_empty());
     assert!(clear.iter().all(|r| r.status() == ColumnStatus::Boundary));
+}
+
+/// The tiled floor with a blue rug across `rows` (floor that looks unlike the reference band
+/// unless it reaches the bottom rows) and a red obstacle in columns 60..100 above row 30.
+fn rug_image(seed: u64, rows: std::ops::Range<usize>) -> Vec<u8> {
+    let red = |u: usize, v: usize| (60..100).contains(&u) && v < 30;
+    let mut img = tiled_image(&red, seed);
+    for v in rows {
+        for u in 0..W {
+            let base = [60, 110, 200];
+            for c in 0..3 {
+                let n = noise(u, v, seed * 5 + c as u64);
+                img[(v * W + u) * 3 + c] = (base[c] + n).clamp(0, 255) as u8;
+            }
+        }
+    }
+    img
+}
+
+/// Scans the rug from afar, then from on it (its floor in the reference band), and learns
+/// the far boundaries' samples there; returns the samples learned.
+fn drive_over_the_rug(ranger: &mut AppearanceRanger) -> usize {
+    let far = rug_image(1, 50..70);
+    let near = rug_image(2, 90..H);
+    ranger
+        .scan(&ColourView::interleaved(&far, W, H).unwrap(), 0.0)
+        .unwrap();
+    let samples: Vec<u32> = ranger
+        .boundary_samples()
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    ranger
+        .scan(&ColourView::interleaved(&near, W, H).unwrap(), 0.1)
+        .unwrap();
+    ranger.learn_driven_floor(&samples).unwrap()
+}
+
+#[test]
+fn boundaries_driven_through_teach_the_model_their_floor() {
+    use crate::appearance::{pack_sample, BOUNDARY_SAMPLES, NO_SAMPLE};
+    use crate::floor_model::{colour_bin, TEXTURE_BINS};
+    // relearn the reference every frame: the rug stays floor only as driven-over floor
+    let o = AppearanceOptions {
+        adaptation_rate: 1.0,
+        ..options(AppearanceFeatures::ColourAndTexture)
+    };
+    let mut ranger = AppearanceRanger::new(table(0.0), o.clone()).unwrap();
+    let img = rug_image(1, 50..70);
+    let view = ColourView::interleaved(&img, W, H).unwrap();
+    let first = ranger.scan(&view, 0.0).unwrap();
+    // The rug stops every column at its lower edge (row 69.5).
+    for r in &first.readings {
+        assert_eq!(
+            observed(&r.outcome),
+            ColumnStatus2::Boundary(69.5),
+            "{}",
+            r.column
+        );
+    }
+    // Each boundary's samples are its column's pixels in the run's lowest rows (brute force
+    // on the colour part), the other slots empty.
+    let rows = o.min_run_px.min(BOUNDARY_SAMPLES);
+    for (r, s) in first.readings.iter().zip(ranger.boundary_samples()) {
+        let u = r.column as usize;
+        for (k, &slot) in s.iter().enumerate() {
+            if k >= rows {
+                assert_eq!(slot, NO_SAMPLE);
+                continue;
+            }
+            let p = |c: usize| img[((69 - k) * W + u) * 3 + c] as i32;
+            assert_eq!(slot as usize / TEXTURE_BINS, colour_bin([p(0), p(1), p(2)]));
+        }
+    }
+    // Bad samples are refused whole; empty slots are skipped; samples the reference band
+    // does not confirm now (it shows tiles, not the rug) teach nothing.
+    let all: Vec<u32> = ranger
+        .boundary_samples()
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    let mut bad = all.clone();
+    bad.push(pack_sample(crate::floor_model::COLOUR_BINS, 0));
+    assert!(matches!(
+        ranger.learn_driven_floor(&bad),
+        Err(Error::InvalidOption { .. })
+    ));
+    assert_eq!(
+        ranger.learn_driven_floor(&[NO_SAMPLE, NO_SAMPLE]).unwrap(),
+        0
+    );
+    assert_eq!(ranger.learn_driven_floor(&all).unwrap(), 0);
+    let still = ranger.scan(&view, 0.05).unwrap();
+    assert_eq!(
+        observed(&still.readings[0].outcome),
+        ColumnStatus2::Boundary(69.5)
+    );
+    assert!(ranger.driven_floor_columns().iter().all(|&d| !d));
+    // Driven over (the rug in the reference band when the robot got there): learned.
+    // (most of them: the run's lowest row also shows the step down to the tiles below it, a
+    // texture the rug's own floor does not have)
+    let learned = drive_over_the_rug(&mut ranger);
+    assert!(learned > rows * W / 2 && learned <= rows * W, "{learned}");
+    // From the next frame on the rug is floor: the obstacle's columns stop at its base, the
+    // others see floor to the top; every column crossed the rug's rows as driven-over floor.
+    let second = ranger.scan(&view, 0.2).unwrap();
+    assert!(ranger.driven_floor_columns().iter().all(|&d| d));
+    for r in &second.readings {
+        let want = if (60..100).contains(&(r.column as usize)) {
+            ColumnStatus2::Boundary(29.5)
+        } else {
+            ColumnStatus2::NoBoundary
+        };
+        assert_eq!(observed(&r.outcome), want, "column {}", r.column);
+    }
+    // The same through the column-by-column scan (few columns).
+    let mut few = AppearanceRanger::new(
+        table(0.0),
+        AppearanceOptions {
+            columns: ColumnSelection::Count(8),
+            ..o.clone()
+        },
+    )
+    .unwrap();
+    assert!(drive_over_the_rug(&mut few) > rows * 8 / 2);
+    few.scan(&view, 0.2).unwrap();
+    assert!(few.driven_floor_columns().iter().all(|&d| d));
+    // Forgotten at the half-life's pace: one frame's half-life, and the rug stops them again.
+    let mut fast = AppearanceRanger::new(
+        table(0.0),
+        AppearanceOptions {
+            driven_floor_half_life_frames: 1.0,
+            ..o
+        },
+    )
+    .unwrap();
+    drive_over_the_rug(&mut fast);
+    let taught = fast.scan(&view, 0.2).unwrap();
+    assert_eq!(
+        observed(&taught.readings[0].outcome),
+        ColumnStatus2::NoBoundary
+    );
+    for k in 0..12 {
+        fast.scan(&view, 0.3 + k as f64).unwrap();
+    }
+    let later = fast.scan(&view, 20.0).unwrap();
+    assert_eq!(
+        observed(&later.readings[0].outcome),
+        ColumnStatus2::Boundary(69.5)
+    );
 }

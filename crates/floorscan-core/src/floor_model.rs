@@ -47,6 +47,14 @@ pub struct FloorModel {
     floor_colour: Vec<bool>,
     floor_texture: [bool; TEXTURE_BINS],
     frames: u64,
+    /// Floor the robot drove over (samples of boundaries it later drove through): per bin, the
+    /// decayed count of samples within one bin of it (as the reference's shares count).
+    driven_colour: Vec<f32>,
+    driven_texture: [f32; TEXTURE_BINS],
+    driven_any: bool,
+    /// The reference's own floor bins (before the driven-over ones are added).
+    reference_colour: Vec<bool>,
+    reference_texture: [bool; TEXTURE_BINS],
 }
 
 impl Default for FloorModel {
@@ -61,6 +69,11 @@ impl Default for FloorModel {
             floor_colour: vec![false; COLOUR_BINS],
             floor_texture: [false; TEXTURE_BINS],
             frames: 0,
+            driven_colour: vec![0.0; COLOUR_BINS],
+            driven_texture: [0.0; TEXTURE_BINS],
+            driven_any: false,
+            reference_colour: vec![false; COLOUR_BINS],
+            reference_texture: [false; TEXTURE_BINS],
         }
     }
 }
@@ -73,6 +86,86 @@ impl FloorModel {
         self.texture_share = [0.0; TEXTURE_BINS];
         self.floor_colour.fill(false);
         self.floor_texture = [false; TEXTURE_BINS];
+        self.driven_colour.fill(0.0);
+        self.driven_texture = [0.0; TEXTURE_BINS];
+        self.driven_any = false;
+        self.reference_colour.fill(false);
+        self.reference_texture = [false; TEXTURE_BINS];
+    }
+
+    /// Adds one sample of floor the robot has driven over (a pixel of a boundary it later
+    /// drove through): counted for every colour bin within one bin of it on each chroma axis
+    /// and within `intensity_reach` bins on intensity, and for the texture bins within one, as
+    /// the reference's shares count neighbours. Takes effect at the next [`Self::apply_driven`].
+    pub fn add_driven(&mut self, colour: usize, texture: usize, intensity_reach: usize) {
+        const C: usize = CHROMA_BINS;
+        let (i0, a0, b0) = (colour / (C * C), (colour / C) % C, colour % C);
+        let near =
+            |x: usize, reach: usize, n: usize| x.saturating_sub(reach)..=(x + reach).min(n - 1);
+        for i in near(i0, intensity_reach, INTENSITY_BINS) {
+            for a in near(a0, 1, C) {
+                for b in near(b0, 1, C) {
+                    self.driven_colour[(i * C + a) * C + b] += 1.0;
+                }
+            }
+        }
+        for t in near(texture, 1, TEXTURE_BINS) {
+            self.driven_texture[t] += 1.0;
+        }
+        self.driven_any = true;
+    }
+
+    /// Ages the driven-over samples by `decay` (a factor in (0, 1] per frame) and marks as
+    /// floor, beside the reference's bins, the bins with at least `min_samples` of them.
+    /// Called after [`Self::finish_frame`].
+    pub fn apply_driven(&mut self, decay: f32, min_samples: f32) {
+        if !self.driven_any {
+            return;
+        }
+        let mut any = false;
+        let mut age = |d: &mut f32| {
+            *d *= decay;
+            if *d < 1e-3 {
+                *d = 0.0;
+            }
+            any |= *d > 0.0;
+            *d >= min_samples
+        };
+        for ((f, r), d) in self
+            .floor_colour
+            .iter_mut()
+            .zip(&self.reference_colour)
+            .zip(self.driven_colour.iter_mut())
+        {
+            *f = *r | age(d);
+        }
+        for ((f, r), d) in self
+            .floor_texture
+            .iter_mut()
+            .zip(&self.reference_texture)
+            .zip(self.driven_texture.iter_mut())
+        {
+            *f = *r | age(d);
+        }
+        self.driven_any = any;
+    }
+
+    /// Whether any driven-over sample is remembered (else every floor bin is the reference's).
+    pub fn driven_active(&self) -> bool {
+        self.driven_any
+    }
+
+    /// Whether a pixel of these bins looks like floor to the reference alone (without the
+    /// driven-over floor).
+    #[inline(always)]
+    pub fn is_reference_floor(&self, colour: usize, texture: Option<usize>) -> bool {
+        self.reference_colour[colour] && texture.is_none_or(|t| self.reference_texture[t])
+    }
+
+    /// The decayed count of driven-over samples within one bin of a colour bin (tests and
+    /// diagnostics).
+    pub fn driven_colour(&self, colour: usize) -> f32 {
+        self.driven_colour[colour]
     }
 
     /// Frames learned since the last reset.
@@ -131,11 +224,23 @@ impl FloorModel {
             *m = rate * t + (1.0 - rate) * *m;
         }
         let min = min_share as f32;
-        for (f, &s) in self.floor_colour.iter_mut().zip(&self.colour_share) {
-            *f = s >= min;
+        for ((f, r), &s) in self
+            .floor_colour
+            .iter_mut()
+            .zip(self.reference_colour.iter_mut())
+            .zip(&self.colour_share)
+        {
+            *r = s >= min;
+            *f = *r;
         }
-        for (f, &s) in self.floor_texture.iter_mut().zip(&self.texture_share) {
-            *f = s >= min;
+        for ((f, r), &s) in self
+            .floor_texture
+            .iter_mut()
+            .zip(self.reference_texture.iter_mut())
+            .zip(&self.texture_share)
+        {
+            *r = s >= min;
+            *f = *r;
         }
         self.frames += 1;
     }
@@ -258,5 +363,44 @@ mod tests {
         assert!(!m.is_floor(a, Some(5)), "texture bin never seen");
         m.reset();
         assert!(!m.is_floor(a, None));
+    }
+
+    #[test]
+    fn driven_samples_mark_their_neighbourhood_as_floor_and_fade() {
+        let mut m = FloorModel::default();
+        let (floor, rug) = (colour_bin([60, 60, 60]), colour_bin([180, 40, 40]));
+        m.begin_frame();
+        m.add(floor, 0);
+        m.finish_frame(0.5, 0.5, 1);
+        assert!(!m.is_floor(rug, Some(0)));
+        let coords = |b: usize| {
+            let (i, r) = (
+                b / (CHROMA_BINS * CHROMA_BINS),
+                b % (CHROMA_BINS * CHROMA_BINS),
+            );
+            (i as i64, (r / CHROMA_BINS) as i64, (r % CHROMA_BINS) as i64)
+        };
+        for _ in 0..3 {
+            m.add_driven(rug, 5, 1);
+        }
+        // by brute force: every bin within one (chroma) / reach (intensity) of the rug holds 3
+        let (ri, ra, rb) = coords(rug);
+        for b in 0..COLOUR_BINS {
+            let (i, a, c) = coords(b);
+            let near = (i - ri).abs() <= 1 && (a - ra).abs() <= 1 && (c - rb).abs() <= 1;
+            assert_eq!(m.driven_colour(b), if near { 3.0 } else { 0.0 }, "bin {b}");
+        }
+        m.apply_driven(1.0, 3.0);
+        assert!(m.is_floor(rug, Some(5)) && m.is_floor(rug, Some(4)) && m.is_floor(floor, Some(0)));
+        assert!(!m.is_floor(rug, Some(7)), "texture bin two away");
+        // a new frame recomputes the reference's bins; the driven ones stay while they last
+        m.begin_frame();
+        m.add(floor, 0);
+        m.finish_frame(0.5, 0.5, 1);
+        m.apply_driven(0.5, 3.0); // 3 -> 1.5 samples: below the minimum
+        assert!(!m.is_floor(rug, Some(5)));
+        assert!((m.driven_colour(rug) - 1.5).abs() < 1e-6);
+        m.reset();
+        assert_eq!(m.driven_colour(rug), 0.0);
     }
 }

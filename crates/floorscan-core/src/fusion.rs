@@ -146,6 +146,37 @@ pub fn fuse_scans_after(
     previous: TextureState,
     out: &mut Scan,
 ) -> Result<TextureState> {
+    fuse_scans_driven(
+        edge,
+        appearance,
+        snap_rows,
+        texture_share,
+        previous,
+        &[],
+        out,
+    )
+}
+
+/// As [`fuse_scans_after`], told per column (`driven_floor`, the appearance ranger's
+/// `driven_floor_columns`; empty: none) where the appearance ranger's floor includes floor the
+/// robot has driven over: there an edge boundary where the appearance ranger saw only floor is
+/// the border of that floor (a rug's edge), and the appearance reading is kept.
+pub fn fuse_scans_driven(
+    edge: &Scan,
+    appearance: &Scan,
+    snap_rows: f64,
+    texture_share: f64,
+    previous: TextureState,
+    driven_floor: &[bool],
+    out: &mut Scan,
+) -> Result<TextureState> {
+    if !driven_floor.is_empty() && driven_floor.len() != appearance.len() {
+        return Err(Error::LengthMismatch(format!(
+            "driven_floor has {} entries for {} columns",
+            driven_floor.len(),
+            appearance.len()
+        )));
+    }
     if edge.len() != appearance.len()
         || edge
             .readings
@@ -173,11 +204,13 @@ pub fn fuse_scans_after(
     let textured = state.textured;
     out.timestamp_s = appearance.timestamp_s;
     out.readings.clear();
+    let driven = |j: usize| driven_floor.get(j).copied().unwrap_or(false);
     out.readings.extend(
         edge.readings
             .iter()
             .zip(&appearance.readings)
-            .map(|(e, a)| {
+            .enumerate()
+            .map(|(j, (e, a))| {
                 let agree = match (e.outcome, a.outcome) {
                     (ColumnOutcome::TooClose, ColumnOutcome::TooClose) => true,
                     (
@@ -189,7 +222,10 @@ pub fn fuse_scans_after(
                     }
                     // an edge boundary where the floor's look does not end: a grey obstacle on a
                     // grey floor, or in a textured frame the floor's pattern
-                    (ColumnOutcome::Boundary { .. }, ColumnOutcome::NoBoundary { .. }) => !textured,
+                    // (not where that floor is floor the robot drove over: a rug's border)
+                    (ColumnOutcome::Boundary { .. }, ColumnOutcome::NoBoundary { .. }) => {
+                        !textured && !driven(j)
+                    }
                     // an edge in rows the table gives no ground (a bottom corner): as a boundary
                     (ColumnOutcome::Invalid { row: Some(_) }, ColumnOutcome::NoBoundary { .. }) => {
                         !textured
@@ -437,5 +473,48 @@ mod tests {
             few.readings[c] = boundary(c as u32, 89.5);
         }
         assert!(!frame_textured(&many, &few, 3.0, 0.15, true));
+    }
+
+    #[test]
+    fn an_edge_at_the_border_of_driven_over_floor_is_not_an_obstacle() {
+        let no = |c: u32| {
+            reading(
+                c,
+                ColumnOutcome::NoBoundary {
+                    top_row: 10.0,
+                    farthest: Point2::new(3.0, 0.0),
+                },
+            )
+        };
+        let edge = Scan {
+            timestamp_s: 0.0,
+            readings: vec![boundary(0, 60.0), boundary(1, 60.0)],
+        };
+        let appearance = Scan {
+            timestamp_s: 0.0,
+            readings: vec![no(0), no(1)],
+        };
+        let mut out = Scan::default();
+        let previous = TextureState::default();
+        // column 1's floor includes driven-over floor: its edge is that floor's border
+        fuse_scans_driven(
+            &edge,
+            &appearance,
+            3.0,
+            0.15,
+            previous,
+            &[false, true],
+            &mut out,
+        )
+        .unwrap();
+        assert_eq!(out.readings[0], edge.readings[0]);
+        assert_eq!(out.readings[1], appearance.readings[1]);
+        // without the flags: the edge in both (an obstacle of the floor's look)
+        fuse_scans_after(&edge, &appearance, 3.0, 0.15, previous, &mut out).unwrap();
+        assert_eq!(out.readings[1], edge.readings[1]);
+        assert!(matches!(
+            fuse_scans_driven(&edge, &appearance, 3.0, 0.15, previous, &[true], &mut out),
+            Err(Error::LengthMismatch(_))
+        ));
     }
 }

@@ -65,7 +65,8 @@ pub use error::{Error, Result};
 pub use evidence::EvidenceRaster;
 pub use floor_model::FloorModel;
 pub use fusion::{
-    fuse_scans, fuse_scans_after, TextureState, MIN_TEXTURE_EVIDENCE, TEXTURE_MEMORY_FRAMES,
+    fuse_scans, fuse_scans_after, fuse_scans_driven, TextureState, MIN_TEXTURE_EVIDENCE,
+    TEXTURE_MEMORY_FRAMES,
 };
 pub use grid::{CellRect, Grid};
 pub use grid_options::{Bounds, GridOptions, Occupancy};

@@ -2,9 +2,11 @@
 //! fields (its serde form; the others take their defaults), read and validated here.
 
 use floorscan_core::{
-    fuse_scans_after, AppearanceOptions, AppearanceRanger, ColourView, Pixel, Scan, TextureState,
+    fuse_scans_driven, AppearanceOptions, AppearanceRanger, ColourView, Pixel, Scan, TextureState,
 };
-use numpy::{Element, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{
+    Element, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use crate::errors::{error, IntoPyResult};
@@ -96,6 +98,36 @@ impl PyAppearanceRanger {
         self.inner.reset_model();
     }
 
+    /// Per sampled column of the last scan, the packed bins of the pixels of the run that
+    /// made its boundary: (columns, BOUNDARY_SAMPLES) uint32, NO_SAMPLE (2**32 - 1) where none.
+    fn boundary_samples<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<u32>>> {
+        crate::errors::guard(|| {
+            let samples = self.inner.boundary_samples();
+            let flat: Vec<u32> = samples.iter().flatten().copied().collect();
+            PyArray1::from_vec(py, flat)
+                .reshape([samples.len(), floorscan_core::appearance::BOUNDARY_SAMPLES])
+                .map_err(|e| error("InternalError", e.to_string()))
+        })
+    }
+
+    /// Per sampled column of the last scan: whether it crossed floor known only as floor the
+    /// robot drove over (bool array).
+    #[getter]
+    fn driven_floor_columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        PyArray1::from_slice(py, self.inner.driven_floor_columns())
+    }
+
+    /// Learns packed samples of boundaries driven through as floor (from the next frame);
+    /// returns how many were learned (NO_SAMPLE entries are skipped).
+    fn learn_driven_floor(&mut self, samples: PyReadonlyArray1<'_, u32>) -> PyResult<usize> {
+        crate::errors::guard(|| {
+            let s = samples
+                .as_slice()
+                .map_err(|e| error("OptionError", e.to_string()))?;
+            self.inner.learn_driven_floor(s).py()
+        })
+    }
+
     /// Frames learned since the last reset.
     #[getter]
     fn frames_learned(&self) -> u64 {
@@ -118,8 +150,10 @@ impl PyAppearanceRanger {
 /// (`floorscan_core::fusion`), after frames whose floor was judged textured or not
 /// (`previous_textured`, inherited `frames_inherited` frames in a row); returns the fused
 /// scan and the judgement after this frame, `(scan, textured, frames_inherited)`.
+/// `driven_floor`: the appearance ranger's `driven_floor_columns` (where its floor includes
+/// floor driven over, an edge is that floor's border).
 #[pyfunction]
-#[pyo3(signature = (edge, appearance, snap_rows, texture_share, previous_textured = false, frames_inherited = 0))]
+#[pyo3(signature = (edge, appearance, snap_rows, texture_share, previous_textured = false, frames_inherited = 0, driven_floor = None))]
 pub fn fuse(
     edge: &PyScan,
     appearance: &PyScan,
@@ -127,18 +161,27 @@ pub fn fuse(
     texture_share: f64,
     previous_textured: bool,
     frames_inherited: u32,
+    driven_floor: Option<PyReadonlyArray1<'_, bool>>,
 ) -> PyResult<(PyScan, bool, u32)> {
     let mut out = Scan::default();
     let previous = TextureState {
         textured: previous_textured,
         frames_inherited,
     };
-    let state = fuse_scans_after(
+    let driven = match &driven_floor {
+        Some(a) => a
+            .as_slice()
+            .map_err(|e| error("OptionError", e.to_string()))?
+            .to_vec(),
+        None => Vec::new(),
+    };
+    let state = fuse_scans_driven(
         &edge.inner,
         &appearance.inner,
         snap_rows,
         texture_share,
         previous,
+        &driven,
         &mut out,
     )
     .py()?;

@@ -13,12 +13,28 @@ The scans CSV header (`floorscan_core::scan::SCAN_CSV_HEADER`).
 @final
 class AppearanceRanger:
     def __new__(cls, /, table: GroundTable, options: Any) -> AppearanceRanger: ...
+    def boundary_samples(self, /) -> Incomplete:
+        """
+        Per sampled column of the last scan, the packed bins of the pixels of the run that
+        made its boundary: (columns, BOUNDARY_SAMPLES) uint32, NO_SAMPLE (2**32 - 1) where none.
+        """
     @property
     def columns(self, /) -> Incomplete: ...
+    @property
+    def driven_floor_columns(self, /) -> Incomplete:
+        """
+        Per sampled column of the last scan: whether it crossed floor known only as floor the
+        robot drove over (bool array).
+        """
     @property
     def frames_learned(self, /) -> int:
         """
         Frames learned since the last reset.
+        """
+    def learn_driven_floor(self, /, samples: Incomplete) -> int:
+        """
+        Learns packed samples of boundaries driven through as floor (from the next frame);
+        returns how many were learned (NO_SAMPLE entries are skipped).
         """
     @property
     def options(self, /) -> Any:
@@ -182,12 +198,14 @@ def default_ranger_options() -> Any:
     The default `RangerOptions` (its serde form, a dict).
     """
 
-def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex, texture_share: SupportsFloat | SupportsIndex, previous_textured: bool = False, frames_inherited: SupportsIndex = 0) -> tuple[Scan, bool, int]:
+def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex, texture_share: SupportsFloat | SupportsIndex, previous_textured: bool = False, frames_inherited: SupportsIndex = 0, driven_floor: Incomplete | None = None) -> tuple[Scan, bool, int]:
     """
     Fuses an edge scan and an appearance scan of the same frame and columns
     (`floorscan_core::fusion`), after frames whose floor was judged textured or not
     (`previous_textured`, inherited `frames_inherited` frames in a row); returns the fused
     scan and the judgement after this frame, `(scan, textured, frames_inherited)`.
+    `driven_floor`: the appearance ranger's `driven_floor_columns` (where its floor includes
+    floor driven over, an edge is that floor's border).
     """
 
 def ranger_options_schema() -> Any:

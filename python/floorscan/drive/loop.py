@@ -23,6 +23,7 @@ from ..calibration import calibrate
 from ..errors import OptionError
 from ..options import check, defaults
 from ..pipeline.config import Config
+from ..pipeline.driven_floor import driven_floor_for
 from ..pipeline.mapper import RANGER_KINDS, ranger_from_config
 from ..ranging.scan import ColumnStatus
 from ..sim import Camera, Robot, render_calibration, render_image
@@ -309,10 +310,12 @@ def drive(
     current = world
     solids = Solids.of_world(current)
     mount = tuple(camera.robot_from_camera)
-    ranger = None
+    ranger = driven = None
     if o.sensor == "camera":
         table = table if table is not None else make_table(camera, o.table)
         ranger = drive_ranger(table, o, config)
+        # appearance / fused rangers: refreshed from the floor the robot drives over
+        driven = driven_floor_for(ranger)
     angles = np.linspace(-o.laser_fov_rad / 2, o.laser_fov_rad / 2, int(o.laser_beams))
     true_pose = tuple(world.start)
     # odometry (its frame starts at the true start pose) and the correction into the world
@@ -359,6 +362,8 @@ def drive(
         amap.recenter(*odo_pose[:2])
         if ranger is not None:
             scan = ranger.scan(image, timestamp=t)
+            if driven is not None:
+                driven.update(odo_pose, mount, t)
             if matcher is not None:
                 est_pose = matcher.correct(_visual_points(scan, mount), est_pose).pose
             amap.insert_visual(scan, odo_pose, mount=mount, table=ranger.table, model=o.model)

@@ -26,6 +26,7 @@ from ..ranging.ground_table import GroundTable
 from ..ranging.ranger import VisualRanger
 from ..ranging.scan import ColumnStatus, Scan
 from .config import SHARED_WITH_RANGER, Config
+from .driven_floor import driven_floor_for
 from .sources import FrameSource
 
 PoseTuple = Tuple[float, float, float]
@@ -104,6 +105,8 @@ class Mapper:
     ) -> None:
         self.cfg = cfg
         self.ranger = ranger_from_config(table, cfg)
+        # the appearance ranger's refresh from floor driven over (appearance / fused rangers)
+        self.driven_floor = driven_floor_for(self.ranger)
         self.threshold_pending = cfg.ranger.auto_threshold
         self.threshold = cfg.ranger.threshold
         self.texture_noise: Optional[float] = None
@@ -121,6 +124,8 @@ class Mapper:
             self._set_auto_threshold(image)
         t0 = time.perf_counter()
         scan = self.ranger.scan(image, timestamp=timestamp)
+        if pose is not None and self.driven_floor is not None:
+            self.driven_floor.update(pose, self.robot_from_camera, timestamp)
         t1 = time.perf_counter()
         if pose is not None:
             self.global_map.insert_scan(scan, pose=pose, mount=self.robot_from_camera)
@@ -149,6 +154,7 @@ class Mapper:
             {"ranger.threshold": self.threshold, "ranger.auto_threshold": False}
         )
         self.ranger = ranger_from_config(self.ranger.table, cfg)
+        self.driven_floor = driven_floor_for(self.ranger)
         self.threshold_pending = False
 
 

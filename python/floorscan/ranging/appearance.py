@@ -22,6 +22,9 @@ from .ground_table import GroundTable
 from .ranger import start_rows_from_mask
 from .scan import Scan
 
+NO_SAMPLE = 2**32 - 1
+"""An unused slot of :meth:`AppearanceRanger.boundary_samples`."""
+
 
 class AppearanceRanger:
     """Turns colour (or grey) images into :class:`~floorscan.Scan` s by floor appearance.
@@ -35,7 +38,9 @@ class AppearanceRanger:
             ``reference_width_fraction``,
             ``features`` (``"colour_and_texture"`` or ``"colour"``), ``min_floor_share``,
             ``intensity_reach_bins``, ``patch_half_width_px``, ``min_run_px``,
-            ``adaptation_rate``. ``floorscan config --default`` prints each with its doc and
+            ``adaptation_rate``, and the driven-over refresh's ``driven_floor_radius_m``,
+            ``driven_floor_samples``, ``driven_floor_half_life_frames`` (see
+            :meth:`learn_driven_floor`). ``floorscan config --default`` prints each with its doc and
             default; a bad one raises OptionError naming it.
 
     >>> from floorscan import GroundTable, Lens, CameraMount, AppearanceRanger
@@ -63,6 +68,7 @@ class AppearanceRanger:
                 "per_column": start_rows_from_mask(mask, table.image_width, table.image_height)
             }
         self._native = _native.AppearanceRanger(table._native, options)
+        self.last_scan: Optional[Scan] = None
 
     @property
     def table(self) -> GroundTable:
@@ -99,7 +105,45 @@ class AppearanceRanger:
         t = float(timestamp)
         if not math.isfinite(t):
             raise OptionError(f"invalid option `timestamp`: must be finite, got {timestamp}")
-        return Scan(self._native.scan(arr, t))
+        self.last_scan = Scan(self._native.scan(arr, t))
+        return self.last_scan
+
+    def boundary_samples(self) -> np.ndarray:
+        """Per sampled column of the last scan (output order), the pixels of the run of
+        non-floor rows that made its boundary, as packed (colour, texture) bins:
+        (columns, 4) uint32, ``NO_SAMPLE`` (2**32 - 1) in unused slots and for readings other
+        than a boundary. Keep those of a boundary and, once the robot has driven through it,
+        hand them to :meth:`learn_driven_floor`."""
+        return self._native.boundary_samples()
+
+    @property
+    def driven_floor_columns(self) -> np.ndarray:
+        """Per sampled column of the last scan (bool): whether its scan crossed at least
+        ``min_run_px`` rows that look like floor only as floor the robot drove over (the
+        fused ranger keeps this ranger's floor there: an edge is that floor's border)."""
+        return self._native.driven_floor_columns
+
+    def learn_driven_floor(self, samples: np.ndarray) -> int:
+        """Learns ``samples`` (from :meth:`boundary_samples`) as floor from the next frame on:
+        the boundary they came from was driven through, so it was floor (a rug, a doorway's
+        linoleum, a sunlit patch). Call it right after scanning the frame taken where the robot
+        drove through: only the samples that frame's reference band confirms (the reference's
+        own model takes them as floor there) are learned, so a boundary the robot only seemed
+        to reach (odometry drift onto a wall's base) teaches nothing. A colour or texture is
+        floor once ``driven_floor_samples`` learned pixels lie within one bin of it; they fade
+        with ``driven_floor_half_life_frames``. ``floorscan run``, ``eval`` and ``drive`` do
+        this from their poses (``driven_floor_radius_m``). Returns the samples learned; a
+        value that is not a packed sample raises OptionError and nothing is learned."""
+        arr = np.ascontiguousarray(np.asarray(samples).reshape(-1))
+        if arr.dtype != np.uint32:
+            if arr.size and (
+                not np.issubdtype(arr.dtype, np.integer) or arr.min() < 0 or arr.max() > NO_SAMPLE
+            ):
+                raise OptionError(
+                    "invalid option `samples`: must be packed samples (uint32) from boundary_samples()"
+                )
+            arr = arr.astype(np.uint32)
+        return int(self._native.learn_driven_floor(arr))
 
 
 def as_rgb_or_grey(image) -> np.ndarray:

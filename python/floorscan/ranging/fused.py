@@ -129,6 +129,12 @@ class FusedRanger:
         e = self.edge.scan(image, timestamp=timestamp)
         a = self.appearance.scan(image, timestamp=timestamp)
         fused, self._textured, self._inherited = _native.fuse(
-            e._native, a._native, self._snap, self.texture_share, self._textured, self._inherited
+            e._native,
+            a._native,
+            self._snap,
+            self.texture_share,
+            self._textured,
+            self._inherited,
+            self.appearance.driven_floor_columns,
         )
         return Scan(fused)
