@@ -72,7 +72,8 @@ class DrivenFloor:
     def __init__(self, ranger: AppearanceRanger, radius_m: float) -> None:
         self.ranger = ranger
         self.radius_m = float(radius_m)
-        self._xy = np.zeros((MAX_PENDING, 2))
+        self._x = np.zeros(MAX_PENDING)
+        self._y = np.zeros(MAX_PENDING)
         self._t = np.full(MAX_PENDING, -np.inf)  # -inf: empty or consumed
         self._samples = np.zeros((MAX_PENDING, 4), np.uint32)
         self._next = 0
@@ -91,9 +92,13 @@ class DrivenFloor:
         reached (see the module) to the ranger, which learns the pixels this frame confirms,
         then remembers this frame's boundaries. Returns the boundaries reached now."""
         x, y, t = float(pose[0]), float(pose[1]), float(timestamp)
-        d2 = (self._xy[:, 0] - x) ** 2 + (self._xy[:, 1] - y) ** 2
-        hit = (d2 <= self.radius_m**2) & (self._t >= t - MAX_AGE_S)
-        driven = int(np.count_nonzero(hit))
+        # a strip test on x first: one pass over the ring, the rest on the few in the strip
+        near = np.flatnonzero(np.abs(self._x - x) <= self.radius_m)
+        if near.size:
+            d2 = (self._x[near] - x) ** 2 + (self._y[near] - y) ** 2
+            near = near[(d2 <= self.radius_m**2) & (self._t[near] >= t - MAX_AGE_S)]
+        hit = near
+        driven = int(hit.size)
         if driven:
             self.samples_learned += self.ranger.learn_driven_floor(self._samples[hit])
             self.boundaries_driven += driven
@@ -109,8 +114,8 @@ class DrivenFloor:
             px, py = scan.x[new][:n], scan.y[new][:n]
             c, s = math.cos(cyaw), math.sin(cyaw)
             at = (self._next + np.arange(n)) % MAX_PENDING
-            self._xy[at, 0] = cx + c * px - s * py
-            self._xy[at, 1] = cy + s * px + c * py
+            self._x[at] = cx + c * px - s * py
+            self._y[at] = cy + s * px + c * py
             self._t[at] = t
             self._samples[at] = self.ranger.boundary_samples()[new][:n]
             self._next = int((self._next + n) % MAX_PENDING)
