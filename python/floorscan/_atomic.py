@@ -113,14 +113,18 @@ def write_atomic_with(path: PathLike, write: Callable[[object], object], suffix:
         os.replace(tmp, target)
     except BaseException as e:
         if tmp is not None:
-            try:
-                os.unlink(tmp)
-            except FileNotFoundError:
-                pass
+            discard_temporary(tmp)
         if isinstance(e, OSError) and not isinstance(e, OutputError):
             raise output_error(target, e) from None
         raise
     return target
+
+
+def discard_temporary(tmp: PathLike) -> None:
+    """Removes a temporary file (if there) with signals held back, so that a further signal of
+    a burst cannot interrupt the clean-up and leave it behind."""
+    with deferred_signals():
+        Path(tmp).unlink(missing_ok=True)
 
 
 def temp_path_for(path: PathLike, suffix: str) -> Path:

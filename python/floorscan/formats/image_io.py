@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._atomic import PathLike, deferred_signals, temp_path_for
+from .._atomic import PathLike, deferred_signals, discard_temporary, temp_path_for
 from ..errors import ImageError, ImageTooLargeError, ImageTypeError, OptionError
 from .png import is_png, max_png_file_bytes, png_to_grey
 
@@ -180,6 +180,6 @@ def write_png(path: PathLike, image: np.ndarray) -> Path:
         tmp.replace(target)
     except BaseException:
         if tmp is not None:
-            tmp.unlink(missing_ok=True)
+            discard_temporary(tmp)
         raise
     return target

@@ -13,7 +13,7 @@ from typing import Optional, Tuple, Union
 
 import numpy as np
 
-from .._atomic import PathLike, deferred_signals, temp_path_for
+from .._atomic import PathLike, deferred_signals, discard_temporary, temp_path_for
 from ..errors import LengthMismatchError, OptionError, OutOfBoundsError
 from .log_odds import (  # noqa: F401 (OCCUPANCY_CLASSES, UNITS_PER_NAT re-exported)
     OCCUPANCY_CLASSES,
@@ -214,7 +214,7 @@ class GridViews:
             os.replace(tmp, path)
         except BaseException:
             if tmp is not None:
-                tmp.unlink(missing_ok=True)
+                discard_temporary(tmp)
             raise
         return Path(path)
 
