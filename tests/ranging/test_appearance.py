@@ -278,11 +278,15 @@ def test_boundary_samples_teach_the_floor_through_the_python_api():
     assert ranger.learn_driven_floor(samples) == 0
     assert ranger.scan(image).status.tolist() == ["boundary"] * 16
     assert not ranger.driven_floor_columns.any()
+    assert np.isnan(ranger.driven_floor_borders).all()
     # driven over: the frame taken there shows the blue in its reference band
     on_it = np.full_like(image, (30, 60, 160))
     ranger.scan(on_it)
     assert 24 < ranger.learn_driven_floor(samples) <= 48
     assert set(ranger.scan(image).status) == {"no_boundary"}
     assert ranger.driven_floor_columns.all()
+    # the border between the floor and the blue driven over (rows 150 / 149), within a row:
+    # the blue's lowest row has the step down to the floor in its texture
+    np.testing.assert_allclose(ranger.driven_floor_borders, 149.5, atol=1.0)
     ranger.reset_model()
     assert set(ranger.scan(image).status) == {"boundary"}

@@ -73,6 +73,9 @@ pub struct AppearanceRanger {
     /// Per column of the last scan: whether it crossed at least `min_run_px` rows that look
     /// like floor only through the driven-over floor.
     driven_columns: Vec<bool>,
+    /// Per column of the last scan: the row [px] of the first border between the reference's
+    /// floor and driven-over floor (NaN where none).
+    driven_borders: Vec<f64>,
     /// Per column of the last scan: the pixels of the run that made its boundary (packed
     /// bins, [`NO_SAMPLE`] where none), for the driven-over refresh.
     samples: Vec<[u32; BOUNDARY_SAMPLES]>,
@@ -88,6 +91,11 @@ struct ColumnState {
     floor_sum: f32,
     /// Floor rows that look like floor only through the driven-over floor.
     driven_rows: usize,
+    /// The kind of the last floor row: 0 none yet, 1 the reference's floor, 2 floor only as
+    /// driven-over floor.
+    last_kind: u8,
+    /// The first row where the floor changes between the two kinds (a rug's border).
+    border: Option<usize>,
     /// The scan has ended: at a boundary (its lowest row and confidence) or without one.
     done: bool,
 }
@@ -126,7 +134,12 @@ impl ColumnState {
             self.run = 0;
             self.floor_rows += 1;
             self.floor_sum += share;
-            self.driven_rows += usize::from(2 * reference < patch_n);
+            let kind = if 2 * reference < patch_n { 2 } else { 1 };
+            self.driven_rows += usize::from(kind == 2);
+            if self.last_kind != 0 && kind != self.last_kind && self.border.is_none() {
+                self.border = Some(v);
+            }
+            self.last_kind = kind;
         }
         None
     }
@@ -222,6 +235,7 @@ impl AppearanceRanger {
             row_prefix: vec![0; width + 1],
             row_prefix_reference: vec![0; width + 1],
             driven_columns: vec![false; n],
+            driven_borders: vec![f64::NAN; n],
             samples: vec![[NO_SAMPLE; BOUNDARY_SAMPLES]; n],
         })
     }
@@ -259,6 +273,14 @@ impl AppearanceRanger {
     /// border, not an obstacle of the floor's colour (see `fusion`).
     pub fn driven_floor_columns(&self) -> &[bool] {
         &self.driven_columns
+    }
+
+    /// Per sampled column (output order) of the last scan: the image row [px] of the first
+    /// border, scanning up, between the reference's floor and driven-over floor (a rug's
+    /// near or far edge); NaN in columns without driven-over floor. The fused ranger keeps
+    /// this ranger's "only floor" reading where the edge ranger's boundary lies on it.
+    pub fn driven_floor_borders(&self) -> &[f64] {
+        &self.driven_borders
     }
 
     /// Learns `samples` (from [`Self::boundary_samples`] of boundaries the robot has since
@@ -318,8 +340,18 @@ impl AppearanceRanger {
             }
         }
         let min_run = self.options.min_run_px;
-        for (d, s) in self.driven_columns.iter_mut().zip(&self.states) {
+        for ((d, b), s) in self
+            .driven_columns
+            .iter_mut()
+            .zip(self.driven_borders.iter_mut())
+            .zip(&self.states)
+        {
             *d = s.driven_rows >= min_run;
+            // the border lies between the row found and the one below it
+            *b = match s.border {
+                Some(v) if *d => v as f64 + 0.5,
+                _ => f64::NAN,
+            };
         }
         out.timestamp_s = timestamp_s;
         out.readings.clear();

@@ -583,6 +583,7 @@ fn boundaries_driven_through_teach_the_model_their_floor() {
         ColumnStatus2::Boundary(69.5)
     );
     assert!(ranger.driven_floor_columns().iter().all(|&d| !d));
+    assert!(ranger.driven_floor_borders().iter().all(|b| b.is_nan()));
     // Driven over (the rug in the reference band when the robot got there): learned.
     // (most of them: the run's lowest row also shows the step down to the tiles below it, a
     // texture the rug's own floor does not have)
@@ -592,6 +593,8 @@ fn boundaries_driven_through_teach_the_model_their_floor() {
     // others see floor to the top; every column crossed the rug's rows as driven-over floor.
     let second = ranger.scan(&view, 0.2).unwrap();
     assert!(ranger.driven_floor_columns().iter().all(|&d| d));
+    // the rug's near edge (the tiles' last row 70, the rug's first 69) is each column's border
+    assert!(ranger.driven_floor_borders().iter().all(|&b| b == 69.5));
     for r in &second.readings {
         let want = if (60..100).contains(&(r.column as usize)) {
             ColumnStatus2::Boundary(29.5)

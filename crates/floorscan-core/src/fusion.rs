@@ -158,16 +158,18 @@ pub fn fuse_scans_after(
 }
 
 /// As [`fuse_scans_after`], told per column (`driven_floor`, the appearance ranger's
-/// `driven_floor_columns`; empty: none) where the appearance ranger's floor includes floor the
-/// robot has driven over: there an edge boundary where the appearance ranger saw only floor is
-/// the border of that floor (a rug's edge), and the appearance reading is kept.
+/// `driven_floor_borders`; empty: none) the row of the border between the reference's floor
+/// and floor the robot has driven over (NaN where none): an edge boundary within `snap_rows`
+/// of it, where the appearance ranger saw only floor, is that floor's border (a rug's edge),
+/// and the appearance reading is kept. An edge elsewhere in such a column stays an edge (an
+/// obstacle of the floor's look beyond the rug).
 pub fn fuse_scans_driven(
     edge: &Scan,
     appearance: &Scan,
     snap_rows: f64,
     texture_share: f64,
     previous: TextureState,
-    driven_floor: &[bool],
+    driven_floor: &[f64],
     out: &mut Scan,
 ) -> Result<TextureState> {
     if !driven_floor.is_empty() && driven_floor.len() != appearance.len() {
@@ -204,7 +206,12 @@ pub fn fuse_scans_driven(
     let textured = state.textured;
     out.timestamp_s = appearance.timestamp_s;
     out.readings.clear();
-    let driven = |j: usize| driven_floor.get(j).copied().unwrap_or(false);
+    // whether the edge's row `re` in column j lies on the border of driven-over floor
+    let on_border = |j: usize, re: f64| {
+        driven_floor
+            .get(j)
+            .is_some_and(|&b| (re - b).abs() <= snap_rows)
+    };
     out.readings.extend(
         edge.readings
             .iter()
@@ -223,8 +230,8 @@ pub fn fuse_scans_driven(
                     // an edge boundary where the floor's look does not end: a grey obstacle on a
                     // grey floor, or in a textured frame the floor's pattern
                     // (not where that floor is floor the robot drove over: a rug's border)
-                    (ColumnOutcome::Boundary { .. }, ColumnOutcome::NoBoundary { .. }) => {
-                        !textured && !driven(j)
+                    (ColumnOutcome::Boundary { row, .. }, ColumnOutcome::NoBoundary { .. }) => {
+                        !textured && !on_border(j, row)
                     }
                     // an edge in rows the table gives no ground (a bottom corner): as a boundary
                     (ColumnOutcome::Invalid { row: Some(_) }, ColumnOutcome::NoBoundary { .. }) => {
@@ -496,24 +503,20 @@ mod tests {
         };
         let mut out = Scan::default();
         let previous = TextureState::default();
-        // column 1's floor includes driven-over floor: its edge is that floor's border
-        fuse_scans_driven(
-            &edge,
-            &appearance,
-            3.0,
-            0.15,
-            previous,
-            &[false, true],
-            &mut out,
-        )
-        .unwrap();
+        // column 1's edge lies on the border of driven-over floor (row 61.5, within the snap
+        // distance): that border, not an obstacle; column 0's border is far from its edge
+        let borders = [40.0, 61.5];
+        fuse_scans_driven(&edge, &appearance, 3.0, 0.15, previous, &borders, &mut out).unwrap();
         assert_eq!(out.readings[0], edge.readings[0]);
         assert_eq!(out.readings[1], appearance.readings[1]);
+        let none = [f64::NAN, f64::NAN];
+        fuse_scans_driven(&edge, &appearance, 3.0, 0.15, previous, &none, &mut out).unwrap();
+        assert_eq!(out.readings[1], edge.readings[1]);
         // without the flags: the edge in both (an obstacle of the floor's look)
         fuse_scans_after(&edge, &appearance, 3.0, 0.15, previous, &mut out).unwrap();
         assert_eq!(out.readings[1], edge.readings[1]);
         assert!(matches!(
-            fuse_scans_driven(&edge, &appearance, 3.0, 0.15, previous, &[true], &mut out),
+            fuse_scans_driven(&edge, &appearance, 3.0, 0.15, previous, &[60.0], &mut out),
             Err(Error::LengthMismatch(_))
         ));
     }

@@ -117,6 +117,13 @@ impl PyAppearanceRanger {
         PyArray1::from_slice(py, self.inner.driven_floor_columns())
     }
 
+    /// Per sampled column of the last scan: the row [px] of the first border between the
+    /// reference's floor and driven-over floor (NaN where none; float64 array).
+    #[getter]
+    fn driven_floor_borders<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.inner.driven_floor_borders())
+    }
+
     /// Learns packed samples of boundaries driven through as floor (from the next frame);
     /// returns how many were learned (NO_SAMPLE entries are skipped).
     fn learn_driven_floor(&mut self, samples: PyReadonlyArray1<'_, u32>) -> PyResult<usize> {
@@ -150,8 +157,8 @@ impl PyAppearanceRanger {
 /// (`floorscan_core::fusion`), after frames whose floor was judged textured or not
 /// (`previous_textured`, inherited `frames_inherited` frames in a row); returns the fused
 /// scan and the judgement after this frame, `(scan, textured, frames_inherited)`.
-/// `driven_floor`: the appearance ranger's `driven_floor_columns` (where its floor includes
-/// floor driven over, an edge is that floor's border).
+/// `driven_floor`: the appearance ranger's `driven_floor_borders` (an edge on such a border is
+/// the border of floor driven over, not an obstacle).
 #[pyfunction]
 #[pyo3(signature = (edge, appearance, snap_rows, texture_share, previous_textured = false, frames_inherited = 0, driven_floor = None))]
 pub fn fuse(
@@ -161,7 +168,7 @@ pub fn fuse(
     texture_share: f64,
     previous_textured: bool,
     frames_inherited: u32,
-    driven_floor: Option<PyReadonlyArray1<'_, bool>>,
+    driven_floor: Option<PyReadonlyArray1<'_, f64>>,
 ) -> PyResult<(PyScan, bool, u32)> {
     let mut out = Scan::default();
     let previous = TextureState {

@@ -21,6 +21,12 @@ class AppearanceRanger:
     @property
     def columns(self, /) -> Incomplete: ...
     @property
+    def driven_floor_borders(self, /) -> Incomplete:
+        """
+        Per sampled column of the last scan: the row [px] of the first border between the
+        reference's floor and driven-over floor (NaN where none; float64 array).
+        """
+    @property
     def driven_floor_columns(self, /) -> Incomplete:
         """
         Per sampled column of the last scan: whether it crossed floor known only as floor the
@@ -204,8 +210,8 @@ def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex,
     (`floorscan_core::fusion`), after frames whose floor was judged textured or not
     (`previous_textured`, inherited `frames_inherited` frames in a row); returns the fused
     scan and the judgement after this frame, `(scan, textured, frames_inherited)`.
-    `driven_floor`: the appearance ranger's `driven_floor_columns` (where its floor includes
-    floor driven over, an edge is that floor's border).
+    `driven_floor`: the appearance ranger's `driven_floor_borders` (an edge on such a border is
+    the border of floor driven over, not an obstacle).
     """
 
 def ranger_options_schema() -> Any:

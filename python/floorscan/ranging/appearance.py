@@ -120,8 +120,17 @@ class AppearanceRanger:
     def driven_floor_columns(self) -> np.ndarray:
         """Per sampled column of the last scan (bool): whether its scan crossed at least
         ``min_run_px`` rows that look like floor only as floor the robot drove over (the
-        fused ranger keeps this ranger's floor there: an edge is that floor's border)."""
+        fused ranger keeps this ranger's floor where an edge lies on that floor's border, see
+        :attr:`driven_floor_borders`)."""
         return self._native.driven_floor_columns
+
+    @property
+    def driven_floor_borders(self) -> np.ndarray:
+        """Per sampled column of the last scan (float64): the image row [px] of the first
+        border, scanning up, between the reference's floor and driven-over floor (a rug's
+        edge); NaN where the column crossed none. The fused ranger keeps this ranger's "only
+        floor" reading where the edge ranger's boundary lies on that border."""
+        return self._native.driven_floor_borders
 
     def learn_driven_floor(self, samples: np.ndarray) -> int:
         """Learns ``samples`` (from :meth:`boundary_samples`) as floor from the next frame on:

@@ -135,6 +135,6 @@ class FusedRanger:
             self.texture_share,
             self._textured,
             self._inherited,
-            self.appearance.driven_floor_columns,
+            self.appearance.driven_floor_borders,
         )
         return Scan(fused)
