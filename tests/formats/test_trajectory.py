@@ -61,3 +61,14 @@ def test_rig_round_trip_and_errors(tmp_path):
     (tmp_path / "bad2.toml").write_text("[camera]\nx = 'far'\n")
     with pytest.raises(floorscan.ConfigError, match="camera.x"):
         read_rig(tmp_path / "bad2.toml")
+
+
+def test_compose_places_a_mounted_frame_in_the_world():
+    import numpy as np
+    from floorscan.formats.trajectory import compose
+
+    # a robot at (1, 2) facing +y, a camera 0.5 m ahead of it turned right by 90 degrees:
+    # the camera sits at (1, 2.5), facing +x; a point 1 m ahead of it is at (2, 2.5)
+    cam = compose((1.0, 2.0, np.pi / 2), (0.5, 0.0, -np.pi / 2))
+    np.testing.assert_allclose(cam, (1.0, 2.5, 0.0), atol=1e-12)
+    np.testing.assert_allclose(compose(cam, (1.0, 0.0, 0.0))[:2], (2.0, 2.5), atol=1e-12)

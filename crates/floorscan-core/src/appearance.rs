@@ -497,11 +497,12 @@ impl AppearanceRanger {
             let (mut floor, mut reference) = (0, 0);
             for u in a..=b {
                 let (colour, texture) = row.bins(u);
-                floor += usize::from(self.model.is_floor(colour, texture));
+                let is_floor = self.model.is_floor(colour, texture);
+                floor += usize::from(is_floor);
                 reference += usize::from(if driven {
                     self.model.is_reference_floor(colour, texture)
                 } else {
-                    self.model.is_floor(colour, texture)
+                    is_floor
                 });
             }
             if let Some((run_start, confidence)) =

@@ -304,6 +304,15 @@ fn sum_near(line: &[f32], i: usize, reach: usize) -> f32 {
 mod tests {
     use super::*;
 
+    /// A colour bin's (intensity, chroma 1, chroma 2) indices.
+    fn coords(b: usize) -> (i64, i64, i64) {
+        let (i, r) = (
+            b / (CHROMA_BINS * CHROMA_BINS),
+            b % (CHROMA_BINS * CHROMA_BINS),
+        );
+        (i as i64, (r / CHROMA_BINS) as i64, (r % CHROMA_BINS) as i64)
+    }
+
     #[test]
     fn bins_cover_their_ranges() {
         assert_eq!(colour_bin([0, 0, 0]), (6 * CHROMA_BINS) + 6);
@@ -323,13 +332,6 @@ mod tests {
             m.add(colour_bin(p), 0);
         }
         m.finish_frame(1.0, 0.3, 1);
-        let coords = |b: usize| {
-            let (i, r) = (
-                b / (CHROMA_BINS * CHROMA_BINS),
-                b % (CHROMA_BINS * CHROMA_BINS),
-            );
-            (i as i64, (r / CHROMA_BINS) as i64, (r % CHROMA_BINS) as i64)
-        };
         for b in 0..COLOUR_BINS {
             let (i, a, c) = coords(b);
             let near = pixels
@@ -373,13 +375,6 @@ mod tests {
         m.add(floor, 0);
         m.finish_frame(0.5, 0.5, 1);
         assert!(!m.is_floor(rug, Some(0)));
-        let coords = |b: usize| {
-            let (i, r) = (
-                b / (CHROMA_BINS * CHROMA_BINS),
-                b % (CHROMA_BINS * CHROMA_BINS),
-            );
-            (i as i64, (r / CHROMA_BINS) as i64, (r % CHROMA_BINS) as i64)
-        };
         for _ in 0..3 {
             m.add_driven(rug, 5, 1);
         }

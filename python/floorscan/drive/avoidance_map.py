@@ -23,6 +23,7 @@ import numpy as np
 from .._native.drive import AvoidanceMap as _NativeAvoidanceMap
 from .._native.drive import decay as _decay
 from ..errors import OptionError
+from ..formats.trajectory import compose as _compose
 from ..mapping.grid_views import GridExtent
 from ..options import defaults
 from ..ranging.scan import ColumnStatus
@@ -130,11 +131,6 @@ class AvoidanceMapOptions:
 
 def _logit(p: float) -> float:
     return math.log(p / (1.0 - p))
-
-
-def _compose(a, b):
-    c, s = math.cos(a[2]), math.sin(a[2])
-    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
 
 
 _DEFAULT_MODEL = VisualSensorModel()

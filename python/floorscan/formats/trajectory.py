@@ -22,6 +22,13 @@ MIN_QUATERNION_NORM = 1e-6
 quaternion is normalised (the yaw formula below is invariant to its scale)."""
 
 
+def compose(a, b) -> Tuple[float, float, float]:
+    """``a`` then ``b`` for planar poses (x [m], y [m], yaw [rad]): ``world_from_robot`` composed
+    with ``robot_from_camera`` is ``world_from_camera``. The yaw is not wrapped."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
+
+
 def yaw_from_quaternion(qx: float, qy: float, qz: float, qw: float) -> float:
     """Yaw [rad] about +z of a quaternion, normalised first (GeometryError if near zero)."""
     norm = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)

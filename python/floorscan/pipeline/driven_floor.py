@@ -29,6 +29,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
+from ..formats.trajectory import compose
 from ..ranging.appearance import AppearanceRanger
 from ..ranging.scan import ColumnStatus
 
@@ -58,12 +59,6 @@ def driven_floor_for(ranger) -> Optional[DrivenFloor]:
         return None
     radius = float(part.options["driven_floor_radius_m"])
     return DrivenFloor(part, radius) if radius > 0 else None
-
-
-def _compose(a: Sequence[float], b: Sequence[float]):
-    """a o b for (x, y, yaw) poses."""
-    c, s = math.cos(a[2]), math.sin(a[2])
-    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
 
 
 class DrivenFloor:
@@ -110,7 +105,7 @@ class DrivenFloor:
         n = min(int(np.count_nonzero(new)), MAX_PENDING)
         if n:
             self._last_kept = t
-            cx, cy, cyaw = _compose(pose, mount)
+            cx, cy, cyaw = compose(pose, mount)
             px, py = scan.x[new][:n], scan.y[new][:n]
             c, s = math.cos(cyaw), math.sin(cyaw)
             at = (self._next + np.arange(n)) % MAX_PENDING
