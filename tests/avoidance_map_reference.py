@@ -58,21 +58,35 @@ class ReferenceAvoidanceMap(AvoidanceMap):
         if bump_hl is not None and dt_s > 0:
             self.bumps *= np.float32(0.5 ** (dt_s / bump_hl))
 
-    def _apply(self, free_mask, free_nats, hit_nats) -> None:
+    def _apply(self, free_mask, free_nats, hit_nats, weak=1.0, confirmed=0.0) -> None:
         lo, hi = self.options.clamp_nats
         L = self.log_odds
         sel = (free_mask > 0) & ~np.isfinite(hit_nats) if hit_nats is not None else free_mask > 0
-        L[sel] += free_nats[sel]
+        # inside only quadrilaterals beside a no-boundary column (2), a cell believed occupied
+        # (log odds above `confirmed`) takes `weak` times its free evidence
+        scale = np.where(
+            (free_mask == 2) & (L > np.float32(confirmed)), np.float32(weak), np.float32(1.0)
+        )
+        L[sel] += (scale * free_nats)[sel]
         if hit_nats is not None:
             h = np.isfinite(hit_nats)
             L[h] += hit_nats[h]
         np.clip(L, lo, hi, out=L)
 
-    def _fan(self, near_c, end_c, valid, cam_c) -> np.ndarray:
+    def _fan(self, near_c, end_c, valid, cam_c, weak=None) -> np.ndarray:
+        """The quadrilaterals' mask: 1, or 2 inside only those where ``weak`` (per pair)."""
+        mask = np.zeros(self.log_odds.shape, np.uint8)
+        pair = valid[:-1] & valid[1:]
+        if weak is None:
+            self._fill(mask, near_c, end_c, np.nonzero(pair)[0], cam_c, 1)
+        else:
+            self._fill(mask, near_c, end_c, np.nonzero(pair & weak)[0], cam_c, 2)
+            self._fill(mask, near_c, end_c, np.nonzero(pair & ~weak)[0], cam_c, 1)
+        return mask
+
+    def _fill(self, mask, near_c, end_c, k, cam_c, value) -> None:
         import cv2
 
-        mask = np.zeros(self.log_odds.shape, np.uint8)
-        k = np.nonzero(valid[:-1] & valid[1:])[0]
         if k.size:
             cam = np.asarray(cam_c, np.float64)[None, :]
             d0, d1 = end_c[k] - cam, end_c[k + 1] - cam
@@ -83,8 +97,7 @@ class ReferenceAvoidanceMap(AvoidanceMap):
             quads = np.stack([near_c[k], near_c[k + 1], e1, e0], axis=1)
             # OpenCV's pixel p is centred on p; cell p spans [p, p + 1): half a cell back
             pts = np.round((quads - 0.5) * (1 << _SHIFT)).astype(np.int32)
-            cv2.fillPoly(mask, list(pts), 1, lineType=cv2.LINE_8, shift=_SHIFT)
-        return mask
+            cv2.fillPoly(mask, list(pts), value, lineType=cv2.LINE_8, shift=_SHIFT)
 
     def _range_image(self, mask, cam_c) -> np.ndarray:
         jj, ii = np.nonzero(mask)
@@ -130,7 +143,11 @@ class ReferenceAvoidanceMap(AvoidanceMap):
         ncx, ncy = self.to_cells(*world(nx, ny))
         ecx, ecy = self.to_cells(*world(ex, ey))
         cam_c = self.to_cells(cam[0], cam[1])
-        mask = self._fan(np.stack([ncx, ncy], 1), np.stack([ecx, ecy], 1), valid, cam_c)
+        weak = None
+        if model.no_boundary_clearing < 1.0:
+            nob = status == ColumnStatus.NO_BOUNDARY
+            weak = nob[:-1] | nob[1:]
+        mask = self._fan(np.stack([ncx, ncy], 1), np.stack([ecx, ecy], 1), valid, cam_c, weak=weak)
         r_img = self._range_image(mask, cam_c)
         free_nats = model.fusion_weight * model.free_logit(r_img)
         hit = np.full(mask.shape, np.nan, np.float32)
@@ -149,7 +166,13 @@ class ReferenceAvoidanceMap(AvoidanceMap):
             hit[ty[ok].astype(int), tx[ok].astype(int)] = (
                 model.fusion_weight * model.too_close_logit
             )
-        self._apply(mask, free_nats, hit)
+        self._apply(
+            mask,
+            free_nats,
+            hit,
+            weak=model.no_boundary_clearing,
+            confirmed=model.confirmed_nats,
+        )
 
     def insert_laser(
         self, ranges, angles, pose, *, range_max_m, hit_nats=2.2, miss_nats=-2.0

@@ -87,9 +87,16 @@ class _Table:
         return e
 
 
-def test_random_scans_with_every_status_give_the_same_map():
+@pytest.mark.parametrize("clearing, confirmed", [(0.0, 0.0), (0.4, 1.0), (1.0, 0.0)])
+def test_random_scans_with_every_status_give_the_same_map(clearing, confirmed):
     rng = np.random.default_rng(3)
-    model = VisualSensorModel(fusion_weight=0.9, margin_sigmas=1.5, hit_b=-0.3)
+    model = VisualSensorModel(
+        fusion_weight=0.9,
+        margin_sigmas=1.5,
+        hit_b=-0.3,
+        no_boundary_clearing=clearing,
+        confirmed_nats=confirmed,
+    )
     for trial in range(30):
         cell = [0.05, 0.04, 0.1][trial % 3]
         ours, ref = _pair(center=(1.0, -2.0), size_m=6.0, cell_size_m=cell, clamp_nats=(-1.5, 2.5))
@@ -132,3 +139,56 @@ def test_bad_layers_and_readings_are_errors():
     m.log_odds = np.zeros((m.n, m.n), np.float32)[:, ::2]
     with pytest.raises(FloorscanError):
         m.decay(0.1)
+
+
+def _fan_scan(range_m, status, n=41):
+    """Columns fanned over +-0.6 rad, all at ``range_m`` with ``status``, near edges at 0.3 m."""
+    a = np.linspace(-0.6, 0.6, n)
+    r = range_m / np.cos(a)  # a straight face across the view
+    return SimpleNamespace(
+        status_codes=np.full(n, status, np.uint8),
+        x=r * np.cos(a),
+        y=r * np.sin(a),
+        near_x=0.3 * np.ones(n),
+        near_y=0.3 * np.tan(a),
+        footprints=np.full(n, 0.01),
+        columns=np.arange(n, dtype=np.uint32),
+        rows=np.zeros(n),
+    )
+
+
+@pytest.mark.parametrize("clearing", [0.0, 0.5, 1.0])
+def test_columns_without_a_boundary_clear_a_mapped_face_only_by_their_share(clearing):
+    """A face mapped from 1.5 m, then seen by columns that find no boundary (3 m out): its
+    cells lose `no_boundary_clearing` x the free evidence; columns that find the floor's end
+    farther on (a boundary at 3 m) clear them in full."""
+    model = VisualSensorModel(no_boundary_clearing=clearing)
+    face = (1.0 + 1.5 + 0.025, 0.0)  # a cell centre on the face, camera at x = 1
+    for later, full in [(1, clearing == 1.0), (0, True)]:
+        m = AvoidanceMap(AvoidanceMapOptions(half_life_s=None), center=(2.0, 0.0))
+        pose = (1.0, 0.0, 0.0)
+        m.insert_visual(_fan_scan(1.5, 0), pose, model=model)
+        i, j = (int(c) for c in m.to_cells(*face))
+        before = float(m.log_odds[j, i])
+        assert before > 0.5
+        m.insert_visual(_fan_scan(3.0, later), pose, model=model)
+        # the free evidence at the cell's range, as the model gives it
+        r = math.hypot((i + 0.5) * m.cell + m.origin_m[0] - 1.0, (j + 0.5) * m.cell + m.origin_m[1])
+        free = np.float32(model.fusion_weight) * np.float32(model.free_logit(np.float32(r)))
+        share = 1.0 if full else clearing
+        expected = np.clip(before + share * free, *m.options.clamp_nats)
+        assert float(m.log_odds[j, i]) == pytest.approx(float(expected), abs=1e-4)
+    # unknown floor before the face takes any column's free evidence in full
+    m = AvoidanceMap(AvoidanceMapOptions(half_life_s=None), center=(2.0, 0.0))
+    m.insert_visual(_fan_scan(3.0, 1), (1.0, 0.0, 0.0), model=model)
+    i, j = (int(c) for c in m.to_cells(*face))
+    assert float(m.log_odds[j, i]) < -1.0
+
+
+def test_no_boundary_clearing_is_validated():
+    with pytest.raises(FloorscanError, match="no_boundary_clearing"):
+        VisualSensorModel(no_boundary_clearing=1.5)
+    with pytest.raises(FloorscanError, match="confirmed_nats"):
+        VisualSensorModel(confirmed_nats=-0.5)
+    with pytest.raises(FloorscanError, match="confirmed_nats"):
+        VisualSensorModel(confirmed_nats=float("nan"))

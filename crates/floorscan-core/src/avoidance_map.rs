@@ -14,6 +14,13 @@
 //!   points' values); `too_close` readings mark the cell of their near edge with
 //!   fusion_weight x too_close_logit. Hits take priority over free evidence, a later reading's
 //!   hit over an earlier one's;
+//! - a quadrilateral beside a `no_boundary` column (a column that found no boundary: no
+//!   return, in a laser's terms) adds only `no_boundary_clearing` x its free evidence to a cell
+//!   whose log odds exceed `confirmed_nats` (an obstacle confirmed by more than one reading): a
+//!   camera that sees no edge over an obstacle it mapped from farther away (a face the colour
+//!   of the floor) is more likely wrong than the independent frames the evidence assumes, as a
+//!   ROS costmap does not clear through a laser's no-return beams; a quadrilateral between two
+//!   boundaries clears in full (the camera saw the floor end farther on);
 //! - every cell is then clamped to `clamp_nats`.
 //!
 //! The arithmetic follows the numpy implementation it replaced operation for operation (cell
@@ -48,6 +55,12 @@ pub struct VisualModel {
     pub margin_sigmas: f64,
     pub default_error_m: f64,
     pub fusion_weight: f64,
+    /// The share in [0, 1] of its free evidence a quadrilateral beside a `no_boundary` column
+    /// adds to a confirmed obstacle's cell (log odds > `confirmed_nats`); 1 treats it as any
+    /// other.
+    pub no_boundary_clearing: f64,
+    /// Log odds (>= 0) above which a cell is a confirmed obstacle for `no_boundary_clearing`.
+    pub confirmed_nats: f64,
 }
 
 /// One scan's readings, column by column, in the camera's ground frame [m]: status codes
@@ -96,7 +109,8 @@ pub struct AvoidanceMap {
     side: usize,
     cell_m: f64,
     clamp: (f32, f32),
-    /// cells inside a floor quadrilateral this insertion (1), else 0
+    /// cells inside a floor quadrilateral this insertion: 1, or 2 inside only quadrilaterals
+    /// beside a `no_boundary` column (weak clearing); else 0
     mask: Vec<u8>,
     /// the hit evidence of this insertion, NaN where none
     hit: Vec<f32>,
@@ -109,6 +123,7 @@ pub struct AvoidanceMap {
     ok: Vec<bool>,
     hit_nats: Vec<f64>,
     quads: Vec<[[i64; 2]; 4]>,
+    weak_quads: Vec<[[i64; 2]; 4]>,
     fill: PolygonFill,
 }
 
@@ -148,6 +163,7 @@ impl AvoidanceMap {
             ok: Vec::new(),
             hit_nats: Vec::new(),
             quads: Vec::new(),
+            weak_quads: Vec::new(),
             fill: PolygonFill::default(),
         })
     }
@@ -203,6 +219,19 @@ impl AvoidanceMap {
         if !(camera.x.is_finite() && camera.y.is_finite() && camera.yaw.is_finite()) {
             return Err(Error::InvalidGeometry("camera pose not finite".into()));
         }
+        if !(0.0..=1.0).contains(&model.no_boundary_clearing) {
+            return Err(invalid_option(
+                "no_boundary_clearing",
+                format!("must be in [0, 1], got {}", model.no_boundary_clearing),
+            ));
+        }
+        if !(model.confirmed_nats.is_finite() && model.confirmed_nats >= 0.0) {
+            return Err(invalid_option(
+                "confirmed_nats",
+                format!("must be finite and >= 0, got {}", model.confirmed_nats),
+            ));
+        }
+        let weak_clearing = model.no_boundary_clearing < 1.0;
         let cell = self.cell_m;
         let (ox, oy) = (origin_cells.0 as f64, origin_cells.1 as f64);
         let (c, s) = (camera.yaw.cos(), camera.yaw.sin());
@@ -286,8 +315,10 @@ impl AvoidanceMap {
         };
         let side = self.side;
         let mut rows = RowSpan::EMPTY;
-        // the floor quadrilaterals between neighbouring valid readings, filled at once
+        // the floor quadrilaterals between neighbouring valid readings, filled at once (those
+        // beside a no-boundary column apart, first, when they clear less)
         self.quads.clear();
+        self.weak_quads.clear();
         for k in 0..n.saturating_sub(1) {
             if self.valid[k] && self.valid[k + 1] {
                 let quad = fan_quad(
@@ -298,9 +329,16 @@ impl AvoidanceMap {
                     cam_c,
                 );
                 rows.cover_vertices(&quad, side);
-                self.quads.push(quad);
+                let weak =
+                    readings.status[k] == NO_BOUNDARY || readings.status[k + 1] == NO_BOUNDARY;
+                if weak_clearing && weak {
+                    self.weak_quads.push(quad);
+                } else {
+                    self.quads.push(quad);
+                }
             }
         }
+        self.fill_weak_quads();
         self.fill_quads();
         // hit discs around the boundary points, in reading order (a later one wins)
         for k in 0..n {
@@ -367,7 +405,11 @@ impl AvoidanceMap {
         // free evidence by range (f32, as numpy computed it), then hits, then the clamps
         let fw = model.fusion_weight as f32;
         let (fa, fb) = (model.free_a as f32, model.free_b as f32);
-        self.apply(log_odds, &rows, |i, j| {
+        let weak = (
+            model.no_boundary_clearing as f32,
+            model.confirmed_nats as f32,
+        );
+        self.apply(log_odds, &rows, weak, |i, j| {
             let r = ((i as f64 + 0.5 - cam_c[0]).hypot(j as f64 + 0.5 - cam_c[1]) * cell) as f32;
             fw * (fa + fb * r)
         });
@@ -423,7 +465,7 @@ impl AvoidanceMap {
                 rows.cover(j as usize);
             }
         }
-        self.apply(log_odds, &rows, |_, _| miss_nats);
+        self.apply(log_odds, &rows, (1.0, 0.0), |_, _| miss_nats);
         Ok(())
     }
 
@@ -437,11 +479,33 @@ impl AvoidanceMap {
         self.fill.fill(&mut canvas, &self.quads, SHIFT, 1u8);
     }
 
+    /// Marks the cells of this insertion's weakly clearing quadrilaterals with 2 (before
+    /// [`Self::fill_quads`], which overwrites the cells a fully clearing one covers too).
+    fn fill_weak_quads(&mut self) {
+        if self.weak_quads.is_empty() {
+            return;
+        }
+        let mut canvas = Canvas {
+            cells: &mut self.mask,
+            width: self.side,
+            height: self.side,
+        };
+        self.fill.fill(&mut canvas, &self.weak_quads, SHIFT, 2u8);
+    }
+
     /// Adds this insertion's evidence on the touched rows (a cell's hit, else its free
-    /// evidence `free(i, j)` when inside a quadrilateral), resets the scratch layers there,
-    /// and clamps every cell.
-    fn apply(&mut self, log_odds: &mut [f32], rows: &RowSpan, free: impl Fn(usize, usize) -> f32) {
+    /// evidence `free(i, j)` when inside a quadrilateral, times `weak.0` inside only weakly
+    /// clearing ones where the cell's log odds exceed `weak.1`), resets the scratch layers
+    /// there, and clamps every cell.
+    fn apply(
+        &mut self,
+        log_odds: &mut [f32],
+        rows: &RowSpan,
+        weak: (f32, f32),
+        free: impl Fn(usize, usize) -> f32,
+    ) {
         let side = self.side;
+        let (share, confirmed) = weak;
         for j in rows.lo..rows.hi.min(side) {
             let row = j * side;
             for i in 0..side {
@@ -449,8 +513,10 @@ impl AvoidanceMap {
                 let h = self.hit[k];
                 if h.is_finite() {
                     log_odds[k] += h;
-                } else if self.mask[k] > 0 {
+                } else if self.mask[k] == 1 || (self.mask[k] == 2 && log_odds[k] <= confirmed) {
                     log_odds[k] += free(i, j);
+                } else if self.mask[k] == 2 {
+                    log_odds[k] += share * free(i, j);
                 }
                 self.hit[k] = f32::NAN;
                 self.mask[k] = 0;
@@ -572,6 +638,8 @@ mod tests {
             margin_sigmas: 2.0,
             default_error_m: 0.01,
             fusion_weight: 0.7,
+            no_boundary_clearing: 1.0,
+            confirmed_nats: 1.5,
         }
     }
 
@@ -626,6 +694,134 @@ mod tests {
             .unwrap();
         for (a, b) in l.iter().zip(&once) {
             assert!((a - (2.0 * b).clamp(-2.0, 3.5)).abs() < 1e-5);
+        }
+    }
+
+    /// The wall of [`wall`] mapped from 1.5 m (once: one reading, below `confirmed_nats`;
+    /// twice: confirmed), then seen again by columns that find no boundary (their farthest
+    /// point 3 m out): a confirmed wall's cells take `clearing` x the free evidence, an
+    /// unconfirmed one's all of it; unknown cells before the wall take it in full, as columns
+    /// that see the floor end farther on give it to the wall's cells too.
+    #[test]
+    fn columns_without_a_boundary_clear_a_confirmed_obstacle_only_by_their_share() {
+        let side = 100;
+        let n = 41;
+        let (status, x, y, nx, ny) = wall(n);
+        let fp = vec![0.01; n];
+        let err = vec![f64::NAN; n];
+        let mapped = |m: &VisualModel, times: usize| {
+            let mut map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
+            let mut l = vec![0.0f32; side * side];
+            let r = VisualReadings {
+                status: &status,
+                x_m: &x,
+                y_m: &y,
+                near_x_m: &nx,
+                near_y_m: &ny,
+                footprint_m: &fp,
+                error_m: &err,
+            };
+            for _ in 0..times {
+                map.insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &r, m)
+                    .unwrap();
+            }
+            (map, l)
+        };
+        let cell = |x: f64, y: f64| (y / 0.05) as usize * side + (x / 0.05) as usize;
+        let wall_cell = cell(4.0, 2.5);
+        let far = |status: u8| {
+            let (x2, y2): (Vec<f64>, Vec<f64>) =
+                x.iter().zip(&y).map(|(a, b)| (2.0 * a, 2.0 * b)).unzip();
+            (vec![status; n], x2, y2)
+        };
+        for clearing in [0.0, 0.25, 1.0] {
+            let m = VisualModel {
+                no_boundary_clearing: clearing,
+                ..model()
+            };
+            // the camera 0.5 m back, so the wall (now 2 m ahead) lies inside the new view
+            let cam = Pose2::new(2.0, 2.5, 0.0);
+            for (st, times) in [(NO_BOUNDARY, 1), (NO_BOUNDARY, 2), (BOUNDARY, 2)] {
+                let (mut map, mut l) = mapped(&m, times);
+                let before = l[wall_cell];
+                assert!(before > 0.5, "{before}");
+                let confirmed = f64::from(before) > m.confirmed_nats;
+                assert_eq!(confirmed, times == 2, "{before}");
+                let expect_full = st == BOUNDARY || !confirmed || clearing == 1.0;
+                // an unknown cell before the wall, out of the first view (behind its near edge)
+                let unknown = cell(2.6, 2.5);
+                assert_eq!(l[unknown], 0.0);
+                let (s2, x2, y2) = far(st);
+                // the far points seen from the new camera: the columns' geometry shifted back
+                let x2: Vec<f64> = x2.iter().map(|v| v + 0.5).collect();
+                let r = VisualReadings {
+                    status: &s2,
+                    x_m: &x2,
+                    y_m: &y2,
+                    near_x_m: &nx,
+                    near_y_m: &ny,
+                    footprint_m: &fp,
+                    error_m: &err,
+                };
+                map.insert_visual(&mut l, (0, 0), cam, &r, &m).unwrap();
+                // the free evidence a fully clearing quadrilateral gives at that cell's range
+                let free_at = |c: usize, x0: f64| {
+                    let (i, j) = (c % side, c / side);
+                    let r =
+                        ((i as f64 + 0.5 - x0 / 0.05).hypot(j as f64 + 0.5 - 50.0) * 0.05) as f32;
+                    0.7f32 * (-3.2f32 + 0.55f32 * r)
+                };
+                let full = (before + free_at(wall_cell, 2.0)).clamp(-2.0, 3.5);
+                let share = (before + clearing as f32 * free_at(wall_cell, 2.0)).clamp(-2.0, 3.5);
+                let expect = if expect_full { full } else { share };
+                if st == BOUNDARY {
+                    // the far boundary's own hits lie 4 m out; the wall's cell is floor seen
+                    assert!(
+                        (l[wall_cell] - full).abs() < 1e-5,
+                        "{} {full}",
+                        l[wall_cell]
+                    );
+                } else {
+                    assert!(
+                        (l[wall_cell] - expect).abs() < 1e-5,
+                        "{clearing}: {} {expect}",
+                        l[wall_cell]
+                    );
+                }
+                // unknown floor takes the free evidence in full either way
+                let u = free_at(unknown, 2.0).clamp(-2.0, 3.5);
+                assert!((l[unknown] - u).abs() < 1e-5, "{} {u}", l[unknown]);
+            }
+        }
+        for bad in [
+            VisualModel {
+                no_boundary_clearing: 1.5,
+                ..model()
+            },
+            VisualModel {
+                confirmed_nats: f64::NAN,
+                ..model()
+            },
+            VisualModel {
+                confirmed_nats: -1.0,
+                ..model()
+            },
+        ] {
+            let mut map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
+            let mut l = vec![0.0f32; side * side];
+            let r = VisualReadings {
+                status: &status,
+                x_m: &x,
+                y_m: &y,
+                near_x_m: &nx,
+                near_y_m: &ny,
+                footprint_m: &fp,
+                error_m: &err,
+            };
+            assert!(map
+                .insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &r, &bad)
+                .is_err());
+            assert!(l.iter().all(|&v| v == 0.0));
         }
     }
 

@@ -73,6 +73,8 @@ impl PyAvoidanceMap {
                 margin_sigmas: field("margin_sigmas")?,
                 default_error_m: field("default_error_m")?,
                 fusion_weight: field("fusion_weight")?,
+                no_boundary_clearing: field("no_boundary_clearing")?,
+                confirmed_nats: field("confirmed_nats")?,
             };
             let status = status.as_slice().map_err(|_| {
                 error(
