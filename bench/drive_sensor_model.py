@@ -220,6 +220,7 @@ def main() -> None:
             # the output calibration the code ships (a stale default shows here)
             shipped = AvoidanceMapOptions()
             scale, offset = shipped.probability_scale, shipped.probability_offset
+            knots = shipped.probability_knots
         elif calibrate_output == "isotonic":
             scale, offset = 1.0, 0.0
             knots = fit_probability_knots(train, table, m)

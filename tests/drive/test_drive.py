@@ -18,6 +18,7 @@ from floorscan.drive import (
     AvoidanceMapOptions,
     DriveOptions,
     Solids,
+    VisualSensorModel,
     drive,
     make_table,
 )
@@ -161,28 +162,59 @@ def test_summary_fields_agree_with_the_record():
     assert s["waypoints_total"] == 1
 
 
-def test_a_removed_obstacle_clears_from_the_avoidance_map():
+@pytest.mark.parametrize(
+    "far_wall_x, clearing, clears_by_sight",
+    [
+        (3.4, 0.0, True),  # the floor's end in view beyond the box: boundary columns clear it
+        (6.0, 0.0, False),  # no boundary beyond (5.2 m off): only forgetting clears it
+        (6.0, 1.0, True),  # the model as it was: columns without a boundary clear it too
+    ],
+)
+def test_a_removed_obstacle_clears_from_the_avoidance_map(far_wall_x, clearing, clears_by_sight):
     camera = Camera()
     table = make_table(camera, "exact")
     ranger = VisualRanger(table, columns=160)
+    model = VisualSensorModel(no_boundary_clearing=clearing)
     pose = (0.8, 1.5, 0.0)
-    with_box, without = World.from_toml(HALL + BOX), World.from_toml(HALL)
+    hall = HALL.replace("6.0", str(far_wall_x))
+    with_box, without = World.from_toml(hall + BOX), World.from_toml(hall)
     m = AvoidanceMap(center=pose[:2])
     box_x, box_y = m.to_cells(np.array([2.57, 2.57]), np.array([1.45, 1.55]))
     cells = (box_y.astype(int), box_x.astype(int))  # the box's near face (x = 2.575)
+
+    def see(world, k, dt=0.1):
+        m.decay(dt)
+        image, _ = render(world, camera, pose, frame=k)
+        scan = ranger.scan(image)
+        m.insert_visual(scan, pose, mount=camera.robot_from_camera, table=table, model=model)
+
     for k in range(3):
-        image, _ = render(with_box, camera, pose, frame=k)
-        m.insert_visual(ranger.scan(image), pose, mount=camera.robot_from_camera, table=table)
+        see(with_box, k)
     assert m.occupancy_classes()[cells].tolist() == [2, 2]
     frames = None
     for k in range(10):
-        m.decay(0.1)
-        image, _ = render(without, camera, pose, frame=10 + k)
-        m.insert_visual(ranger.scan(image), pose, mount=camera.robot_from_camera, table=table)
+        see(without, 10 + k)
         if (m.occupancy_classes()[cells] == 0).all():
             frames = k + 1
             break
-    assert frames is not None and frames <= 3
+    if clears_by_sight:
+        assert frames is not None and frames <= 3
+        return
+    assert frames is None  # seen for 1 s, never cleared by the columns without a boundary
+    # those columns add nothing to the cells believed occupied: their evidence only fades,
+    # halving every half_life_s (3 s), and stops reading occupied once below logit(0.65)
+    before = m.log_odds[cells].copy()
+    assert (before > 0).all()
+    factor = np.float32(0.5 ** (0.1 / m.options.half_life_s))
+    expect = before.copy()
+    occupied_nats = math.log(m.options.occupied_threshold / (1 - m.options.occupied_threshold))
+    for k in range(100):
+        see(without, 20 + k)
+        expect = expect * factor
+        np.testing.assert_allclose(m.log_odds[cells], expect, rtol=1e-5)
+        classes = m.occupancy_classes()[cells]
+        assert ((classes == 2) == (expect >= occupied_nats)).all()
+    assert (m.occupancy_classes()[cells] != 2).all()  # 10 s of forgetting
 
 
 def test_options_are_validated():

@@ -23,7 +23,11 @@ def test_logistic_fit_recovers_known_parameters():
 
 def test_reliability_diagram_of_a_hand_made_map():
     opts = AvoidanceMapOptions(
-        size_m=2.0, cell_size_m=0.1, probability_scale=1.0, probability_offset=0.0
+        size_m=2.0,
+        cell_size_m=0.1,
+        probability_scale=1.0,
+        probability_offset=0.0,
+        probability_knots=None,
     )
     m = AvoidanceMap(opts, center=(1.0, 1.0))
     n = m.n
@@ -85,7 +89,11 @@ def test_model_options_are_validated():
 
 def test_output_calibration_maps_log_odds_to_probabilities_not_decisions():
     opts = AvoidanceMapOptions(
-        size_m=1.0, cell_size_m=0.1, probability_scale=0.5, probability_offset=-1.0
+        size_m=1.0,
+        cell_size_m=0.1,
+        probability_scale=0.5,
+        probability_offset=-1.0,
+        probability_knots=None,
     )
     m = AvoidanceMap(opts)
     m.log_odds[0, 0] = 4.0

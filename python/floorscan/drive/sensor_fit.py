@@ -50,7 +50,11 @@ def _frame_samples(run, k, scan, table, raster, cell):
     pose = tuple(run.poses[k])
     m = AvoidanceMap(
         AvoidanceMapOptions(
-            cell_size_m=cell, clamp_nats=(-5, 5), probability_scale=1.0, probability_offset=0.0
+            cell_size_m=cell,
+            clamp_nats=(-5, 5),
+            probability_scale=1.0,
+            probability_offset=0.0,
+            probability_knots=None,
         ),
         center=pose[:2],
     )
@@ -107,7 +111,9 @@ def fused_map(
     ranger = VisualRanger(table, columns=160)
     from dataclasses import replace
 
-    base = map_options or AvoidanceMapOptions(probability_scale=1.0, probability_offset=0.0)
+    base = map_options or AvoidanceMapOptions(
+        probability_scale=1.0, probability_offset=0.0, probability_knots=None
+    )
     opts = replace(base, cell_size_m=cell_size_m, size_m=40.0, half_life_s=None)
     m = AvoidanceMap(opts, center=tuple(run.poses[0])[:2])
     for k in range(len(run.timestamps)) if frames is None else frames:

@@ -20,7 +20,8 @@ sigma = sqrt(e^2 + (f / 2)^2 + (cell / 2)^2). The model then says:
 Each probability becomes evidence (log odds against an even prior) times ``fusion_weight``.
 Successive frames of a moving camera are correlated (the same carpet, the same errors), so
 summed evidence overstates certainty; the avoidance map corrects that on its output with a
-Platt calibration (``AvoidanceMapOptions.probability_scale`` / ``probability_offset``).
+monotone calibration (``AvoidanceMapOptions.probability_knots``, fitted by isotonic
+regression; or a Platt curve, ``probability_scale`` / ``probability_offset``).
 
 Where the defaults come from: :func:`floorscan.drive.sensor_fit.fit_sensor_model` estimates
 the four logits from simulator truth (``bench/drive_sensor_model.py``: corridor and room,
@@ -29,7 +30,7 @@ closed loop, those fitted values make the robot hesitate (hits beyond 2 m add fr
 to the obstacle's cell, and the room's tour is not finished in 120 s), so the defaults are
 the hand-set values below, chosen before the fit and checked in the closed loop (room tour:
 0 contacts, 4 of 4 waypoints, 42 s); their map is then made to mean what it says by the
-avoidance map's Platt calibration, fitted on the same truth. EVALUATION.md has both models'
+avoidance map's output calibration, fitted on the same truth. EVALUATION.md has both models'
 reliability diagrams. ``floorscan tune`` keeps tuning the ranger and OctoMap-style constant
 evidence; this model is the avoidance map's.
 """
