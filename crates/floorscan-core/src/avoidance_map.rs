@@ -16,11 +16,12 @@
 //!   hit over an earlier one's;
 //! - a quadrilateral beside a `no_boundary` column (a column that found no boundary: no
 //!   return, in a laser's terms) adds only `no_boundary_clearing` x its free evidence to a cell
-//!   whose log odds exceed `confirmed_nats` (an obstacle confirmed by more than one reading): a
+//!   whose log odds exceed `confirmed_nats` (the drive's default 0: believed occupied): a
 //!   camera that sees no edge over an obstacle it mapped from farther away (a face the colour
 //!   of the floor) is more likely wrong than the independent frames the evidence assumes, as a
 //!   ROS costmap does not clear through a laser's no-return beams; a quadrilateral between two
-//!   boundaries clears in full (the camera saw the floor end farther on);
+//!   boundaries clears in full (the camera saw the floor end farther on), and where the two
+//!   kinds overlap the full one wins;
 //! - every cell is then clamped to `clamp_nats`.
 //!
 //! The arithmetic follows the numpy implementation it replaced operation for operation (cell
