@@ -698,6 +698,25 @@ mod tests {
         }
     }
 
+    /// Readings of `status` codes at points (x, y) with near edges (nx, ny), footprints `fp`
+    /// and predicted errors `err`.
+    fn readings<'a>(
+        status: &'a [u8],
+        (x, y): (&'a [f64], &'a [f64]),
+        (nx, ny): (&'a [f64], &'a [f64]),
+        (fp, err): (&'a [f64], &'a [f64]),
+    ) -> VisualReadings<'a> {
+        VisualReadings {
+            status,
+            x_m: x,
+            y_m: y,
+            near_x_m: nx,
+            near_y_m: ny,
+            footprint_m: fp,
+            error_m: err,
+        }
+    }
+
     /// The wall of [`wall`] mapped from 1.5 m (once: one reading, below `confirmed_nats`;
     /// twice: confirmed), then seen again by columns that find no boundary (their farthest
     /// point 3 m out): a confirmed wall's cells take `clearing` x the free evidence, an
@@ -710,87 +729,57 @@ mod tests {
         let (status, x, y, nx, ny) = wall(n);
         let fp = vec![0.01; n];
         let err = vec![f64::NAN; n];
-        let mapped = |m: &VisualModel, times: usize| {
-            let mut map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
-            let mut l = vec![0.0f32; side * side];
-            let r = VisualReadings {
-                status: &status,
-                x_m: &x,
-                y_m: &y,
-                near_x_m: &nx,
-                near_y_m: &ny,
-                footprint_m: &fp,
-                error_m: &err,
-            };
-            for _ in 0..times {
-                map.insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &r, m)
-                    .unwrap();
-            }
-            (map, l)
+        let first = readings(&status, (&x, &y), (&nx, &ny), (&fp, &err));
+        let new_map = || {
+            let map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
+            (map, vec![0.0f32; side * side])
         };
         let cell = |x: f64, y: f64| (y / 0.05) as usize * side + (x / 0.05) as usize;
         let wall_cell = cell(4.0, 2.5);
-        let far = |status: u8| {
-            let (x2, y2): (Vec<f64>, Vec<f64>) =
-                x.iter().zip(&y).map(|(a, b)| (2.0 * a, 2.0 * b)).unzip();
-            (vec![status; n], x2, y2)
+        // an unknown cell before the wall, out of the first view (behind its near edge)
+        let unknown = cell(2.6, 2.5);
+        // the same columns' points 3 m out, seen from a camera 0.5 m back (x + 0.5), so the
+        // wall, now 2 m ahead, lies inside the new view
+        let x2: Vec<f64> = x.iter().map(|a| 2.0 * a + 0.5).collect();
+        let y2: Vec<f64> = y.iter().map(|b| 2.0 * b).collect();
+        let cam = Pose2::new(2.0, 2.5, 0.0);
+        // the free evidence a fully clearing quadrilateral gives at a cell, from that camera
+        let free_at = |c: usize| {
+            let (i, j) = (c % side, c / side);
+            let r = ((i as f64 + 0.5 - 2.0 / 0.05).hypot(j as f64 + 0.5 - 50.0) * 0.05) as f32;
+            0.7f32 * (-3.2f32 + 0.55f32 * r)
         };
         for clearing in [0.0, 0.25, 1.0] {
             let m = VisualModel {
                 no_boundary_clearing: clearing,
                 ..model()
             };
-            // the camera 0.5 m back, so the wall (now 2 m ahead) lies inside the new view
-            let cam = Pose2::new(2.0, 2.5, 0.0);
             for (st, times) in [(NO_BOUNDARY, 1), (NO_BOUNDARY, 2), (BOUNDARY, 2)] {
-                let (mut map, mut l) = mapped(&m, times);
+                let (mut map, mut l) = new_map();
+                for _ in 0..times {
+                    map.insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &first, &m)
+                        .unwrap();
+                }
                 let before = l[wall_cell];
                 assert!(before > 0.5, "{before}");
                 let confirmed = f64::from(before) > m.confirmed_nats;
                 assert_eq!(confirmed, times == 2, "{before}");
-                let expect_full = st == BOUNDARY || !confirmed || clearing == 1.0;
-                // an unknown cell before the wall, out of the first view (behind its near edge)
-                let unknown = cell(2.6, 2.5);
                 assert_eq!(l[unknown], 0.0);
-                let (s2, x2, y2) = far(st);
-                // the far points seen from the new camera: the columns' geometry shifted back
-                let x2: Vec<f64> = x2.iter().map(|v| v + 0.5).collect();
-                let r = VisualReadings {
-                    status: &s2,
-                    x_m: &x2,
-                    y_m: &y2,
-                    near_x_m: &nx,
-                    near_y_m: &ny,
-                    footprint_m: &fp,
-                    error_m: &err,
-                };
+                let s2 = vec![st; n];
+                let r = readings(&s2, (&x2, &y2), (&nx, &ny), (&fp, &err));
                 map.insert_visual(&mut l, (0, 0), cam, &r, &m).unwrap();
-                // the free evidence a fully clearing quadrilateral gives at that cell's range
-                let free_at = |c: usize, x0: f64| {
-                    let (i, j) = (c % side, c / side);
-                    let r =
-                        ((i as f64 + 0.5 - x0 / 0.05).hypot(j as f64 + 0.5 - 50.0) * 0.05) as f32;
-                    0.7f32 * (-3.2f32 + 0.55f32 * r)
-                };
-                let full = (before + free_at(wall_cell, 2.0)).clamp(-2.0, 3.5);
-                let share = (before + clearing as f32 * free_at(wall_cell, 2.0)).clamp(-2.0, 3.5);
-                let expect = if expect_full { full } else { share };
-                if st == BOUNDARY {
-                    // the far boundary's own hits lie 4 m out; the wall's cell is floor seen
-                    assert!(
-                        (l[wall_cell] - full).abs() < 1e-5,
-                        "{} {full}",
-                        l[wall_cell]
-                    );
-                } else {
-                    assert!(
-                        (l[wall_cell] - expect).abs() < 1e-5,
-                        "{clearing}: {} {expect}",
-                        l[wall_cell]
-                    );
-                }
+                // the far boundary's own hits lie 4 m out: the wall's cell is floor seen, by
+                // boundary columns in full, by no-boundary ones in full unless confirmed
+                let full = st == BOUNDARY || !confirmed || clearing == 1.0;
+                let share = if full { 1.0 } else { clearing as f32 };
+                let expect = (before + share * free_at(wall_cell)).clamp(-2.0, 3.5);
+                let got = l[wall_cell];
+                assert!(
+                    (got - expect).abs() < 1e-5,
+                    "{clearing} {st}: {got} {expect}"
+                );
                 // unknown floor takes the free evidence in full either way
-                let u = free_at(unknown, 2.0).clamp(-2.0, 3.5);
+                let u = free_at(unknown).clamp(-2.0, 3.5);
                 assert!((l[unknown] - u).abs() < 1e-5, "{} {u}", l[unknown]);
             }
         }
@@ -808,19 +797,10 @@ mod tests {
                 ..model()
             },
         ] {
-            let mut map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
-            let mut l = vec![0.0f32; side * side];
-            let r = VisualReadings {
-                status: &status,
-                x_m: &x,
-                y_m: &y,
-                near_x_m: &nx,
-                near_y_m: &ny,
-                footprint_m: &fp,
-                error_m: &err,
-            };
+            let (mut map, mut l) = new_map();
+            let cam = Pose2::new(2.5, 2.5, 0.0);
             assert!(map
-                .insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &r, &bad)
+                .insert_visual(&mut l, (0, 0), cam, &first, &bad)
                 .is_err());
             assert!(l.iter().all(|&v| v == 0.0));
         }
