@@ -339,7 +339,6 @@ impl AvoidanceMap {
                 }
             }
         }
-        self.fill_weak_quads();
         self.fill_quads();
         // hit discs around the boundary points, in reading order (a later one wins)
         for k in 0..n {
@@ -470,28 +469,21 @@ impl AvoidanceMap {
         Ok(())
     }
 
-    /// Marks the cells of this insertion's quadrilaterals in the mask (one `fillPoly`).
+    /// Marks the cells of this insertion's quadrilaterals in the mask (one `fillPoly` per
+    /// kind): the weakly clearing ones with 2, then the fully clearing ones with 1, which
+    /// overwrite the cells both cover.
     fn fill_quads(&mut self) {
-        let mut canvas = Canvas {
-            cells: &mut self.mask,
-            width: self.side,
-            height: self.side,
-        };
-        self.fill.fill(&mut canvas, &self.quads, SHIFT, 1u8);
-    }
-
-    /// Marks the cells of this insertion's weakly clearing quadrilaterals with 2 (before
-    /// [`Self::fill_quads`], which overwrites the cells a fully clearing one covers too).
-    fn fill_weak_quads(&mut self) {
-        if self.weak_quads.is_empty() {
-            return;
+        for (quads, value) in [(&self.weak_quads, 2u8), (&self.quads, 1u8)] {
+            if quads.is_empty() {
+                continue;
+            }
+            let mut canvas = Canvas {
+                cells: &mut self.mask,
+                width: self.side,
+                height: self.side,
+            };
+            self.fill.fill(&mut canvas, quads, SHIFT, value);
         }
-        let mut canvas = Canvas {
-            cells: &mut self.mask,
-            width: self.side,
-            height: self.side,
-        };
-        self.fill.fill(&mut canvas, &self.weak_quads, SHIFT, 2u8);
     }
 
     /// Adds this insertion's evidence on the touched rows (a cell's hit, else its free

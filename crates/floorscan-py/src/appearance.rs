@@ -175,12 +175,11 @@ pub fn fuse(
         textured: previous_textured,
         frames_inherited,
     };
-    let driven = match &driven_floor {
+    let driven: &[f64] = match &driven_floor {
         Some(a) => a
             .as_slice()
-            .map_err(|e| error("OptionError", e.to_string()))?
-            .to_vec(),
-        None => Vec::new(),
+            .map_err(|e| error("OptionError", e.to_string()))?,
+        None => &[],
     };
     let state = fuse_scans_driven(
         &edge.inner,
@@ -188,7 +187,7 @@ pub fn fuse(
         snap_rows,
         texture_share,
         previous,
-        &driven,
+        driven,
         &mut out,
     )
     .py()?;

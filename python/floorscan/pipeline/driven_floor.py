@@ -34,7 +34,7 @@ from ..ranging.appearance import AppearanceRanger
 from ..ranging.scan import ColumnStatus
 
 MAX_PENDING = 20_000
-"""Most boundaries remembered (a ring: the oldest are overwritten): 20 000 x 32 bytes."""
+"""Most boundaries remembered (a ring: the oldest are overwritten): 20 000 x 40 bytes."""
 MAX_AGE_S = 30.0
 """Boundaries older than this [s] are forgotten: at 0.3 m/s a boundary seen 3 m ahead is
 reached in 10 s; after 30 s odometry's drift could put the robot over a real obstacle's
@@ -70,7 +70,9 @@ class DrivenFloor:
         self._x = np.zeros(MAX_PENDING)
         self._y = np.zeros(MAX_PENDING)
         self._t = np.full(MAX_PENDING, -np.inf)  # -inf: empty or consumed
-        self._samples = np.zeros((MAX_PENDING, 4), np.uint32)
+        # per boundary, its pixels as the ranger packs them (BOUNDARY_SAMPLES of them)
+        width = ranger.boundary_samples().shape[1]
+        self._samples = np.zeros((MAX_PENDING, width), np.uint32)
         self._next = 0
         self._last_kept = -np.inf
         self.boundaries_driven = 0
@@ -92,12 +94,11 @@ class DrivenFloor:
         if near.size:
             d2 = (self._x[near] - x) ** 2 + (self._y[near] - y) ** 2
             near = near[(d2 <= self.radius_m**2) & (self._t[near] >= t - MAX_AGE_S)]
-        hit = near
-        driven = int(hit.size)
+        driven = int(near.size)
         if driven:
-            self.samples_learned += self.ranger.learn_driven_floor(self._samples[hit])
+            self.samples_learned += self.ranger.learn_driven_floor(self._samples[near])
             self.boundaries_driven += driven
-            self._t[hit] = -np.inf
+            self._t[near] = -np.inf
         scan = self.ranger.last_scan
         if scan is None or t - self._last_kept < MIN_INTERVAL_S:
             return driven
