@@ -16,12 +16,13 @@ from floorscan.ranging.scan import ColumnStatus
 _SHIFT = 4  # sub-cell precision of rasterised polygons: 1 / 16 cell
 
 
-def stamp_hits(hit, cx, cy, rad, values, ok, near) -> None:
+def stamp_hits(hit, cx, cy, rad, values, ok, near, confirms=None, far=None) -> None:
     """Draws into ``hit`` (n, n) the discs of radius ``rad`` [cells] around the boundary
     points (cx, cy) [fractional cells: cell k spans [k, k + 1)] where ``ok``, each with its
     ``values`` entry (the cells whose centre lies within the radius), and the segments from
     point k to k + 1 where ``near[k]`` with the smaller of the two values (the cells the
-    segment passes through, sampled every half cell)."""
+    segment passes through, sampled every half cell); into ``confirms`` (n, n) bool, where
+    given, each point's ``far`` flag on its disc and both points' on their segment."""
     n_rows, n_cols = hit.shape
     idx = np.nonzero(ok)[0]
     if idx.size:
@@ -35,6 +36,9 @@ def stamp_hits(hit, cx, cy, rad, values, ok, near) -> None:
         inside &= (pi >= 0) & (pi < n_cols) & (pj >= 0) & (pj < n_rows)
         vals = np.broadcast_to(v[:, None], pi.shape)
         hit[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = vals[inside]
+        if confirms is not None:
+            flags = np.broadcast_to(far[idx][:, None], pi.shape)
+            confirms[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = flags[inside]
     seg = np.nonzero(near)[0]
     if seg.size:
         x0, y0, x1, y1 = cx[seg], cy[seg], cx[seg + 1], cy[seg + 1]
@@ -46,6 +50,9 @@ def stamp_hits(hit, cx, cy, rad, values, ok, near) -> None:
         v = np.minimum(values[seg], values[seg + 1])
         vals = np.broadcast_to(v[:, None], pi.shape)
         hit[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = vals[inside]
+        if confirms is not None:
+            both = np.broadcast_to((far[seg] & far[seg + 1])[:, None], pi.shape)
+            confirms[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = both[inside]
 
 
 class ReferenceAvoidanceMap(AvoidanceMap):
@@ -58,15 +65,22 @@ class ReferenceAvoidanceMap(AvoidanceMap):
         if bump_hl is not None and dt_s > 0:
             self.bumps *= np.float32(0.5 ** (dt_s / bump_hl))
 
-    def _apply(self, free_mask, free_nats, hit_nats, weak=1.0, confirmed=0.0) -> None:
+    def _apply(
+        self, free_mask, free_nats, hit_nats, weak=1.0, confirmed=0.0, confirms=None
+    ) -> None:
         lo, hi = self.options.clamp_nats
         L = self.log_odds
         sel = (free_mask > 0) & ~np.isfinite(hit_nats) if hit_nats is not None else free_mask > 0
         # inside only quadrilaterals beside a no-boundary column (2), a cell believed occupied
-        # (log odds above `confirmed`) takes `weak` times its free evidence
-        scale = np.where(
-            (free_mask == 2) & (L > np.float32(confirmed)), np.float32(weak), np.float32(1.0)
-        )
+        # (log odds above `confirmed`, confirmed by a hit from confirm_range_m or farther)
+        # takes `weak` times its free evidence
+        believed = L > np.float32(confirmed)
+        if confirms is not None:
+            C = self.confirmed
+            C[L <= 0] = 0
+            believed &= C != 0
+            C[np.isfinite(hit_nats) & confirms] = 1
+        scale = np.where((free_mask == 2) & believed, np.float32(weak), np.float32(1.0))
         L[sel] += (scale * free_nats)[sel]
         if hit_nats is not None:
             h = np.isfinite(hit_nats)
@@ -158,7 +172,10 @@ class ReferenceAvoidanceMap(AvoidanceMap):
         gap = np.hypot(np.diff(px), np.diff(py))
         near = np.zeros(len(status), bool)
         near[:-1] = ok[:-1] & ok[1:] & (gap < 2.0 * (sigma[:-1] + sigma[1:]) + 2 * self.cell)
-        stamp_hits(hit, bcx, bcy, rad, hit_nats, ok, near)
+        confirms = np.zeros(mask.shape, bool)
+        with np.errstate(invalid="ignore"):
+            far = rng >= model.confirm_range_m
+        stamp_hits(hit, bcx, bcy, rad, hit_nats, ok, near, confirms, far)
         tc = (status == 2) & np.isfinite(nx + ny)
         if tc.any():
             tx, ty = self.to_cells(*world(nx[tc], ny[tc]))
@@ -166,12 +183,16 @@ class ReferenceAvoidanceMap(AvoidanceMap):
             hit[ty[ok].astype(int), tx[ok].astype(int)] = (
                 model.fusion_weight * model.too_close_logit
             )
+            confirms[ty[ok].astype(int), tx[ok].astype(int)] = (
+                np.hypot(nx[tc], ny[tc])[ok] >= model.confirm_range_m
+            )
         self._apply(
             mask,
             free_nats,
             hit,
             weak=model.no_boundary_clearing,
             confirmed=model.confirmed_nats,
+            confirms=confirms,
         )
 
     def insert_laser(

@@ -262,15 +262,21 @@ def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
         AvoidanceMap(10, 0.05, (math.nan, 3.5))
     m = AvoidanceMap(10, 0.05, (-2.0, 3.5))
     z = np.zeros(3)
+    ok_conf = np.zeros((10, 10), np.uint8)
     with pytest.raises(FloorscanError):  # a layer of another size
         m.insert_visual(
-            np.zeros((9, 10), np.float32), (0, 0), (0, 0, 0), np.zeros(3, np.uint8),
+            np.zeros((9, 10), np.float32), ok_conf, (0, 0), (0, 0, 0), np.zeros(3, np.uint8),
             z, z, z, z, z, z, VisualSensorModel(),
+        )  # fmt: skip
+    with pytest.raises(FloorscanError):  # a confirmed layer of another size
+        m.insert_visual(
+            np.zeros((10, 10), np.float32), np.zeros((9, 10), np.uint8), (0, 0), (0, 0, 0),
+            np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
         )  # fmt: skip
     with pytest.raises(FloorscanError):  # a face 10^300 m long between close boundary points
         big = np.array([0.0, 1e300])
         m.insert_visual(
-            np.zeros((10, 10), np.float32), (0, 0), (0, 0, 0), np.zeros(2, np.uint8),
+            np.zeros((10, 10), np.float32), ok_conf, (0, 0), (0, 0, 0), np.zeros(2, np.uint8),
             np.array([1.0, 1.0]), big, big * 0, big * 0, np.full(2, 1e300), np.zeros(2),
             VisualSensorModel(),
         )  # fmt: skip

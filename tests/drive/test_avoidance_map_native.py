@@ -28,6 +28,9 @@ def _same(a, b):
     assert a.log_odds.dtype == b.log_odds.dtype == np.float32
     diff = np.count_nonzero(a.log_odds != b.log_odds)
     assert diff == 0, f"{diff} cells differ; max {np.abs(a.log_odds - b.log_odds).max()}"
+    # the confirmed obstacles (a flag left on a cell no longer positive is never read)
+    held = a.log_odds > 0
+    np.testing.assert_array_equal(a.confirmed[held], b.confirmed[held])
 
 
 @pytest.mark.parametrize("world_name", ["corridor", "room"])
@@ -87,8 +90,11 @@ class _Table:
         return e
 
 
-@pytest.mark.parametrize("clearing, confirmed", [(0.0, 0.0), (0.4, 1.0), (1.0, 0.0)])
-def test_random_scans_with_every_status_give_the_same_map(clearing, confirmed):
+@pytest.mark.parametrize(
+    "clearing, confirmed, confirm_range",
+    [(0.0, 0.0, 0.5), (0.4, 1.0, 0.0), (1.0, 0.0, 0.5), (0.0, 0.0, 2.0)],
+)
+def test_random_scans_with_every_status_give_the_same_map(clearing, confirmed, confirm_range):
     rng = np.random.default_rng(3)
     model = VisualSensorModel(
         fusion_weight=0.9,
@@ -96,6 +102,7 @@ def test_random_scans_with_every_status_give_the_same_map(clearing, confirmed):
         hit_b=-0.3,
         no_boundary_clearing=clearing,
         confirmed_nats=confirmed,
+        confirm_range_m=confirm_range,
     )
     for trial in range(30):
         cell = [0.05, 0.04, 0.1][trial % 3]
@@ -158,13 +165,18 @@ def _fan_scan(range_m, status, n=41):
 
 
 @pytest.mark.parametrize("clearing", [0.0, 0.5, 1.0])
-def test_columns_without_a_boundary_clear_a_mapped_face_only_by_their_share(clearing):
+@pytest.mark.parametrize("confirm_range", [0.5, 2.0])
+def test_columns_without_a_boundary_clear_a_mapped_face_only_by_their_share(
+    clearing, confirm_range
+):
     """A face mapped from 1.5 m, then seen by columns that find no boundary (3 m out): its
-    cells lose `no_boundary_clearing` x the free evidence; columns that find the floor's end
-    farther on (a boundary at 3 m) clear them in full."""
-    model = VisualSensorModel(no_boundary_clearing=clearing)
+    cells lose `no_boundary_clearing` x the free evidence, unless the face was nearer than
+    `confirm_range_m` (then in full, as a fleck near the robot); columns that find the
+    floor's end farther on (a boundary at 3 m) clear them in full."""
+    model = VisualSensorModel(no_boundary_clearing=clearing, confirm_range_m=confirm_range)
     face = (1.0 + 1.5 + 0.025, 0.0)  # a cell centre on the face, camera at x = 1
-    for later, full in [(1, clearing == 1.0), (0, True)]:
+    weak = clearing < 1.0 and confirm_range <= 1.5
+    for later, full in [(1, not weak), (0, True)]:
         m = AvoidanceMap(AvoidanceMapOptions(half_life_s=None), center=(2.0, 0.0))
         pose = (1.0, 0.0, 0.0)
         m.insert_visual(_fan_scan(1.5, 0), pose, model=model)
@@ -192,3 +204,7 @@ def test_no_boundary_clearing_is_validated():
         VisualSensorModel(confirmed_nats=-0.5)
     with pytest.raises(FloorscanError, match="confirmed_nats"):
         VisualSensorModel(confirmed_nats=float("nan"))
+    with pytest.raises(FloorscanError, match="confirm_range_m"):
+        VisualSensorModel(confirm_range_m=-0.1)
+    with pytest.raises(FloorscanError, match="confirm_range_m"):
+        VisualSensorModel(confirm_range_m=float("inf"))

@@ -16,12 +16,14 @@
 //!   hit over an earlier one's;
 //! - a quadrilateral beside a `no_boundary` column (a column that found no boundary: no
 //!   return, in a laser's terms) adds only `no_boundary_clearing` x its free evidence to a cell
-//!   whose log odds exceed `confirmed_nats` (the drive's default 0: believed occupied): a
-//!   camera that sees no edge over an obstacle it mapped from farther away (a face the colour
-//!   of the floor) is more likely wrong than the independent frames the evidence assumes, as a
-//!   ROS costmap does not clear through a laser's no-return beams; a quadrilateral between two
-//!   boundaries clears in full (the camera saw the floor end farther on), and where the two
-//!   kinds overlap the full one wins;
+//!   whose log odds exceed `confirmed_nats` (the drive's default 0: believed occupied) and
+//!   that a hit from `confirm_range_m` or farther confirmed (the `confirmed` layer): a camera
+//!   that sees no edge over an obstacle it mapped from farther away (a face the colour of the
+//!   floor) is more likely wrong than the independent frames the evidence assumes, as a ROS
+//!   costmap does not clear through a laser's no-return beams, while a cell only ever hit
+//!   from nearer (a fleck of carpet near the robot, where the floor's grain is magnified) is
+//!   cleared as any other; a quadrilateral between two boundaries clears in full (the camera
+//!   saw the floor end farther on), and where the two kinds overlap the full one wins;
 //! - every cell is then clamped to `clamp_nats`.
 //!
 //! The arithmetic follows the numpy implementation it replaced operation for operation (cell
@@ -62,6 +64,10 @@ pub struct VisualModel {
     pub no_boundary_clearing: f64,
     /// Log odds (>= 0) above which a cell is a confirmed obstacle for `no_boundary_clearing`.
     pub confirmed_nats: f64,
+    /// Least range [m] (>= 0) of a boundary whose hit makes its cells confirmed obstacles for
+    /// `no_boundary_clearing`: a cell only ever hit nearer (a fleck of carpet read as an edge
+    /// near the robot) is cleared in full. 0: every hit confirms.
+    pub confirm_range_m: f64,
 }
 
 /// One scan's readings, column by column, in the camera's ground frame [m]: status codes
@@ -115,6 +121,9 @@ pub struct AvoidanceMap {
     mask: Vec<u8>,
     /// the hit evidence of this insertion, NaN where none
     hit: Vec<f32>,
+    /// where `hit` is set: whether the hit confirms the cell (a boundary at least
+    /// `confirm_range_m` away)
+    confirms: Vec<bool>,
     /// per reading: cell coordinates of the near edge, the free end, the boundary point
     near_c: Vec<[f64; 2]>,
     end_c: Vec<[f64; 2]>,
@@ -156,6 +165,7 @@ impl AvoidanceMap {
             clamp: (lo, hi),
             mask: vec![0; side * side],
             hit: vec![f32::NAN; side * side],
+            confirms: vec![false; side * side],
             near_c: Vec::new(),
             end_c: Vec::new(),
             point_c: Vec::new(),
@@ -187,16 +197,26 @@ impl AvoidanceMap {
     }
 
     /// Adds one visual scan seen by the camera at `camera` (world_from_camera, odometry frame)
-    /// to `log_odds` (the window, row major), whose cell (0, 0) is world cell `origin_cells`.
+    /// to `log_odds` (the window, row major), whose cell (0, 0) is world cell `origin_cells`;
+    /// `confirmed` (the same cells) records which cells a hit from `confirm_range_m` or
+    /// farther made confirmed obstacles (1; 0 once the cell's log odds are not positive).
     pub fn insert_visual(
         &mut self,
         log_odds: &mut [f32],
+        confirmed: &mut [u8],
         origin_cells: (i64, i64),
         camera: Pose2,
         readings: &VisualReadings<'_>,
         model: &VisualModel,
     ) -> Result<()> {
         self.check_layer(log_odds)?;
+        if confirmed.len() != log_odds.len() {
+            return Err(Error::LengthMismatch(format!(
+                "the confirmed layer has {} cells, the map {}",
+                confirmed.len(),
+                log_odds.len()
+            )));
+        }
         let n = readings.status.len();
         if n > MAX_READINGS {
             return Err(Error::LengthMismatch(format!(
@@ -230,6 +250,12 @@ impl AvoidanceMap {
             return Err(invalid_option(
                 "confirmed_nats",
                 format!("must be finite and >= 0, got {}", model.confirmed_nats),
+            ));
+        }
+        if !(model.confirm_range_m.is_finite() && model.confirm_range_m >= 0.0) {
+            return Err(invalid_option(
+                "confirm_range_m",
+                format!("must be finite and >= 0, got {}", model.confirm_range_m),
             ));
         }
         let weak_clearing = model.no_boundary_clearing < 1.0;
@@ -352,13 +378,14 @@ impl AvoidanceMap {
                 self.sigma[k].clamp(f64::MIN, f64::MAX)
             };
             let r = (sig / cell).max(0.5);
+            let far = readings.x_m[k].hypot(readings.y_m[k]) >= model.confirm_range_m;
             stamp_disc(
-                &mut self.hit,
+                (&mut self.hit, &mut self.confirms),
                 side,
                 x,
                 y,
                 r,
-                self.hit_nats[k] as f32,
+                (self.hit_nats[k] as f32, far),
                 &mut rows,
             );
         }
@@ -372,6 +399,8 @@ impl AvoidanceMap {
                 let [x0, y0] = self.point_c[k];
                 let [x1, y1] = self.point_c[k + 1];
                 let v = nan_min(self.hit_nats[k], self.hit_nats[k + 1]) as f32;
+                let far = readings.x_m[k].hypot(readings.y_m[k]) >= model.confirm_range_m
+                    && readings.x_m[k + 1].hypot(readings.y_m[k + 1]) >= model.confirm_range_m;
                 for t in 0..steps {
                     let t = if t + 1 == steps {
                         1.0
@@ -383,6 +412,7 @@ impl AvoidanceMap {
                     if pi >= 0.0 && pi < side as f64 && pj >= 0.0 && pj < side as f64 {
                         let (i, j) = (pi as usize, pj as usize);
                         self.hit[j * side + i] = v;
+                        self.confirms[j * side + i] = far;
                         rows.cover(j);
                     }
                 }
@@ -399,6 +429,7 @@ impl AvoidanceMap {
             if tx >= 0.0 && tx < side as f64 && ty >= 0.0 && ty < side as f64 {
                 let (i, j) = (tx as usize, ty as usize);
                 self.hit[j * side + i] = too_close;
+                self.confirms[j * side + i] = nx.hypot(ny) >= model.confirm_range_m;
                 rows.cover(j);
             }
         }
@@ -409,7 +440,7 @@ impl AvoidanceMap {
             model.no_boundary_clearing as f32,
             model.confirmed_nats as f32,
         );
-        self.apply(log_odds, &rows, weak, |i, j| {
+        self.apply(log_odds, Some(confirmed), &rows, weak, |i, j| {
             let r = ((i as f64 + 0.5 - cam_c[0]).hypot(j as f64 + 0.5 - cam_c[1]) * cell) as f32;
             fw * (fa + fb * r)
         });
@@ -465,7 +496,7 @@ impl AvoidanceMap {
                 rows.cover(j as usize);
             }
         }
-        self.apply(log_odds, &rows, (1.0, 0.0), |_, _| miss_nats);
+        self.apply(log_odds, None, &rows, (1.0, 0.0), |_, _| miss_nats);
         Ok(())
     }
 
@@ -493,25 +524,37 @@ impl AvoidanceMap {
     fn apply(
         &mut self,
         log_odds: &mut [f32],
+        mut confirmed: Option<&mut [u8]>,
         rows: &RowSpan,
         weak: (f32, f32),
         free: impl Fn(usize, usize) -> f32,
     ) {
         let side = self.side;
-        let (share, confirmed) = weak;
+        let (share, confirmed_nats) = weak;
         for j in rows.lo..rows.hi.min(side) {
             let row = j * side;
             for i in 0..side {
                 let k = row + i;
+                let mut believed = log_odds[k] > confirmed_nats;
+                if let Some(c) = confirmed.as_deref_mut() {
+                    if log_odds[k] <= 0.0 {
+                        c[k] = 0; // forgotten or cleared since its confirming hit
+                    }
+                    believed &= c[k] != 0;
+                    if self.hit[k].is_finite() && self.confirms[k] {
+                        c[k] = 1;
+                    }
+                }
                 let h = self.hit[k];
                 if h.is_finite() {
                     log_odds[k] += h;
-                } else if self.mask[k] == 1 || (self.mask[k] == 2 && log_odds[k] <= confirmed) {
+                } else if self.mask[k] == 1 || (self.mask[k] == 2 && !believed) {
                     log_odds[k] += free(i, j);
                 } else if self.mask[k] == 2 {
                     log_odds[k] += share * free(i, j);
                 }
                 self.hit[k] = f32::NAN;
+                self.confirms[k] = false;
                 self.mask[k] = 0;
             }
         }
@@ -580,13 +623,15 @@ impl RowSpan {
 
 /// Sets the cells whose centre lies within `r` [cells] of (x, y) [cells] to `value` (as the
 /// numpy code did: (i + 0.5 - x)^2 + (j + 0.5 - y)^2 <= r^2).
+/// Sets the cells whose centre lies within `r` of (x, y) [cells] to `value` (hit evidence,
+/// whether it confirms the cell).
 fn stamp_disc(
-    hit: &mut [f32],
+    (hit, confirms): (&mut [f32], &mut [bool]),
     side: usize,
     x: f64,
     y: f64,
     r: f64,
-    value: f32,
+    (value, confirm): (f32, bool),
     rows: &mut RowSpan,
 ) {
     let (fx, fy) = (x.floor(), y.floor());
@@ -604,6 +649,7 @@ fn stamp_disc(
             let a = i as f64 + 0.5 - x;
             if a * a + b * b <= rr {
                 hit[j * side + i] = value;
+                confirms[j * side + i] = confirm;
                 rows.cover(j);
             }
         }
@@ -633,6 +679,7 @@ mod tests {
             fusion_weight: 0.7,
             no_boundary_clearing: 1.0,
             confirmed_nats: 1.5,
+            confirm_range_m: 0.0,
         }
     }
 
@@ -660,6 +707,7 @@ mod tests {
         let side = 100;
         let mut map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
         let mut l = vec![0.0f32; side * side];
+        let mut c = vec![0u8; side * side];
         let (status, x, y, nx, ny) = wall(41);
         let fp = vec![0.01; 41];
         let err = vec![f64::NAN; 41];
@@ -673,8 +721,15 @@ mod tests {
             error_m: &err,
         };
         // camera at (2.5, 2.5) m: cell (50, 50)
-        map.insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &r, &model())
-            .unwrap();
+        map.insert_visual(
+            &mut l,
+            &mut c,
+            (0, 0),
+            Pose2::new(2.5, 2.5, 0.0),
+            &r,
+            &model(),
+        )
+        .unwrap();
         let at = |x: f64, y: f64| l[(y / 0.05) as usize * side + (x / 0.05) as usize];
         assert!(at(2.5 + 1.5, 2.5) > 0.5, "{}", at(4.0, 2.5));
         assert!(at(2.5 + 1.0, 2.5) < -0.5);
@@ -683,8 +738,15 @@ mod tests {
         assert_eq!(at(2.5 + 2.0, 2.5), 0.0); // behind the wall
                                              // the scratch layers are reset: a second insertion adds the same evidence again
         let once = l.clone();
-        map.insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &r, &model())
-            .unwrap();
+        map.insert_visual(
+            &mut l,
+            &mut c,
+            (0, 0),
+            Pose2::new(2.5, 2.5, 0.0),
+            &r,
+            &model(),
+        )
+        .unwrap();
         for (a, b) in l.iter().zip(&once) {
             assert!((a - (2.0 * b).clamp(-2.0, 3.5)).abs() < 1e-5);
         }
@@ -724,7 +786,7 @@ mod tests {
         let first = readings(&status, (&x, &y), (&nx, &ny), (&fp, &err));
         let new_map = || {
             let map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
-            (map, vec![0.0f32; side * side])
+            (map, vec![0.0f32; side * side], vec![0u8; side * side])
         };
         let cell = |x: f64, y: f64| (y / 0.05) as usize * side + (x / 0.05) as usize;
         let wall_cell = cell(4.0, 2.5);
@@ -741,25 +803,30 @@ mod tests {
             let r = ((i as f64 + 0.5 - 2.0 / 0.05).hypot(j as f64 + 0.5 - 50.0) * 0.05) as f32;
             0.7f32 * (-3.2f32 + 0.55f32 * r)
         };
-        for clearing in [0.0, 0.25, 1.0] {
+        // the wall is 1.5 m away: a confirm range beyond that leaves it unconfirmed
+        for (clearing, confirm_range_m) in [(0.0, 0.0), (0.25, 0.0), (1.0, 0.0), (0.0, 2.0)] {
             let m = VisualModel {
                 no_boundary_clearing: clearing,
+                confirm_range_m,
                 ..model()
             };
             for (st, times) in [(NO_BOUNDARY, 1), (NO_BOUNDARY, 2), (BOUNDARY, 2)] {
-                let (mut map, mut l) = new_map();
+                let (mut map, mut l, mut c) = new_map();
                 for _ in 0..times {
-                    map.insert_visual(&mut l, (0, 0), Pose2::new(2.5, 2.5, 0.0), &first, &m)
+                    let cam = Pose2::new(2.5, 2.5, 0.0);
+                    map.insert_visual(&mut l, &mut c, (0, 0), cam, &first, &m)
                         .unwrap();
                 }
                 let before = l[wall_cell];
                 assert!(before > 0.5, "{before}");
-                let confirmed = f64::from(before) > m.confirmed_nats;
-                assert_eq!(confirmed, times == 2, "{before}");
+                assert_eq!(c[wall_cell] == 1, confirm_range_m <= 1.5);
+                let confirmed = f64::from(before) > m.confirmed_nats && confirm_range_m <= 1.5;
+                assert_eq!(confirmed, times == 2 && confirm_range_m <= 1.5, "{before}");
                 assert_eq!(l[unknown], 0.0);
                 let s2 = vec![st; n];
                 let r = readings(&s2, (&x2, &y2), (&nx, &ny), (&fp, &err));
-                map.insert_visual(&mut l, (0, 0), cam, &r, &m).unwrap();
+                map.insert_visual(&mut l, &mut c, (0, 0), cam, &r, &m)
+                    .unwrap();
                 // the far boundary's own hits lie 4 m out: the wall's cell is floor seen, by
                 // boundary columns in full, by no-boundary ones in full unless confirmed
                 let full = st == BOUNDARY || !confirmed || clearing == 1.0;
@@ -788,11 +855,15 @@ mod tests {
                 confirmed_nats: -1.0,
                 ..model()
             },
+            VisualModel {
+                confirm_range_m: f64::NAN,
+                ..model()
+            },
         ] {
-            let (mut map, mut l) = new_map();
+            let (mut map, mut l, mut c) = new_map();
             let cam = Pose2::new(2.5, 2.5, 0.0);
             assert!(map
-                .insert_visual(&mut l, (0, 0), cam, &first, &bad)
+                .insert_visual(&mut l, &mut c, (0, 0), cam, &first, &bad)
                 .is_err());
             assert!(l.iter().all(|&v| v == 0.0));
         }
@@ -803,16 +874,34 @@ mod tests {
         let side = 20;
         let mut hit = vec![f32::NAN; side * side];
         let mut rows = RowSpan::EMPTY;
-        stamp_disc(&mut hit, side, 7.3, 9.8, 2.4, 1.0, &mut rows);
+        let mut confirms = vec![false; side * side];
+        stamp_disc(
+            (&mut hit, &mut confirms),
+            side,
+            7.3,
+            9.8,
+            2.4,
+            (1.0, true),
+            &mut rows,
+        );
         for j in 0..side {
             for i in 0..side {
                 let d = ((i as f64 + 0.5 - 7.3).powi(2) + (j as f64 + 0.5 - 9.8).powi(2)).sqrt();
                 assert_eq!(hit[j * side + i] == 1.0, d <= 2.4, "{i} {j}");
+                assert_eq!(confirms[j * side + i], d <= 2.4);
             }
         }
         assert!(rows.lo == 7 && rows.hi == 12);
         // a huge disc far outside stays within the grid's loops
-        stamp_disc(&mut hit, side, -1e300, 5.0, 1e200, 2.0, &mut rows);
+        stamp_disc(
+            (&mut hit, &mut confirms),
+            side,
+            -1e300,
+            5.0,
+            1e200,
+            (2.0, false),
+            &mut rows,
+        );
     }
 
     #[test]
@@ -824,6 +913,7 @@ mod tests {
         assert!(AvoidanceMap::new(10, 0.05, (-2.0, f64::NAN)).is_err());
         let mut map = AvoidanceMap::new(10, 0.05, (-2.0, 3.5)).unwrap();
         let mut l = vec![0.0f32; 99];
+        let mut c = vec![0u8; 100];
         let r = VisualReadings {
             status: &[],
             x_m: &[],
@@ -834,15 +924,26 @@ mod tests {
             error_m: &[],
         };
         assert!(map
-            .insert_visual(&mut l, (0, 0), Pose2::IDENTITY, &r, &model())
+            .insert_visual(&mut l, &mut c, (0, 0), Pose2::IDENTITY, &r, &model())
             .is_err());
         let mut l = vec![0.0f32; 100];
+        let mut short_c = vec![0u8; 99];
         assert!(map
-            .insert_visual(&mut l, (0, 0), Pose2::new(f64::NAN, 0.0, 0.0), &r, &model())
+            .insert_visual(&mut l, &mut short_c, (0, 0), Pose2::IDENTITY, &r, &model())
+            .is_err());
+        assert!(map
+            .insert_visual(
+                &mut l,
+                &mut c,
+                (0, 0),
+                Pose2::new(f64::NAN, 0.0, 0.0),
+                &r,
+                &model()
+            )
             .is_err());
         let short = VisualReadings { status: &[0], ..r };
         assert!(map
-            .insert_visual(&mut l, (0, 0), Pose2::IDENTITY, &short, &model())
+            .insert_visual(&mut l, &mut c, (0, 0), Pose2::IDENTITY, &short, &model())
             .is_err());
     }
 }

@@ -42,7 +42,9 @@ impl PyAvoidanceMap {
     }
 
     /// Adds one visual scan to `log_odds` ((side, side) float32, in place; its cell (0, 0) is
-    /// world cell `origin_cells`) seen by the camera at `camera` (world_from_camera): per
+    /// world cell `origin_cells`) and to `confirmed` ((side, side) uint8, in place: the cells a
+    /// hit from `confirm_range_m` or farther confirmed) seen by the camera at `camera`
+    /// (world_from_camera): per
     /// column the status codes, boundary points, near edges [m, camera ground frame],
     /// footprints and predicted errors [m] (NaN: none); `model` a
     /// `floorscan.drive.VisualSensorModel` (its fields are read by name).
@@ -51,6 +53,7 @@ impl PyAvoidanceMap {
         &mut self,
         py: Python<'_>,
         mut log_odds: PyReadwriteArray2<'_, f32>,
+        mut confirmed: PyReadwriteArray2<'_, u8>,
         origin_cells: (i64, i64),
         camera: [f64; 3],
         status: PyReadonlyArray1<'_, u8>,
@@ -75,6 +78,7 @@ impl PyAvoidanceMap {
                 fusion_weight: field("fusion_weight")?,
                 no_boundary_clearing: field("no_boundary_clearing")?,
                 confirmed_nats: field("confirmed_nats")?,
+                confirm_range_m: field("confirm_range_m")?,
             };
             let status = status.as_slice().map_err(|_| {
                 error(
@@ -92,10 +96,13 @@ impl PyAvoidanceMap {
                 error_m: slice1(&errors, "errors")?,
             };
             let (values, _) = layer(&mut log_odds, "log_odds")?;
+            let (confirmed, _) = layer(&mut confirmed, "confirmed")?;
             let camera = pose(camera);
             let inner = &mut self.inner;
-            py.detach(|| inner.insert_visual(values, origin_cells, camera, &readings, &model))
-                .py()
+            py.detach(|| {
+                inner.insert_visual(values, confirmed, origin_cells, camera, &readings, &model)
+            })
+            .py()
         })
     }
 

@@ -19,10 +19,12 @@ class AvoidanceMap:
         `sensor_cell` to the beam ends `end_cells` (N, 2) [fractional cells of the window] gets
         `miss_nats`, the end cells where `returned` (N,) bool get `hit_nats`.
         """
-    def insert_visual(self, /, log_odds: Incomplete, origin_cells: tuple[SupportsIndex, SupportsIndex], camera: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], status: Incomplete, x: Incomplete, y: Incomplete, near_x: Incomplete, near_y: Incomplete, footprints: Incomplete, errors: Incomplete, model: Any) -> None:
+    def insert_visual(self, /, log_odds: Incomplete, confirmed: Incomplete, origin_cells: tuple[SupportsIndex, SupportsIndex], camera: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], status: Incomplete, x: Incomplete, y: Incomplete, near_x: Incomplete, near_y: Incomplete, footprints: Incomplete, errors: Incomplete, model: Any) -> None:
         """
         Adds one visual scan to `log_odds` ((side, side) float32, in place; its cell (0, 0) is
-        world cell `origin_cells`) seen by the camera at `camera` (world_from_camera): per
+        world cell `origin_cells`) and to `confirmed` ((side, side) uint8, in place: the cells a
+        hit from `confirm_range_m` or farther confirmed) seen by the camera at `camera`
+        (world_from_camera): per
         column the status codes, boundary points, near edges [m, camera ground frame],
         footprints and predicted errors [m] (NaN: none); `model` a
         `floorscan.drive.VisualSensorModel` (its fields are read by name).

@@ -156,6 +156,8 @@ class AvoidanceMap:
         self.n = int(round(options.size_m / self.cell))
         self.log_odds = np.zeros((self.n, self.n), np.float32)
         self.bumps = np.zeros((self.n, self.n), np.float32)
+        # 1 where a hit from VisualSensorModel.confirm_range_m or farther confirmed the cell
+        self.confirmed = np.zeros((self.n, self.n), np.uint8)
         self.x_cell = 0
         self.y_cell = 0
         self.recenter(*center[:2])
@@ -182,13 +184,13 @@ class AvoidanceMap:
         dx, dy = cx - self.x_cell, cy - self.y_cell
         n = self.n
         layers = []
-        for layer in (self.log_odds, self.bumps):
+        for layer in (self.log_odds, self.bumps, self.confirmed):
             out = np.zeros_like(layer)
             if abs(dx) < n and abs(dy) < n:
                 src = layer[max(dy, 0) : n + min(dy, 0), max(dx, 0) : n + min(dx, 0)]
                 out[max(-dy, 0) : n + min(-dy, 0), max(-dx, 0) : n + min(-dx, 0)] = src
             layers.append(out)
-        self.log_odds, self.bumps = layers
+        self.log_odds, self.bumps, self.confirmed = layers
         self.x_cell, self.y_cell = cx, cy
 
     def to_cells(self, x, y):
@@ -264,6 +266,7 @@ class AvoidanceMap:
         f64 = np.float64
         self._native.insert_visual(
             self.log_odds,
+            self.confirmed,
             (self.x_cell, self.y_cell),
             cam,
             status,
