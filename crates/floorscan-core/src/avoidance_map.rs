@@ -721,32 +721,24 @@ mod tests {
             error_m: &err,
         };
         // camera at (2.5, 2.5) m: cell (50, 50)
-        map.insert_visual(
-            &mut l,
-            &mut c,
-            (0, 0),
-            Pose2::new(2.5, 2.5, 0.0),
-            &r,
-            &model(),
-        )
-        .unwrap();
-        let at = |x: f64, y: f64| l[(y / 0.05) as usize * side + (x / 0.05) as usize];
-        assert!(at(2.5 + 1.5, 2.5) > 0.5, "{}", at(4.0, 2.5));
-        assert!(at(2.5 + 1.0, 2.5) < -0.5);
-        assert!(at(2.5 + 0.5, 2.5 + 0.1) < -0.5);
-        assert_eq!(at(2.5 - 0.5, 2.5), 0.0); // behind the camera
-        assert_eq!(at(2.5 + 2.0, 2.5), 0.0); // behind the wall
-                                             // the scratch layers are reset: a second insertion adds the same evidence again
+        let cam = Pose2::new(2.5, 2.5, 0.0);
+        let mut insert = |l: &mut [f32], c: &mut [u8]| {
+            map.insert_visual(l, c, (0, 0), cam, &r, &model()).unwrap()
+        };
+        insert(&mut l, &mut c);
+        let at = |l: &[f32], x: f64, y: f64| l[(y / 0.05) as usize * side + (x / 0.05) as usize];
+        assert!(at(&l, 2.5 + 1.5, 2.5) > 0.5, "{}", at(&l, 4.0, 2.5));
+        assert!(at(&l, 2.5 + 1.0, 2.5) < -0.5);
+        assert!(at(&l, 2.5 + 0.5, 2.5 + 0.1) < -0.5);
+        assert_eq!(at(&l, 2.5 - 0.5, 2.5), 0.0); // behind the camera
+        assert_eq!(at(&l, 2.5 + 2.0, 2.5), 0.0); // behind the wall
+        assert_eq!(
+            c[(2.5f64 / 0.05) as usize * side + (4.0f64 / 0.05) as usize],
+            1
+        ); // 1.5 m
+           // the scratch layers are reset: a second insertion adds the same evidence again
         let once = l.clone();
-        map.insert_visual(
-            &mut l,
-            &mut c,
-            (0, 0),
-            Pose2::new(2.5, 2.5, 0.0),
-            &r,
-            &model(),
-        )
-        .unwrap();
+        insert(&mut l, &mut c);
         for (a, b) in l.iter().zip(&once) {
             assert!((a - (2.0 * b).clamp(-2.0, 3.5)).abs() < 1e-5);
         }
