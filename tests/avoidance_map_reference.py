@@ -66,21 +66,32 @@ class ReferenceAvoidanceMap(AvoidanceMap):
             self.bumps *= np.float32(0.5 ** (dt_s / bump_hl))
 
     def _apply(
-        self, free_mask, free_nats, hit_nats, weak=1.0, confirmed=0.0, confirms=None
+        self,
+        free_mask,
+        free_nats,
+        hit_nats,
+        weak=1.0,
+        confirmed=0.0,
+        confirms=None,
+        confirmed_share=1.0,
     ) -> None:
         lo, hi = self.options.clamp_nats
         L = self.log_odds
         sel = (free_mask > 0) & ~np.isfinite(hit_nats) if hit_nats is not None else free_mask > 0
         # inside only quadrilaterals beside a no-boundary column (2), a cell believed occupied
         # (log odds above `confirmed`, confirmed by a hit from confirm_range_m or farther)
-        # takes `weak` times its free evidence
+        # takes `weak` times its free evidence; inside a fully clearing one (1) such a cell
+        # takes `confirmed_share` times it (visual scans only)
         believed = L > np.float32(confirmed)
+        full_share = np.float32(1.0)
         if confirms is not None:
             C = self.confirmed
             C[L <= 0] = 0
             believed &= C != 0
             C[np.isfinite(hit_nats) & confirms] = 1
+            full_share = np.float32(confirmed_share)
         scale = np.where((free_mask == 2) & believed, np.float32(weak), np.float32(1.0))
+        scale = np.where((free_mask == 1) & believed, full_share, scale)
         L[sel] += (scale * free_nats)[sel]
         if hit_nats is not None:
             h = np.isfinite(hit_nats)
@@ -193,6 +204,7 @@ class ReferenceAvoidanceMap(AvoidanceMap):
             weak=model.no_boundary_clearing,
             confirmed=model.confirmed_nats,
             confirms=confirms,
+            confirmed_share=model.confirmed_clearing,
         )
 
     def insert_laser(

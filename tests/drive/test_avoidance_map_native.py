@@ -91,10 +91,18 @@ class _Table:
 
 
 @pytest.mark.parametrize(
-    "clearing, confirmed, confirm_range",
-    [(0.0, 0.0, 0.5), (0.4, 1.0, 0.0), (1.0, 0.0, 0.5), (0.0, 0.0, 2.0)],
+    "clearing, confirmed, confirm_range, confirmed_clearing",
+    [
+        (0.0, 0.0, 0.5, 1.0),
+        (0.4, 1.0, 0.0, 0.25),
+        (1.0, 0.0, 0.5, 0.25),
+        (0.0, 0.0, 2.0, 1.0),
+        (0.0, 0.0, 0.3, 0.25),
+    ],
 )
-def test_random_scans_with_every_status_give_the_same_map(clearing, confirmed, confirm_range):
+def test_random_scans_with_every_status_give_the_same_map(
+    clearing, confirmed, confirm_range, confirmed_clearing
+):
     rng = np.random.default_rng(3)
     model = VisualSensorModel(
         fusion_weight=0.9,
@@ -103,6 +111,7 @@ def test_random_scans_with_every_status_give_the_same_map(clearing, confirmed, c
         no_boundary_clearing=clearing,
         confirmed_nats=confirmed,
         confirm_range_m=confirm_range,
+        confirmed_clearing=confirmed_clearing,
     )
     for trial in range(30):
         cell = [0.05, 0.04, 0.1][trial % 3]
@@ -166,17 +175,29 @@ def _fan_scan(range_m, status, n=41):
 
 @pytest.mark.parametrize("clearing", [0.0, 0.5, 1.0])
 @pytest.mark.parametrize("confirm_range", [0.5, 2.0])
+@pytest.mark.parametrize("confirmed_clearing", [1.0, 0.25])
 def test_columns_without_a_boundary_clear_a_mapped_face_only_by_their_share(
-    clearing, confirm_range
+    clearing, confirm_range, confirmed_clearing
 ):
     """A face mapped from 1.5 m, then seen by columns that find no boundary (3 m out): its
     cells lose `no_boundary_clearing` x the free evidence, unless the face was nearer than
     `confirm_range_m` (then in full, as a fleck near the robot); columns that find the
-    floor's end farther on (a boundary at 3 m) clear them in full."""
-    model = VisualSensorModel(no_boundary_clearing=clearing, confirm_range_m=confirm_range)
+    floor's end farther on (a boundary at 3 m) clear a confirmed face by
+    `confirmed_clearing` x the free evidence (so do no-boundary columns when
+    `no_boundary_clearing` is 1: none of their floor is set apart), an unconfirmed one in
+    full."""
+    model = VisualSensorModel(
+        no_boundary_clearing=clearing,
+        confirm_range_m=confirm_range,
+        confirmed_clearing=confirmed_clearing,
+    )
     face = (1.0 + 1.5 + 0.025, 0.0)  # a cell centre on the face, camera at x = 1
-    weak = clearing < 1.0 and confirm_range <= 1.5
-    for later, full in [(1, not weak), (0, True)]:
+    confirmed = confirm_range <= 1.5
+    weak_share = clearing if clearing < 1.0 else confirmed_clearing
+    for later, share in [
+        (1, weak_share if confirmed else 1.0),
+        (0, confirmed_clearing if confirmed else 1.0),
+    ]:
         m = AvoidanceMap(AvoidanceMapOptions(half_life_s=None), center=(2.0, 0.0))
         pose = (1.0, 0.0, 0.0)
         m.insert_visual(_fan_scan(1.5, 0), pose, model=model)
@@ -187,7 +208,6 @@ def test_columns_without_a_boundary_clear_a_mapped_face_only_by_their_share(
         # the free evidence at the cell's range, as the model gives it
         r = math.hypot((i + 0.5) * m.cell + m.origin_m[0] - 1.0, (j + 0.5) * m.cell + m.origin_m[1])
         free = np.float32(model.fusion_weight) * np.float32(model.free_logit(np.float32(r)))
-        share = 1.0 if full else clearing
         expected = np.clip(before + share * free, *m.options.clamp_nats)
         assert float(m.log_odds[j, i]) == pytest.approx(float(expected), abs=1e-4)
     # unknown floor before the face takes any column's free evidence in full
@@ -208,3 +228,6 @@ def test_no_boundary_clearing_is_validated():
         VisualSensorModel(confirm_range_m=-0.1)
     with pytest.raises(FloorscanError, match="confirm_range_m"):
         VisualSensorModel(confirm_range_m=float("inf"))
+    for bad in (0.0, -0.2, 1.5, float("nan")):
+        with pytest.raises(FloorscanError, match="confirmed_clearing"):
+            VisualSensorModel(confirmed_clearing=bad)

@@ -23,7 +23,10 @@
 //!   costmap does not clear through a laser's no-return beams, while a cell only ever hit
 //!   from nearer (a fleck of carpet near the robot, where the floor's grain is magnified) is
 //!   cleared as any other; a quadrilateral between two boundaries clears in full (the camera
-//!   saw the floor end farther on), and where the two kinds overlap the full one wins;
+//!   saw the floor end farther on), and where the two kinds overlap the full one wins, except
+//!   that it adds only `confirmed_clearing` x its free evidence to a cell believed occupied
+//!   and confirmed (a thin leg that the camera loses close up, seeing the floor end beyond it,
+//!   clears over several frames, as OctoMap's miss is smaller than its hit);
 //! - every cell is then clamped to `clamp_nats`.
 //!
 //! The arithmetic follows the numpy implementation it replaced operation for operation (cell
@@ -68,6 +71,11 @@ pub struct VisualModel {
     /// `no_boundary_clearing`: a cell only ever hit nearer (a fleck of carpet read as an edge
     /// near the robot) is cleared in full. 0: every hit confirms.
     pub confirm_range_m: f64,
+    /// The share in (0, 1] of its free evidence a quadrilateral between two boundaries adds
+    /// to a confirmed obstacle's cell (log odds > `confirmed_nats`, confirmed by a hit from
+    /// `confirm_range_m` or farther): such a cell clears over several frames, as OctoMap's
+    /// miss is smaller than its hit. 1 treats it as any other.
+    pub confirmed_clearing: f64,
 }
 
 /// One scan's readings, column by column, in the camera's ground frame [m]: status codes
@@ -108,6 +116,26 @@ fn nan_min(a: f64, b: f64) -> f64 {
     } else {
         b
     }
+}
+
+/// How much of its free evidence a believed obstacle's cell takes (`AvoidanceMap::apply`).
+#[derive(Debug, Clone, Copy)]
+struct Clearing {
+    /// inside only quadrilaterals beside a `no_boundary` column
+    no_boundary: f32,
+    /// inside a quadrilateral between two boundaries
+    confirmed: f32,
+    /// log odds above which a cell is believed occupied
+    believed_nats: f32,
+}
+
+impl Clearing {
+    /// Every cell takes its free evidence in full (the laser's insertion).
+    const FULL: Self = Self {
+        no_boundary: 1.0,
+        confirmed: 1.0,
+        believed_nats: 0.0,
+    };
 }
 
 /// The avoidance map's insertion machinery: its geometry, clamps and scratch layers.
@@ -256,6 +284,12 @@ impl AvoidanceMap {
             return Err(invalid_option(
                 "confirm_range_m",
                 format!("must be finite and >= 0, got {}", model.confirm_range_m),
+            ));
+        }
+        if !(model.confirmed_clearing > 0.0 && model.confirmed_clearing <= 1.0) {
+            return Err(invalid_option(
+                "confirmed_clearing",
+                format!("must be in (0, 1], got {}", model.confirmed_clearing),
             ));
         }
         let weak_clearing = model.no_boundary_clearing < 1.0;
@@ -436,10 +470,11 @@ impl AvoidanceMap {
         // free evidence by range (f32, as numpy computed it), then hits, then the clamps
         let fw = model.fusion_weight as f32;
         let (fa, fb) = (model.free_a as f32, model.free_b as f32);
-        let weak = (
-            model.no_boundary_clearing as f32,
-            model.confirmed_nats as f32,
-        );
+        let weak = Clearing {
+            no_boundary: model.no_boundary_clearing as f32,
+            confirmed: model.confirmed_clearing as f32,
+            believed_nats: model.confirmed_nats as f32,
+        };
         self.apply(log_odds, Some(confirmed), &rows, weak, |i, j| {
             let r = ((i as f64 + 0.5 - cam_c[0]).hypot(j as f64 + 0.5 - cam_c[1]) * cell) as f32;
             fw * (fa + fb * r)
@@ -496,7 +531,7 @@ impl AvoidanceMap {
                 rows.cover(j as usize);
             }
         }
-        self.apply(log_odds, None, &rows, (1.0, 0.0), |_, _| miss_nats);
+        self.apply(log_odds, None, &rows, Clearing::FULL, |_, _| miss_nats);
         Ok(())
     }
 
@@ -518,19 +553,21 @@ impl AvoidanceMap {
     }
 
     /// Adds this insertion's evidence on the touched rows (a cell's hit, else its free
-    /// evidence `free(i, j)` when inside a quadrilateral, times `weak.0` inside only weakly
-    /// clearing ones where the cell's log odds exceed `weak.1`), resets the scratch layers
-    /// there, and clamps every cell.
+    /// evidence `free(i, j)` when inside a quadrilateral; a believed obstacle's cell, its log
+    /// odds above `weak.believed_nats` and confirmed where a `confirmed` layer is given,
+    /// takes `weak.no_boundary` of it inside only weakly clearing quadrilaterals and
+    /// `weak.confirmed` inside fully clearing ones), resets the scratch layers there, and
+    /// clamps every cell.
     fn apply(
         &mut self,
         log_odds: &mut [f32],
         mut confirmed: Option<&mut [u8]>,
         rows: &RowSpan,
-        weak: (f32, f32),
+        weak: Clearing,
         free: impl Fn(usize, usize) -> f32,
     ) {
         let side = self.side;
-        let (share, confirmed_nats) = weak;
+        let (share, confirmed_nats) = (weak.no_boundary, weak.believed_nats);
         for j in rows.lo..rows.hi.min(side) {
             let row = j * side;
             for i in 0..side {
@@ -548,6 +585,8 @@ impl AvoidanceMap {
                 let h = self.hit[k];
                 if h.is_finite() {
                     log_odds[k] += h;
+                } else if self.mask[k] == 1 && believed {
+                    log_odds[k] += weak.confirmed * free(i, j);
                 } else if self.mask[k] == 1 || (self.mask[k] == 2 && !believed) {
                     log_odds[k] += free(i, j);
                 } else if self.mask[k] == 2 {
@@ -680,6 +719,7 @@ mod tests {
             no_boundary_clearing: 1.0,
             confirmed_nats: 1.5,
             confirm_range_m: 0.0,
+            confirmed_clearing: 1.0,
         }
     }
 
@@ -766,8 +806,10 @@ mod tests {
     /// The wall of [`wall`] mapped from 1.5 m (once: one reading, below `confirmed_nats`;
     /// twice: confirmed), then seen again by columns that find no boundary (their farthest
     /// point 3 m out): a confirmed wall's cells take `clearing` x the free evidence, an
-    /// unconfirmed one's all of it; unknown cells before the wall take it in full, as columns
-    /// that see the floor end farther on give it to the wall's cells too.
+    /// unconfirmed one's all of it; seen again by columns that find the floor end farther on,
+    /// a confirmed wall's cells take `confirmed_clearing` x the free evidence (as do those
+    /// beside no-boundary columns when `clearing` is 1: then no quadrilateral is weak), an
+    /// unconfirmed one's all of it; unknown cells before the wall take it in full.
     #[test]
     fn columns_without_a_boundary_clear_a_confirmed_obstacle_only_by_their_share() {
         let side = 100;
@@ -796,10 +838,19 @@ mod tests {
             0.7f32 * (-3.2f32 + 0.55f32 * r)
         };
         // the wall is 1.5 m away: a confirm range beyond that leaves it unconfirmed
-        for (clearing, confirm_range_m) in [(0.0, 0.0), (0.25, 0.0), (1.0, 0.0), (0.0, 2.0)] {
+        for (clearing, confirm_range_m, confirmed_clearing) in [
+            (0.0, 0.0, 1.0),
+            (0.25, 0.0, 1.0),
+            (1.0, 0.0, 1.0),
+            (0.0, 2.0, 1.0),
+            (0.0, 0.0, 0.25),
+            (1.0, 0.0, 0.25),
+            (0.0, 2.0, 0.25),
+        ] {
             let m = VisualModel {
                 no_boundary_clearing: clearing,
                 confirm_range_m,
+                confirmed_clearing,
                 ..model()
             };
             for (st, times) in [(NO_BOUNDARY, 1), (NO_BOUNDARY, 2), (BOUNDARY, 2)] {
@@ -819,10 +870,16 @@ mod tests {
                 let r = readings(&s2, (&x2, &y2), (&nx, &ny), (&fp, &err));
                 map.insert_visual(&mut l, &mut c, (0, 0), cam, &r, &m)
                     .unwrap();
-                // the far boundary's own hits lie 4 m out: the wall's cell is floor seen, by
-                // boundary columns in full, by no-boundary ones in full unless confirmed
-                let full = st == BOUNDARY || !confirmed || clearing == 1.0;
-                let share = if full { 1.0 } else { clearing as f32 };
+                // the far boundary's own hits lie 4 m out: the wall's cell is floor seen, in
+                // full unless confirmed; then by no-boundary columns by their share, by the
+                // others (every column when `clearing` is 1) by the confirmed one
+                let share = if !confirmed {
+                    1.0
+                } else if st == BOUNDARY || clearing == 1.0 {
+                    confirmed_clearing as f32
+                } else {
+                    clearing as f32
+                };
                 let expect = (before + share * free_at(wall_cell)).clamp(-2.0, 3.5);
                 let got = l[wall_cell];
                 assert!(
@@ -849,6 +906,14 @@ mod tests {
             },
             VisualModel {
                 confirm_range_m: f64::NAN,
+                ..model()
+            },
+            VisualModel {
+                confirmed_clearing: 0.0,
+                ..model()
+            },
+            VisualModel {
+                confirmed_clearing: f64::NAN,
                 ..model()
             },
         ] {

@@ -79,6 +79,7 @@ impl PyAvoidanceMap {
                 no_boundary_clearing: field("no_boundary_clearing")?,
                 confirmed_nats: field("confirmed_nats")?,
                 confirm_range_m: field("confirm_range_m")?,
+                confirmed_clearing: field("confirmed_clearing")?,
             };
             let status = status.as_slice().map_err(|_| {
                 error(
