@@ -33,7 +33,7 @@ co, dwa = CostmapOptions(), DwaOptions()
 scan = ranger.scan(image)
 m.insert_visual(scan, pose, mount=cam.robot_from_camera, table=table)
 cost = inflate(m.occupied(), m.cell, co)
-known = np.abs(m.log_odds) >= 0.05
+known = m.known()
 nav = navigation_function(cost, m.cell, m.origin_m, (3.95, 0.0), co, known=known)
 res = {"numpy": [], "rust": []}
 for _round in range(5):

@@ -126,9 +126,7 @@ def stages(
         t2 = time.perf_counter()
         cost = inflate(m.occupied(), m.cell, co)
         t3 = time.perf_counter()
-        nav = navigation_function(
-            cost, m.cell, m.origin_m, (3.95, 0.0), co, known=np.abs(m.log_odds) >= 0.05
-        )
+        nav = navigation_function(cost, m.cell, m.origin_m, (3.95, 0.0), co, known=m.known())
         t4 = time.perf_counter()
         choose_velocity(pose, (0.3, 0.0), cost, m.origin_m, m.cell, nav, (3.95, 0.0), 0.1, dwa)
         t5 = time.perf_counter()

@@ -62,6 +62,7 @@ class ReferenceAvoidanceMap(AvoidanceMap):
         hl, bump_hl = self.options.half_life_s, self.options.bump_half_life_s
         if hl is not None and dt_s > 0:
             self.log_odds *= np.float32(0.5 ** (dt_s / hl))
+            self.plan_log_odds *= np.float32(0.5 ** (dt_s / hl))
         if bump_hl is not None and dt_s > 0:
             self.bumps *= np.float32(0.5 ** (dt_s / bump_hl))
 
@@ -75,8 +76,20 @@ class ReferenceAvoidanceMap(AvoidanceMap):
         confirms=None,
         confirmed_share=1.0,
     ) -> None:
+        """The map's own layers (confirmed obstacles clear in full), then the planner's (by
+        ``confirmed_share``)."""
+        for L, C, share in (
+            (self.log_odds, self.confirmed, 1.0),
+            (self.plan_log_odds, self.plan_confirmed, confirmed_share),
+        ):
+            self._apply_layer(
+                L, C, free_mask, free_nats, hit_nats, weak, confirmed, confirms, share
+            )
+
+    def _apply_layer(
+        self, L, C, free_mask, free_nats, hit_nats, weak, confirmed, confirms, confirmed_share
+    ) -> None:
         lo, hi = self.options.clamp_nats
-        L = self.log_odds
         sel = (free_mask > 0) & ~np.isfinite(hit_nats) if hit_nats is not None else free_mask > 0
         # inside only quadrilaterals beside a no-boundary column (2), a cell believed occupied
         # (log odds above `confirmed`, confirmed by a hit from confirm_range_m or farther)
@@ -85,7 +98,6 @@ class ReferenceAvoidanceMap(AvoidanceMap):
         believed = L > np.float32(confirmed)
         full_share = np.float32(1.0)
         if confirms is not None:
-            C = self.confirmed
             C[L <= 0] = 0
             believed &= C != 0
             C[np.isfinite(hit_nats) & confirms] = 1

@@ -31,6 +31,11 @@ def _same(a, b):
     # the confirmed obstacles (a flag left on a cell no longer positive is never read)
     held = a.log_odds > 0
     np.testing.assert_array_equal(a.confirmed[held], b.confirmed[held])
+    # the planner's layers likewise
+    diff = np.count_nonzero(a.plan_log_odds != b.plan_log_odds)
+    assert diff == 0, f"{diff} planner's cells differ"
+    held = a.plan_log_odds > 0
+    np.testing.assert_array_equal(a.plan_confirmed[held], b.plan_confirmed[held])
 
 
 @pytest.mark.parametrize("world_name", ["corridor", "room"])
@@ -182,10 +187,10 @@ def test_columns_without_a_boundary_clear_a_mapped_face_only_by_their_share(
     """A face mapped from 1.5 m, then seen by columns that find no boundary (3 m out): its
     cells lose `no_boundary_clearing` x the free evidence, unless the face was nearer than
     `confirm_range_m` (then in full, as a fleck near the robot); columns that find the
-    floor's end farther on (a boundary at 3 m) clear a confirmed face by
-    `confirmed_clearing` x the free evidence (so do no-boundary columns when
+    floor's end farther on (a boundary at 3 m) clear a confirmed face in the planner's layer
+    by `confirmed_clearing` x the free evidence (so do no-boundary columns when
     `no_boundary_clearing` is 1: none of their floor is set apart), an unconfirmed one in
-    full."""
+    full; the map's own layer takes the same evidence with a `confirmed_clearing` of 1."""
     model = VisualSensorModel(
         no_boundary_clearing=clearing,
         confirm_range_m=confirm_range,
@@ -193,23 +198,26 @@ def test_columns_without_a_boundary_clear_a_mapped_face_only_by_their_share(
     )
     face = (1.0 + 1.5 + 0.025, 0.0)  # a cell centre on the face, camera at x = 1
     confirmed = confirm_range <= 1.5
-    weak_share = clearing if clearing < 1.0 else confirmed_clearing
-    for later, share in [
-        (1, weak_share if confirmed else 1.0),
-        (0, confirmed_clearing if confirmed else 1.0),
-    ]:
+
+    def shares(full_share):
+        weak_share = clearing if clearing < 1.0 else full_share
+        return [(1, weak_share if confirmed else 1.0), (0, full_share if confirmed else 1.0)]
+
+    for (later, share), (_, plan_share) in zip(shares(1.0), shares(confirmed_clearing)):
         m = AvoidanceMap(AvoidanceMapOptions(half_life_s=None), center=(2.0, 0.0))
         pose = (1.0, 0.0, 0.0)
         m.insert_visual(_fan_scan(1.5, 0), pose, model=model)
         i, j = (int(c) for c in m.to_cells(*face))
         before = float(m.log_odds[j, i])
-        assert before > 0.5
+        assert before > 0.5 and float(m.plan_log_odds[j, i]) == before
         m.insert_visual(_fan_scan(3.0, later), pose, model=model)
         # the free evidence at the cell's range, as the model gives it
         r = math.hypot((i + 0.5) * m.cell + m.origin_m[0] - 1.0, (j + 0.5) * m.cell + m.origin_m[1])
         free = np.float32(model.fusion_weight) * np.float32(model.free_logit(np.float32(r)))
         expected = np.clip(before + share * free, *m.options.clamp_nats)
         assert float(m.log_odds[j, i]) == pytest.approx(float(expected), abs=1e-4)
+        expected = np.clip(before + plan_share * free, *m.options.clamp_nats)
+        assert float(m.plan_log_odds[j, i]) == pytest.approx(float(expected), abs=1e-4)
     # unknown floor before the face takes any column's free evidence in full
     m = AvoidanceMap(AvoidanceMapOptions(half_life_s=None), center=(2.0, 0.0))
     m.insert_visual(_fan_scan(3.0, 1), (1.0, 0.0, 0.0), model=model)

@@ -200,18 +200,22 @@ def test_a_removed_obstacle_clears_from_the_avoidance_map(
     factor = np.float32(0.5 ** (0.1 / m.options.half_life_s))
     # the most free evidence one frame gives a cell: the model's at range 0 (free_b > 0)
     most_free = model.fusion_weight * abs(model.free_a)
+    map_frames = None  # the map's own evidence (its probabilities) clears in full
     for k in range(10):
-        before = m.log_odds[cells] * factor
+        before = m.plan_log_odds[cells] * factor
         see(without, 10 + k)
-        # while believed occupied, a confirmed cell loses at most its share of that a frame
+        # while believed occupied, a confirmed cell of the planner's layer loses at most its
+        # share of that a frame
         believed = before > 0
-        drop = (before - m.log_odds[cells])[believed]
+        drop = (before - m.plan_log_odds[cells])[believed]
         assert (drop <= confirmed_clearing * most_free + 1e-5).all(), drop
+        if map_frames is None and (m.log_odds[cells] < m._plan_free).all():
+            map_frames = k + 1
         if (m.occupancy_classes()[cells] == 0).all():
             frames = k + 1
             break
     if clears_by_sight:
-        assert frames is not None
+        assert frames is not None and map_frames is not None and map_frames <= 3
         if confirmed_clearing == 1.0:
             assert frames <= 3
         else:  # a saturated cell needs more frames than its share allows in three
@@ -220,6 +224,8 @@ def test_a_removed_obstacle_clears_from_the_avoidance_map(
     assert frames is None  # seen for 1 s, never cleared by the columns without a boundary
     # those columns add nothing to the cells believed occupied: their evidence only fades,
     # halving every half_life_s (3 s), and stops reading occupied once below logit(0.65)
+    # no boundary beyond the box: both layers hold the same evidence there
+    np.testing.assert_array_equal(m.log_odds[cells], m.plan_log_odds[cells])
     before = m.log_odds[cells].copy()
     assert (before > 0).all()
     expect = before.copy()

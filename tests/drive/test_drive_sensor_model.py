@@ -96,9 +96,8 @@ def test_output_calibration_maps_log_odds_to_probabilities_not_decisions():
         probability_knots=None,
     )
     m = AvoidanceMap(opts)
-    m.log_odds[0, 0] = 4.0
-    m.log_odds[0, 1] = 1.0
-    m.log_odds[0, 2] = -1.5
+    for layer in (m.log_odds, m.plan_log_odds):  # the map's evidence and the planner's
+        layer[0, :3] = (4.0, 1.0, -1.5)
     p = m.probabilities()
     assert p[0, 0] == pytest.approx(1 / (1 + np.exp(-(0.5 * 4.0 - 1.0))))
     assert p[5, 5] == 0.5  # no evidence: unknown, whatever the calibration

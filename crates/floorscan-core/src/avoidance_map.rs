@@ -228,10 +228,18 @@ impl AvoidanceMap {
     /// to `log_odds` (the window, row major), whose cell (0, 0) is world cell `origin_cells`;
     /// `confirmed` (the same cells) records which cells a hit from `confirm_range_m` or
     /// farther made confirmed obstacles (1; 0 once the cell's log odds are not positive).
+    ///
+    /// `plan`, when given, is the planner's pair of the same layers: it takes the same
+    /// evidence, except that its confirmed obstacles clear by `confirmed_clearing` of the
+    /// free evidence, while `log_odds` then clear in full (the map's probabilities keep their
+    /// calibration, the planner keeps a contradicted obstacle for several frames). Without
+    /// it, `confirmed_clearing` applies to `log_odds`.
+    #[allow(clippy::too_many_arguments)]
     pub fn insert_visual(
         &mut self,
         log_odds: &mut [f32],
         confirmed: &mut [u8],
+        plan: Option<(&mut [f32], &mut [u8])>,
         origin_cells: (i64, i64),
         camera: Pose2,
         readings: &VisualReadings<'_>,
@@ -244,6 +252,16 @@ impl AvoidanceMap {
                 confirmed.len(),
                 log_odds.len()
             )));
+        }
+        if let Some((pl, pc)) = &plan {
+            if pl.len() != log_odds.len() || pc.len() != log_odds.len() {
+                return Err(Error::LengthMismatch(format!(
+                    "the planner's layers have {} and {} cells, the map {}",
+                    pl.len(),
+                    pc.len(),
+                    log_odds.len()
+                )));
+            }
         }
         let n = readings.status.len();
         if n > MAX_READINGS {
@@ -475,20 +493,36 @@ impl AvoidanceMap {
             confirmed: model.confirmed_clearing as f32,
             believed_nats: model.confirmed_nats as f32,
         };
-        self.apply(log_odds, Some(confirmed), &rows, weak, |i, j| {
+        let free = |i: usize, j: usize| {
             let r = ((i as f64 + 0.5 - cam_c[0]).hypot(j as f64 + 0.5 - cam_c[1]) * cell) as f32;
             fw * (fa + fb * r)
-        });
+        };
+        match plan {
+            None => self.apply(&mut [Layer::visual(log_odds, confirmed, weak)], &rows, free),
+            Some((plan_log_odds, plan_confirmed)) => {
+                let full = Clearing {
+                    confirmed: 1.0,
+                    ..weak
+                };
+                let mut layers = [
+                    Layer::visual(log_odds, confirmed, full),
+                    Layer::visual(plan_log_odds, plan_confirmed, weak),
+                ];
+                self.apply(&mut layers, &rows, free)
+            }
+        }
         Ok(())
     }
 
     /// Adds an ideal 2-D laser scan: the fan from the sensor's cell coordinates `sensor_c`
     /// to each beam's end `end_c` [cells] (the return, or the range limit; a non-finite end
     /// is no reading) gets `miss_nats`, the cell of each end where `returned` gets `hit_nats`
-    /// (cell coordinates truncated towards zero, as numpy's cast).
+    /// (cell coordinates truncated towards zero, as numpy's cast); `plan`, the planner's
+    /// layer, when given, the same.
     pub fn insert_laser(
         &mut self,
         log_odds: &mut [f32],
+        plan: Option<&mut [f32]>,
         sensor_c: [f64; 2],
         end_c: &[[f64; 2]],
         returned: &[bool],
@@ -496,6 +530,9 @@ impl AvoidanceMap {
         miss_nats: f32,
     ) -> Result<()> {
         self.check_layer(log_odds)?;
+        if let Some(p) = &plan {
+            self.check_layer(p)?;
+        }
         let n = end_c.len();
         if n > MAX_READINGS {
             return Err(Error::LengthMismatch(format!("{n} beams > {MAX_READINGS}")));
@@ -531,7 +568,11 @@ impl AvoidanceMap {
                 rows.cover(j as usize);
             }
         }
-        self.apply(log_odds, None, &rows, Clearing::FULL, |_, _| miss_nats);
+        let free = |_: usize, _: usize| miss_nats;
+        match plan {
+            None => self.apply(&mut [Layer::laser(log_odds)], &rows, free),
+            Some(p) => self.apply(&mut [Layer::laser(log_odds), Layer::laser(p)], &rows, free),
+        }
         Ok(())
     }
 
@@ -552,45 +593,32 @@ impl AvoidanceMap {
         }
     }
 
-    /// Adds this insertion's evidence on the touched rows (a cell's hit, else its free
-    /// evidence `free(i, j)` when inside a quadrilateral; a believed obstacle's cell, its log
-    /// odds above `weak.believed_nats` and confirmed where a `confirmed` layer is given,
-    /// takes `weak.no_boundary` of it inside only weakly clearing quadrilaterals and
-    /// `weak.confirmed` inside fully clearing ones), resets the scratch layers there, and
-    /// clamps every cell.
+    /// Adds this insertion's evidence on the touched rows to each layer (a cell's hit, else
+    /// its free evidence `free(i, j)` when inside a quadrilateral; a believed obstacle's cell,
+    /// its log odds above `weak.believed_nats` and confirmed where the layer has a
+    /// `confirmed` layer, takes `weak.no_boundary` of it inside only weakly clearing
+    /// quadrilaterals and `weak.confirmed` inside fully clearing ones), resets the scratch
+    /// layers there, and clamps every cell.
     fn apply(
         &mut self,
-        log_odds: &mut [f32],
-        mut confirmed: Option<&mut [u8]>,
+        layers: &mut [Layer<'_>],
         rows: &RowSpan,
-        weak: Clearing,
         free: impl Fn(usize, usize) -> f32,
     ) {
         let side = self.side;
-        let (share, confirmed_nats) = (weak.no_boundary, weak.believed_nats);
         for j in rows.lo..rows.hi.min(side) {
             let row = j * side;
             for i in 0..side {
                 let k = row + i;
-                let mut believed = log_odds[k] > confirmed_nats;
-                if let Some(c) = confirmed.as_deref_mut() {
-                    if log_odds[k] <= 0.0 {
-                        c[k] = 0; // forgotten or cleared since its confirming hit
-                    }
-                    believed &= c[k] != 0;
-                    if self.hit[k].is_finite() && self.confirms[k] {
-                        c[k] = 1;
-                    }
-                }
-                let h = self.hit[k];
-                if h.is_finite() {
-                    log_odds[k] += h;
-                } else if self.mask[k] == 1 && believed {
-                    log_odds[k] += weak.confirmed * free(i, j);
-                } else if self.mask[k] == 1 || (self.mask[k] == 2 && !believed) {
-                    log_odds[k] += free(i, j);
-                } else if self.mask[k] == 2 {
-                    log_odds[k] += share * free(i, j);
+                let (h, mask) = (self.hit[k], self.mask[k]);
+                let confirms = h.is_finite() && self.confirms[k];
+                let f = if mask != 0 && !h.is_finite() {
+                    free(i, j)
+                } else {
+                    0.0
+                };
+                for layer in layers.iter_mut() {
+                    layer.update(k, h, mask, confirms, f);
                 }
                 self.hit[k] = f32::NAN;
                 self.confirms[k] = false;
@@ -598,8 +626,63 @@ impl AvoidanceMap {
             }
         }
         let (lo, hi) = self.clamp;
-        for v in log_odds.iter_mut() {
-            *v = v.clamp(lo, hi);
+        for layer in layers.iter_mut() {
+            for v in layer.log_odds.iter_mut() {
+                *v = v.clamp(lo, hi);
+            }
+        }
+    }
+}
+
+/// One layer of evidence an insertion updates: its log odds, its confirmed flags (a visual
+/// map's; none for a laser's) and how its believed obstacles clear.
+struct Layer<'a> {
+    log_odds: &'a mut [f32],
+    confirmed: Option<&'a mut [u8]>,
+    weak: Clearing,
+}
+
+impl<'a> Layer<'a> {
+    fn visual(log_odds: &'a mut [f32], confirmed: &'a mut [u8], weak: Clearing) -> Self {
+        Self {
+            log_odds,
+            confirmed: Some(confirmed),
+            weak,
+        }
+    }
+
+    fn laser(log_odds: &'a mut [f32]) -> Self {
+        Self {
+            log_odds,
+            confirmed: None,
+            weak: Clearing::FULL,
+        }
+    }
+
+    /// Cell `k`'s update: its hit `h` (NaN: none), the quadrilateral mask, whether the hit
+    /// confirms, and the free evidence `f` where the mask is set and there is no hit.
+    #[inline]
+    fn update(&mut self, k: usize, h: f32, mask: u8, confirms: bool, f: f32) {
+        let w = self.weak;
+        let l = &mut self.log_odds[k];
+        let mut believed = *l > w.believed_nats;
+        if let Some(c) = self.confirmed.as_deref_mut() {
+            if *l <= 0.0 {
+                c[k] = 0; // forgotten or cleared since its confirming hit
+            }
+            believed &= c[k] != 0;
+            if confirms {
+                c[k] = 1;
+            }
+        }
+        if h.is_finite() {
+            *l += h;
+        } else if mask == 1 && believed {
+            *l += w.confirmed * f;
+        } else if mask == 1 || (mask == 2 && !believed) {
+            *l += f;
+        } else if mask == 2 {
+            *l += w.no_boundary * f;
         }
     }
 }
@@ -763,7 +846,8 @@ mod tests {
         // camera at (2.5, 2.5) m: cell (50, 50)
         let cam = Pose2::new(2.5, 2.5, 0.0);
         let mut insert = |l: &mut [f32], c: &mut [u8]| {
-            map.insert_visual(l, c, (0, 0), cam, &r, &model()).unwrap()
+            map.insert_visual(l, c, None, (0, 0), cam, &r, &model())
+                .unwrap()
         };
         insert(&mut l, &mut c);
         let at = |l: &[f32], x: f64, y: f64| l[(y / 0.05) as usize * side + (x / 0.05) as usize];
@@ -857,7 +941,7 @@ mod tests {
                 let (mut map, mut l, mut c) = new_map();
                 for _ in 0..times {
                     let cam = Pose2::new(2.5, 2.5, 0.0);
-                    map.insert_visual(&mut l, &mut c, (0, 0), cam, &first, &m)
+                    map.insert_visual(&mut l, &mut c, None, (0, 0), cam, &first, &m)
                         .unwrap();
                 }
                 let before = l[wall_cell];
@@ -868,7 +952,7 @@ mod tests {
                 assert_eq!(l[unknown], 0.0);
                 let s2 = vec![st; n];
                 let r = readings(&s2, (&x2, &y2), (&nx, &ny), (&fp, &err));
-                map.insert_visual(&mut l, &mut c, (0, 0), cam, &r, &m)
+                map.insert_visual(&mut l, &mut c, None, (0, 0), cam, &r, &m)
                     .unwrap();
                 // the far boundary's own hits lie 4 m out: the wall's cell is floor seen, in
                 // full unless confirmed; then by no-boundary columns by their share, by the
@@ -920,7 +1004,7 @@ mod tests {
             let (mut map, mut l, mut c) = new_map();
             let cam = Pose2::new(2.5, 2.5, 0.0);
             assert!(map
-                .insert_visual(&mut l, &mut c, (0, 0), cam, &first, &bad)
+                .insert_visual(&mut l, &mut c, None, (0, 0), cam, &first, &bad)
                 .is_err());
             assert!(l.iter().all(|&v| v == 0.0));
         }
@@ -981,17 +1065,26 @@ mod tests {
             error_m: &[],
         };
         assert!(map
-            .insert_visual(&mut l, &mut c, (0, 0), Pose2::IDENTITY, &r, &model())
+            .insert_visual(&mut l, &mut c, None, (0, 0), Pose2::IDENTITY, &r, &model())
             .is_err());
         let mut l = vec![0.0f32; 100];
         let mut short_c = vec![0u8; 99];
         assert!(map
-            .insert_visual(&mut l, &mut short_c, (0, 0), Pose2::IDENTITY, &r, &model())
+            .insert_visual(
+                &mut l,
+                &mut short_c,
+                None,
+                (0, 0),
+                Pose2::IDENTITY,
+                &r,
+                &model()
+            )
             .is_err());
         assert!(map
             .insert_visual(
                 &mut l,
                 &mut c,
+                None,
                 (0, 0),
                 Pose2::new(f64::NAN, 0.0, 0.0),
                 &r,
@@ -1000,7 +1093,112 @@ mod tests {
             .is_err());
         let short = VisualReadings { status: &[0], ..r };
         assert!(map
-            .insert_visual(&mut l, &mut c, (0, 0), Pose2::IDENTITY, &short, &model())
+            .insert_visual(
+                &mut l,
+                &mut c,
+                None,
+                (0, 0),
+                Pose2::IDENTITY,
+                &short,
+                &model()
+            )
             .is_err());
+        let (mut pl, mut pc) = (vec![0.0f32; 99], vec![0u8; 100]);
+        assert!(map
+            .insert_visual(
+                &mut l,
+                &mut c,
+                Some((&mut pl, &mut pc)),
+                (0, 0),
+                Pose2::IDENTITY,
+                &r,
+                &model()
+            )
+            .is_err());
+        assert!(map
+            .insert_laser(
+                &mut l,
+                Some(&mut pl),
+                [0.0, 0.0],
+                &[[1.0, 1.0]],
+                &[true],
+                1.0,
+                -1.0
+            )
+            .is_err());
+    }
+
+    /// With the planner's layers, the map's own layers evolve as a single map with
+    /// `confirmed_clearing` 1, the planner's as a single map with the model's share: the wall
+    /// of [`wall`] mapped twice from 1.5 m, then seen with the floor's end 3 m out, frame
+    /// after frame (its cells cleared fast in one, slowly in the other), then a laser scan.
+    #[test]
+    fn the_planners_layers_clear_confirmed_obstacles_by_their_share_alone() {
+        let side = 100;
+        let n = 41;
+        let (status, x, y, nx, ny) = wall(n);
+        let fp = vec![0.01; n];
+        let err = vec![f64::NAN; n];
+        let first = readings(&status, (&x, &y), (&nx, &ny), (&fp, &err));
+        let x2: Vec<f64> = x.iter().map(|a| 2.0 * a + 0.5).collect();
+        let y2: Vec<f64> = y.iter().map(|b| 2.0 * b).collect();
+        let later = readings(&status, (&x2, &y2), (&nx, &ny), (&fp, &err));
+        let slow = VisualModel {
+            confirmed_nats: 0.0,
+            no_boundary_clearing: 0.0,
+            confirmed_clearing: 0.25,
+            ..model()
+        };
+        let fast = VisualModel {
+            confirmed_clearing: 1.0,
+            ..slow
+        };
+        let layers = || (vec![0.0f32; side * side], vec![0u8; side * side]);
+        let mut both = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
+        let mut single = both.clone();
+        let ((mut l, mut c), (mut pl, mut pc)) = (layers(), layers());
+        let ((mut fl, mut fc), (mut sl, mut sc)) = (layers(), layers());
+        let wall_cell = (2.5 / 0.05) as usize * side + (4.0 / 0.05) as usize;
+        let mut differed = false;
+        for (k, r) in [&first, &first, &later, &later, &later, &later]
+            .iter()
+            .enumerate()
+        {
+            let cam = Pose2::new(if k < 2 { 2.5 } else { 2.0 }, 2.5, 0.0);
+            both.insert_visual(
+                &mut l,
+                &mut c,
+                Some((&mut pl, &mut pc)),
+                (0, 0),
+                cam,
+                r,
+                &slow,
+            )
+            .unwrap();
+            single
+                .insert_visual(&mut fl, &mut fc, None, (0, 0), cam, r, &fast)
+                .unwrap();
+            single
+                .insert_visual(&mut sl, &mut sc, None, (0, 0), cam, r, &slow)
+                .unwrap();
+            assert_eq!((&l, &c), (&fl, &fc), "frame {k}");
+            assert_eq!((&pl, &pc), (&sl, &sc), "frame {k}");
+            differed |= pl[wall_cell] > l[wall_cell] + 0.1;
+        }
+        assert!(
+            differed,
+            "the wall's cell never cleared more slowly in the planner's layer"
+        );
+        let ends = [[60.0, 50.0], [60.0, 55.0], [f64::NAN, 0.0]];
+        let ret = [true, true, false];
+        both.insert_laser(&mut l, Some(&mut pl), [40.0, 50.0], &ends, &ret, 2.2, -2.0)
+            .unwrap();
+        single
+            .insert_laser(&mut fl, None, [40.0, 50.0], &ends, &ret, 2.2, -2.0)
+            .unwrap();
+        single
+            .insert_laser(&mut sl, None, [40.0, 50.0], &ends, &ret, 2.2, -2.0)
+            .unwrap();
+        assert_eq!((&l, &pl), (&fl, &sl));
     }
 }

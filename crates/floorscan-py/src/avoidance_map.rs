@@ -43,10 +43,11 @@ impl PyAvoidanceMap {
 
     /// Adds one visual scan to `log_odds` ((side, side) float32, in place; its cell (0, 0) is
     /// world cell `origin_cells`) and to `confirmed` ((side, side) uint8, in place: the cells a
-    /// hit from `confirm_range_m` or farther confirmed) seen by the camera at `camera`
-    /// (world_from_camera): per
-    /// column the status codes, boundary points, near edges [m, camera ground frame],
-    /// footprints and predicted errors [m] (NaN: none); `model` a
+    /// hit from `confirm_range_m` or farther confirmed), and to the planner's pair of the same
+    /// layers `plan_log_odds` and `plan_confirmed`, whose confirmed obstacles alone clear by
+    /// the model's `confirmed_clearing` (`log_odds` clear in full), seen by the camera at
+    /// `camera` (world_from_camera): per column the status codes, boundary points, near edges
+    /// [m, camera ground frame], footprints and predicted errors [m] (NaN: none); `model` a
     /// `floorscan.drive.VisualSensorModel` (its fields are read by name).
     #[allow(clippy::too_many_arguments)]
     fn insert_visual(
@@ -54,6 +55,8 @@ impl PyAvoidanceMap {
         py: Python<'_>,
         mut log_odds: PyReadwriteArray2<'_, f32>,
         mut confirmed: PyReadwriteArray2<'_, u8>,
+        mut plan_log_odds: PyReadwriteArray2<'_, f32>,
+        mut plan_confirmed: PyReadwriteArray2<'_, u8>,
         origin_cells: (i64, i64),
         camera: [f64; 3],
         status: PyReadonlyArray1<'_, u8>,
@@ -98,23 +101,35 @@ impl PyAvoidanceMap {
             };
             let (values, _) = layer(&mut log_odds, "log_odds")?;
             let (confirmed, _) = layer(&mut confirmed, "confirmed")?;
+            let (plan_values, _) = layer(&mut plan_log_odds, "plan_log_odds")?;
+            let (plan_confirmed, _) = layer(&mut plan_confirmed, "plan_confirmed")?;
             let camera = pose(camera);
             let inner = &mut self.inner;
             py.detach(|| {
-                inner.insert_visual(values, confirmed, origin_cells, camera, &readings, &model)
+                inner.insert_visual(
+                    values,
+                    confirmed,
+                    Some((plan_values, plan_confirmed)),
+                    origin_cells,
+                    camera,
+                    &readings,
+                    &model,
+                )
             })
             .py()
         })
     }
 
-    /// Adds an ideal 2-D laser scan to `log_odds` (in place): the fan from the sensor at
-    /// `sensor_cell` to the beam ends `end_cells` (N, 2) [fractional cells of the window] gets
-    /// `miss_nats`, the end cells where `returned` (N,) bool get `hit_nats`.
+    /// Adds an ideal 2-D laser scan to `log_odds` and to the planner's `plan_log_odds` (in
+    /// place): the fan from the sensor at `sensor_cell` to the beam ends `end_cells` (N, 2)
+    /// [fractional cells of the window] gets `miss_nats`, the end cells where `returned` (N,)
+    /// bool get `hit_nats`.
     #[allow(clippy::too_many_arguments)]
     fn insert_laser(
         &mut self,
         py: Python<'_>,
         mut log_odds: PyReadwriteArray2<'_, f32>,
+        mut plan_log_odds: PyReadwriteArray2<'_, f32>,
         sensor_cell: (f64, f64),
         end_cells: PyReadonlyArray2<'_, f64>,
         returned: PyReadonlyArray1<'_, bool>,
@@ -131,10 +146,21 @@ impl PyAvoidanceMap {
                 )
             })?;
             let (values, _) = layer(&mut log_odds, "log_odds")?;
+            let (plan_values, _) = layer(&mut plan_log_odds, "plan_log_odds")?;
             let inner = &mut self.inner;
             let sensor = [sensor_cell.0, sensor_cell.1];
-            py.detach(|| inner.insert_laser(values, sensor, &ends, returned, hit_nats, miss_nats))
-                .py()
+            py.detach(|| {
+                inner.insert_laser(
+                    values,
+                    Some(plan_values),
+                    sensor,
+                    &ends,
+                    returned,
+                    hit_nats,
+                    miss_nats,
+                )
+            })
+            .py()
         })
     }
 }

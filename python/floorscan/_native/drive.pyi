@@ -13,20 +13,22 @@ class AvoidanceMap:
     [m] cells clamped to `clamp_nats` (min < 0 < max); its scratch layers are made once.
     """
     def __new__(cls, /, side: SupportsIndex, cell_size_m: SupportsFloat | SupportsIndex, clamp_nats: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex]) -> AvoidanceMap: ...
-    def insert_laser(self, /, log_odds: Incomplete, sensor_cell: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], end_cells: Incomplete, returned: Incomplete, hit_nats: SupportsFloat | SupportsIndex, miss_nats: SupportsFloat | SupportsIndex) -> None:
+    def insert_laser(self, /, log_odds: Incomplete, plan_log_odds: Incomplete, sensor_cell: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], end_cells: Incomplete, returned: Incomplete, hit_nats: SupportsFloat | SupportsIndex, miss_nats: SupportsFloat | SupportsIndex) -> None:
         """
-        Adds an ideal 2-D laser scan to `log_odds` (in place): the fan from the sensor at
-        `sensor_cell` to the beam ends `end_cells` (N, 2) [fractional cells of the window] gets
-        `miss_nats`, the end cells where `returned` (N,) bool get `hit_nats`.
+        Adds an ideal 2-D laser scan to `log_odds` and to the planner's `plan_log_odds` (in
+        place): the fan from the sensor at `sensor_cell` to the beam ends `end_cells` (N, 2)
+        [fractional cells of the window] gets `miss_nats`, the end cells where `returned` (N,)
+        bool get `hit_nats`.
         """
-    def insert_visual(self, /, log_odds: Incomplete, confirmed: Incomplete, origin_cells: tuple[SupportsIndex, SupportsIndex], camera: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], status: Incomplete, x: Incomplete, y: Incomplete, near_x: Incomplete, near_y: Incomplete, footprints: Incomplete, errors: Incomplete, model: Any) -> None:
+    def insert_visual(self, /, log_odds: Incomplete, confirmed: Incomplete, plan_log_odds: Incomplete, plan_confirmed: Incomplete, origin_cells: tuple[SupportsIndex, SupportsIndex], camera: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], status: Incomplete, x: Incomplete, y: Incomplete, near_x: Incomplete, near_y: Incomplete, footprints: Incomplete, errors: Incomplete, model: Any) -> None:
         """
         Adds one visual scan to `log_odds` ((side, side) float32, in place; its cell (0, 0) is
         world cell `origin_cells`) and to `confirmed` ((side, side) uint8, in place: the cells a
-        hit from `confirm_range_m` or farther confirmed) seen by the camera at `camera`
-        (world_from_camera): per
-        column the status codes, boundary points, near edges [m, camera ground frame],
-        footprints and predicted errors [m] (NaN: none); `model` a
+        hit from `confirm_range_m` or farther confirmed), and to the planner's pair of the same
+        layers `plan_log_odds` and `plan_confirmed`, whose confirmed obstacles alone clear by
+        the model's `confirmed_clearing` (`log_odds` clear in full), seen by the camera at
+        `camera` (world_from_camera): per column the status codes, boundary points, near edges
+        [m, camera ground frame], footprints and predicted errors [m] (NaN: none); `model` a
         `floorscan.drive.VisualSensorModel` (its fields are read by name).
         """
 

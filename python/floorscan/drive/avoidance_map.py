@@ -158,6 +158,11 @@ class AvoidanceMap:
         self.bumps = np.zeros((self.n, self.n), np.float32)
         # 1 where a hit from VisualSensorModel.confirm_range_m or farther confirmed the cell
         self.confirmed = np.zeros((self.n, self.n), np.uint8)
+        # the planner's layers: the same evidence, but a confirmed obstacle that the floor
+        # seen beyond it contradicts clears by VisualSensorModel.confirmed_clearing of it a
+        # frame (log_odds clear in full, so probabilities() keeps its calibration)
+        self.plan_log_odds = np.zeros((self.n, self.n), np.float32)
+        self.plan_confirmed = np.zeros((self.n, self.n), np.uint8)
         self.x_cell = 0
         self.y_cell = 0
         self.recenter(*center[:2])
@@ -184,14 +189,23 @@ class AvoidanceMap:
         dx, dy = cx - self.x_cell, cy - self.y_cell
         n = self.n
         layers = []
-        for layer in (self.log_odds, self.bumps, self.confirmed):
+        for layer in self._layers():
             out = np.zeros_like(layer)
             if abs(dx) < n and abs(dy) < n:
                 src = layer[max(dy, 0) : n + min(dy, 0), max(dx, 0) : n + min(dx, 0)]
                 out[max(-dy, 0) : n + min(-dy, 0), max(-dx, 0) : n + min(-dx, 0)] = src
             layers.append(out)
-        self.log_odds, self.bumps, self.confirmed = layers
+        (
+            self.log_odds,
+            self.bumps,
+            self.confirmed,
+            self.plan_log_odds,
+            self.plan_confirmed,
+        ) = layers
         self.x_cell, self.y_cell = cx, cy
+
+    def _layers(self):
+        return (self.log_odds, self.bumps, self.confirmed, self.plan_log_odds, self.plan_confirmed)
 
     def to_cells(self, x, y):
         """World (odometry frame) points [m] to fractional cell coordinates (col, row)."""
@@ -214,20 +228,25 @@ class AvoidanceMap:
 
     def occupancy_classes(self) -> np.ndarray:
         """(H, W) uint8: 0 free, 1 unknown, 2 occupied: the planner's decisions, from the raw
-        evidence against logit(free_threshold) / logit(occupied_threshold) (the calibrated
-        probabilities of :meth:`probabilities` say how often such a decision is right; a
-        single calibrated reading never reaches 0.65, and the map must still show it)."""
-        c = np.ones(self.log_odds.shape, np.uint8)
-        evidence = np.abs(self.log_odds) >= _NO_EVIDENCE
-        c[(self.log_odds < self._plan_free) & evidence] = 0
+        evidence of the planner's layer against logit(free_threshold) /
+        logit(occupied_threshold) (the calibrated probabilities of :meth:`probabilities` say
+        how often such a decision is right; a single calibrated reading never reaches 0.65,
+        and the map must still show it)."""
+        c = np.ones(self.plan_log_odds.shape, np.uint8)
+        c[self.known() & (self.plan_log_odds < self._plan_free)] = 0
         c[self.occupied()] = 2
         return c
 
+    def known(self) -> np.ndarray:
+        """Cells the planner has evidence for (either way)."""
+        return np.abs(self.plan_log_odds) >= _NO_EVIDENCE
+
     def occupied(self) -> np.ndarray:
-        """The planner's obstacles: raw evidence above logit(occupied_threshold), before the
-        output calibration (one confident reading suffices: for avoidance a missed obstacle
-        costs more than a detour)."""
-        return (self.log_odds > self._plan_occ) | (self.bumps > 0.5)
+        """The planner's obstacles: raw evidence of the planner's layer above
+        logit(occupied_threshold), before the output calibration (one confident reading
+        suffices: for avoidance a missed obstacle costs more than a detour), or the bumper's
+        marks."""
+        return (self.plan_log_odds > self._plan_occ) | (self.bumps > 0.5)
 
     # --- updates --------------------------------------------------------------------------
     def decay(self, dt_s: float) -> None:
@@ -238,6 +257,7 @@ class AvoidanceMap:
         hl, bump_hl = self.options.half_life_s, self.options.bump_half_life_s
         if hl is not None:
             _decay(self.log_odds, np.float32(0.5 ** (dt_s / hl)))
+            _decay(self.plan_log_odds, np.float32(0.5 ** (dt_s / hl)))
         if bump_hl is not None:
             _decay(self.bumps, np.float32(0.5 ** (dt_s / bump_hl)))
 
@@ -267,6 +287,8 @@ class AvoidanceMap:
         self._native.insert_visual(
             self.log_odds,
             self.confirmed,
+            self.plan_log_odds,
+            self.plan_confirmed,
             (self.x_cell, self.y_cell),
             cam,
             status,
@@ -316,6 +338,7 @@ class AvoidanceMap:
         pc = self.to_cells(pose[0], pose[1])
         self._native.insert_laser(
             self.log_odds,
+            self.plan_log_odds,
             (float(pc[0]), float(pc[1])),
             np.ascontiguousarray(np.stack([ecx, ecy], 1), np.float64),
             np.isfinite(r),

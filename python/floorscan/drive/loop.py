@@ -402,7 +402,7 @@ def drive(
         # --- plan, in the odometry frame (the goal carried there) ----------------------
         goal_odom = _compose(_inverse(map_from_odom), (goal[0], goal[1], 0.0))[:2]
         cost = inflate(amap.occupied(), amap.cell, o.costmap)
-        known = np.abs(amap.log_odds) >= 0.05
+        known = amap.known()
         if nav is None or k % o.replan_every == 0:
             tp = time.perf_counter()
             nav = navigation_function(
