@@ -23,10 +23,12 @@
 //!   costmap does not clear through a laser's no-return beams, while a cell only ever hit
 //!   from nearer (a fleck of carpet near the robot, where the floor's grain is magnified) is
 //!   cleared as any other; a quadrilateral between two boundaries clears in full (the camera
-//!   saw the floor end farther on), and where the two kinds overlap the full one wins, except
-//!   that it adds only `confirmed_clearing` x its free evidence to a cell believed occupied
-//!   and confirmed (a thin leg that the camera loses close up, seeing the floor end beyond it,
-//!   clears over several frames, as OctoMap's miss is smaller than its hit);
+//!   saw the floor end farther on), and where the two kinds overlap the full one wins; in the
+//!   planner's layers, when given, it adds only `confirmed_clearing` x its free evidence to a
+//!   cell believed occupied and confirmed (a thin leg that the camera loses close up, seeing
+//!   the floor end beyond it, clears over several frames, as OctoMap's miss is smaller than
+//!   its hit), while the map's own log odds, whose calibrated probabilities must mean what
+//!   they say, clear in full;
 //! - every cell is then clamped to `clamp_nats`.
 //!
 //! The arithmetic follows the numpy implementation it replaced operation for operation (cell

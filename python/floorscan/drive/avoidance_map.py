@@ -3,6 +3,11 @@ scrolls with the robot, fed visual scans through the calibrated
 :class:`~floorscan.drive.VisualSensorModel` (or an ideal laser), and forgetting stale evidence
 so obstacles that moved away clear.
 
+The planner reads its own copy of the evidence (``plan_log_odds``, updated in the same
+pass), in which a confirmed obstacle that the floor seen beyond it contradicts clears over
+several frames (``VisualSensorModel.confirmed_clearing``); ``log_odds``, whose calibrated
+:meth:`AvoidanceMap.probabilities` must mean what they say, clear in full.
+
 Cells between adjacent columns count as seen: each pair of neighbouring readings fills the
 floor quadrilateral between their near edges of view and their ends, so one frame covers the
 whole view (a scan of single rays leaves most far cells untouched and needs many frames).

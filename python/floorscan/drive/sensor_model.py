@@ -89,8 +89,13 @@ class VisualSensorModel:
       from 0.3-0.5 m be cleared (2 contacts at 0.3 m/s in 32 runs); EVALUATION.md, "Flecks of
       a light carpet". 0: every hit confirms (the rule as it was).
     - ``confirmed_clearing``: the share, in (0, 1], of its free evidence that floor between
-      two boundary columns adds to a cell believed occupied (as for
-      ``no_boundary_clearing``) and confirmed by a hit from ``confirm_range_m`` or farther.
+      two boundary columns adds, in the planner's layer of the avoidance map
+      (``AvoidanceMap.plan_log_odds``), to a cell believed occupied (as for
+      ``no_boundary_clearing``) and confirmed by a hit from ``confirm_range_m`` or farther;
+      the map's own log odds, whose calibrated probabilities say how often a cell is
+      occupied, clear in full (held in them too, a disproved obstacle's moderate evidence
+      put three middle deciles of the reliability diagram 9-14 points above what was
+      observed).
       Default 0.25, chosen before any run with it: OctoMap's ratio of miss to hit evidence
       (0.4 / 0.85 nats = 0.47) carried over to this model's evidence at 1 m (free -1.86
       nats a frame, hit +1.09): 0.47 x 1.09 / 1.86 = 0.28, rounded down. A saturated
@@ -98,7 +103,7 @@ class VisualSensorModel:
       leg the camera loses close up, finding the floor's end beyond it, cleared it in three
       frames, a second before the robot touched it (EVALUATION.md, "A thin leg clears over
       several frames"). Unconfirmed cells (a fleck near the robot) clear in full. 1: the
-      model as it was.
+      planner's layer equals the map's (the model as it was).
     """
 
     free_a: float = -3.2
