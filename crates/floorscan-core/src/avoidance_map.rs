@@ -521,6 +521,7 @@ impl AvoidanceMap {
     /// is no reading) gets `miss_nats`, the cell of each end where `returned` gets `hit_nats`
     /// (cell coordinates truncated towards zero, as numpy's cast); `plan`, the planner's
     /// layer, when given, the same.
+    #[allow(clippy::too_many_arguments)]
     pub fn insert_laser(
         &mut self,
         log_odds: &mut [f32],
