@@ -263,22 +263,47 @@ def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
     m = AvoidanceMap(10, 0.05, (-2.0, 3.5))
     z = np.zeros(3)
     ok_conf = np.zeros((10, 10), np.uint8)
+    def plan():  # the planner's pair of layers
+        return np.zeros((10, 10), np.float32), np.zeros((10, 10), np.uint8)
+
     with pytest.raises(FloorscanError):  # a layer of another size
         m.insert_visual(
-            np.zeros((9, 10), np.float32), ok_conf, (0, 0), (0, 0, 0), np.zeros(3, np.uint8),
-            z, z, z, z, z, z, VisualSensorModel(),
+            np.zeros((9, 10), np.float32), ok_conf, *plan(), (0, 0), (0, 0, 0),
+            np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
         )  # fmt: skip
     with pytest.raises(FloorscanError):  # a confirmed layer of another size
         m.insert_visual(
-            np.zeros((10, 10), np.float32), np.zeros((9, 10), np.uint8), (0, 0), (0, 0, 0),
+            np.zeros((10, 10), np.float32), np.zeros((9, 10), np.uint8), *plan(), (0, 0),
+            (0, 0, 0), np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
+        )  # fmt: skip
+    for bad_plan in (
+        (np.zeros((9, 10), np.float32), np.zeros((10, 10), np.uint8)),
+        (np.zeros((10, 10), np.float32), np.zeros((10, 9), np.uint8)),
+    ):
+        with pytest.raises(FloorscanError):  # a planner's layer of another size
+            m.insert_visual(
+                np.zeros((10, 10), np.float32), ok_conf, *bad_plan, (0, 0), (0, 0, 0),
+                np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
+            )  # fmt: skip
+    same = np.zeros((10, 10), np.float32)
+    with pytest.raises(FloorscanError, match="plan_log_odds"):  # the map's layer given twice
+        m.insert_visual(
+            same, ok_conf, same, np.zeros((10, 10), np.uint8), (0, 0), (0, 0, 0),
             np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
+        )  # fmt: skip
+    with pytest.raises(FloorscanError, match="plan_log_odds"):
+        m.insert_laser(same, same, (1.0, 1.0), np.ones((1, 2)), np.ones(1, bool), 1.0, -1.0)
+    with pytest.raises(FloorscanError):  # the laser's planner's layer of another size
+        m.insert_laser(
+            np.zeros((10, 10), np.float32), np.zeros((9, 10), np.float32), (1.0, 1.0),
+            np.ones((1, 2)), np.ones(1, bool), 1.0, -1.0,
         )  # fmt: skip
     with pytest.raises(FloorscanError):  # a face 10^300 m long between close boundary points
         big = np.array([0.0, 1e300])
         m.insert_visual(
-            np.zeros((10, 10), np.float32), ok_conf, (0, 0), (0, 0, 0), np.zeros(2, np.uint8),
-            np.array([1.0, 1.0]), big, big * 0, big * 0, np.full(2, 1e300), np.zeros(2),
-            VisualSensorModel(),
+            np.zeros((10, 10), np.float32), ok_conf, *plan(), (0, 0), (0, 0, 0),
+            np.zeros(2, np.uint8), np.array([1.0, 1.0]), big, big * 0, big * 0,
+            np.full(2, 1e300), np.zeros(2), VisualSensorModel(),
         )  # fmt: skip
     off = np.zeros((1, 2), np.int64)
     with pytest.raises(FloorscanError):

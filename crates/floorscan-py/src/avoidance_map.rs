@@ -2,7 +2,10 @@
 //! the numpy layers `floorscan.drive.AvoidanceMap` keeps.
 
 use floorscan_core::avoidance_map::{self, AvoidanceMap, VisualModel, VisualReadings};
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray2, PyUntypedArrayMethods};
+use numpy::{
+    PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray2,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use crate::arrays::{pose, rows, slice1};
@@ -21,6 +24,20 @@ fn layer<'a, T: numpy::Element>(
         )
     })?;
     Ok((s, shape))
+}
+
+/// A second writable layer (the planner's), refused with a typed error when it is the same
+/// array as a layer already taken (numpy's borrow flags tell).
+fn own_layer<'py, T: numpy::Element>(
+    a: &Bound<'py, PyArray2<T>>,
+    name: &str,
+) -> PyResult<PyReadwriteArray2<'py, T>> {
+    a.try_readwrite().map_err(|_| {
+        error(
+            "LengthMismatchError",
+            format!("`{name}` must be a layer of its own, not one already given"),
+        )
+    })
 }
 
 /// The avoidance map's insertion machinery for a `side` x `side` window of `cell_size_m`
@@ -55,8 +72,8 @@ impl PyAvoidanceMap {
         py: Python<'_>,
         mut log_odds: PyReadwriteArray2<'_, f32>,
         mut confirmed: PyReadwriteArray2<'_, u8>,
-        mut plan_log_odds: PyReadwriteArray2<'_, f32>,
-        mut plan_confirmed: PyReadwriteArray2<'_, u8>,
+        plan_log_odds: Bound<'_, PyArray2<f32>>,
+        plan_confirmed: Bound<'_, PyArray2<u8>>,
         origin_cells: (i64, i64),
         camera: [f64; 3],
         status: PyReadonlyArray1<'_, u8>,
@@ -101,6 +118,8 @@ impl PyAvoidanceMap {
             };
             let (values, _) = layer(&mut log_odds, "log_odds")?;
             let (confirmed, _) = layer(&mut confirmed, "confirmed")?;
+            let mut plan_log_odds = own_layer(&plan_log_odds, "plan_log_odds")?;
+            let mut plan_confirmed = own_layer(&plan_confirmed, "plan_confirmed")?;
             let (plan_values, _) = layer(&mut plan_log_odds, "plan_log_odds")?;
             let (plan_confirmed, _) = layer(&mut plan_confirmed, "plan_confirmed")?;
             let camera = pose(camera);
@@ -129,7 +148,7 @@ impl PyAvoidanceMap {
         &mut self,
         py: Python<'_>,
         mut log_odds: PyReadwriteArray2<'_, f32>,
-        mut plan_log_odds: PyReadwriteArray2<'_, f32>,
+        plan_log_odds: Bound<'_, PyArray2<f32>>,
         sensor_cell: (f64, f64),
         end_cells: PyReadonlyArray2<'_, f64>,
         returned: PyReadonlyArray1<'_, bool>,
@@ -146,6 +165,7 @@ impl PyAvoidanceMap {
                 )
             })?;
             let (values, _) = layer(&mut log_odds, "log_odds")?;
+            let mut plan_log_odds = own_layer(&plan_log_odds, "plan_log_odds")?;
             let (plan_values, _) = layer(&mut plan_log_odds, "plan_log_odds")?;
             let inner = &mut self.inner;
             let sensor = [sensor_cell.0, sensor_cell.1];
