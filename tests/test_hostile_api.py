@@ -263,6 +263,7 @@ def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
     m = AvoidanceMap(10, 0.05, (-2.0, 3.5))
     z = np.zeros(3)
     ok_conf = np.zeros((10, 10), np.uint8)
+
     def plan():  # the planner's pair of layers
         return np.zeros((10, 10), np.float32), np.zeros((10, 10), np.uint8)
 
