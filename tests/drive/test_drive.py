@@ -201,6 +201,7 @@ def test_a_removed_obstacle_clears_from_the_avoidance_map(
     # the most free evidence one frame gives a cell: the model's at range 0 (free_b > 0)
     most_free = model.fusion_weight * abs(model.free_a)
     map_frames = None  # the map's own evidence (its probabilities) clears in full
+    free_nats = math.log(m.options.free_threshold / (1 - m.options.free_threshold))
     for k in range(10):
         before = m.plan_log_odds[cells] * factor
         see(without, 10 + k)
@@ -209,7 +210,7 @@ def test_a_removed_obstacle_clears_from_the_avoidance_map(
         believed = before > 0
         drop = (before - m.plan_log_odds[cells])[believed]
         assert (drop <= confirmed_clearing * most_free + 1e-5).all(), drop
-        if map_frames is None and (m.log_odds[cells] < m._plan_free).all():
+        if map_frames is None and (m.log_odds[cells] < free_nats).all():
             map_frames = k + 1
         if (m.occupancy_classes()[cells] == 0).all():
             frames = k + 1

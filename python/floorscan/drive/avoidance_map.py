@@ -149,6 +149,8 @@ def _logit(p: float) -> float:
 
 
 _DEFAULT_MODEL = VisualSensorModel()
+_LAYERS = ("log_odds", "bumps", "confirmed", "plan_log_odds", "plan_confirmed")
+"""The map's layers, scrolled together by :meth:`AvoidanceMap.recenter`."""
 _BOUNDARY = int(ColumnStatus.BOUNDARY)  # a plain int compares faster than the enum
 
 
@@ -193,24 +195,14 @@ class AvoidanceMap:
             return
         dx, dy = cx - self.x_cell, cy - self.y_cell
         n = self.n
-        layers = []
-        for layer in self._layers():
+        for name in _LAYERS:
+            layer = getattr(self, name)
             out = np.zeros_like(layer)
             if abs(dx) < n and abs(dy) < n:
                 src = layer[max(dy, 0) : n + min(dy, 0), max(dx, 0) : n + min(dx, 0)]
                 out[max(-dy, 0) : n + min(-dy, 0), max(-dx, 0) : n + min(-dx, 0)] = src
-            layers.append(out)
-        (
-            self.log_odds,
-            self.bumps,
-            self.confirmed,
-            self.plan_log_odds,
-            self.plan_confirmed,
-        ) = layers
+            setattr(self, name, out)
         self.x_cell, self.y_cell = cx, cy
-
-    def _layers(self):
-        return (self.log_odds, self.bumps, self.confirmed, self.plan_log_odds, self.plan_confirmed)
 
     def to_cells(self, x, y):
         """World (odometry frame) points [m] to fractional cell coordinates (col, row)."""
