@@ -1,11 +1,11 @@
 """The drive on held-out world files, camera robot at one or more values of
-`VisualSensorModel.confirm_range_m` (and one of `confirmed_clearing`) beside the ideal-laser
+`VisualSensorModel.confirm_range_m` (and one of `confirmed_clearing`, `persist_range_m`) beside the ideal-laser
 robot, worlds x speeds x seeds, run in parallel processes (EVALUATION.md, "A thin leg clears
 over several frames; the confirm range at 0.3 m").
 
     .venv/bin/python bench/drive_held_out.py --worlds bench/worlds/study.toml ...
         [--seeds 0 1 2] [--speeds 0.3 0.5] [--confirm-range 0.3 0.5] [--jobs 2]
-        [--confirmed-clearing 0.25] [--results runs.jsonl]
+        [--confirmed-clearing 0.25] [--persist-range 0] [--results runs.jsonl]
 
 Each run is `floorscan drive --world W --obstacles --speed S --seed N --no-gif` through the
 same Python call. Results are appended to ``--results`` one JSON line a run as they finish
@@ -37,14 +37,18 @@ KEYS = (
 )
 
 
-def _key(world: str, speed: float, seed: int, sensor: str, confirm, clearing=None) -> tuple:
-    return (Path(world).stem, round(speed, 3), seed, sensor, confirm, clearing)
+def _key(world: str, speed: float, seed: int, sensor: str, *model) -> tuple:
+    return (Path(world).stem, round(speed, 3), seed, sensor, *model)
 
 
 def _run(task) -> dict:
-    world_file, speed, seed, sensor, confirm, clearing = task
+    world_file, speed, seed, sensor, confirm, clearing, persist = task
     world, _ = with_obstacles(World.resolve(world_file))
-    given = {"confirm_range_m": confirm, "confirmed_clearing": clearing}
+    given = {
+        "confirm_range_m": confirm,
+        "confirmed_clearing": clearing,
+        "persist_range_m": persist,
+    }
     model = VisualSensorModel(**{k: v for k, v in given.items() if v is not None})
     o = DriveOptions(speed_m_s=speed, seed=seed, sensor=sensor, keep_frames=0, model=model)
     s = drive(world, o).summary()
@@ -56,6 +60,7 @@ def _run(task) -> dict:
         sensor=sensor,
         confirm_range_m=confirm,
         confirmed_clearing=clearing,
+        persist_range_m=persist,
         contacts=s["contacts"],
     )
     return row
@@ -64,13 +69,13 @@ def _run(task) -> dict:
 def summarise(rows) -> str:
     laser = {(r["world"], r["speed"], r["seed"]): r for r in rows if r["sensor"] == "laser"}
     lines = [
-        "| world | speed | (confirm_range_m, confirmed_clearing) | runs | contacts | waypoints | time / laser |",
+        "| world | speed | (confirm_range_m, confirmed_clearing, persist_range_m) | runs | contacts | waypoints | time / laser |",
         "| --- | ---: | ---: | ---: | ---: | ---: | ---: |",
     ]
     groups = defaultdict(list)
     for r in rows:
         if r["sensor"] == "camera":
-            c = (r["confirm_range_m"], r.get("confirmed_clearing"))
+            c = (r["confirm_range_m"], r.get("confirmed_clearing"), r.get("persist_range_m"))
             groups[(r["world"], r["speed"], c)].append(r)
             groups[("all", r["speed"], c)].append(r)
 
@@ -109,6 +114,12 @@ def main() -> None:
         default=None,
         help="VisualSensorModel.confirmed_clearing of every camera run (default: the model's)",
     )
+    ap.add_argument(
+        "--persist-range",
+        type=float,
+        default=None,
+        help="VisualSensorModel.persist_range_m of every camera run (default: the model's)",
+    )
     ap.add_argument("--no-laser", action="store_true", help="leave out the laser robot")
     ap.add_argument("--no-camera", action="store_true", help="only the laser robot")
     ap.add_argument("--jobs", type=int, default=2)
@@ -124,6 +135,7 @@ def main() -> None:
             r["sensor"],
             r["confirm_range_m"],
             r.get("confirmed_clearing"),
+            r.get("persist_range_m"),
         )
         for r in rows
     }
@@ -131,14 +143,16 @@ def main() -> None:
     for w in a.worlds:
         for speed in a.speeds:
             for seed in a.seeds:
-                runs = [("camera", c, a.confirmed_clearing) for c in a.confirm_range]
+                runs = [
+                    ("camera", c, a.confirmed_clearing, a.persist_range) for c in a.confirm_range
+                ]
                 if a.no_camera:
                     runs = []
                 if not a.no_laser:
-                    runs.append(("laser", None, None))
-                for sensor, c, cl in runs:
-                    if _key(w, speed, seed, sensor, c, cl) not in done:
-                        tasks.append((w, speed, seed, sensor, c, cl))
+                    runs.append(("laser", None, None, None))
+                for sensor, *model in runs:
+                    if _key(w, speed, seed, sensor, *model) not in done:
+                        tasks.append((w, speed, seed, sensor, *model))
     with mp.get_context("fork").Pool(a.jobs) as pool, path.open("a") as f:
         for row in pool.imap_unordered(_run, tasks):
             rows.append(row)
@@ -146,7 +160,8 @@ def main() -> None:
             f.flush()
             print(
                 f"{row['world']} {row['speed']} seed {row['seed']} {row['sensor']} "
-                f"confirm {row['confirm_range_m']} clearing {row['confirmed_clearing']}: "
+                f"confirm {row['confirm_range_m']} clearing {row['confirmed_clearing']} "
+                f"persist {row['persist_range_m']}: "
                 f"{row['collisions']} contacts, "
                 f"{row['waypoints_reached']}/{row['waypoints_total']}, {row['duration_s']} s",
                 flush=True,

@@ -16,13 +16,17 @@ from floorscan.ranging.scan import ColumnStatus
 _SHIFT = 4  # sub-cell precision of rasterised polygons: 1 / 16 cell
 
 
-def stamp_hits(hit, cx, cy, rad, values, ok, near, confirms=None, far=None) -> None:
+def stamp_hits(
+    hit, cx, cy, rad, values, ok, near, confirms=None, far=None, unheld=None, held=None
+) -> None:
     """Draws into ``hit`` (n, n) the discs of radius ``rad`` [cells] around the boundary
     points (cx, cy) [fractional cells: cell k spans [k, k + 1)] where ``ok``, each with its
     ``values`` entry (the cells whose centre lies within the radius), and the segments from
     point k to k + 1 where ``near[k]`` with the smaller of the two values (the cells the
     segment passes through, sampled every half cell); into ``confirms`` (n, n) bool, where
-    given, each point's ``far`` flag on its disc and both points' on their segment."""
+    given, each point's ``far`` flag on its disc and both points' on their segment; into
+    ``unheld`` (n, n) bool, where given, each point's ``held`` flag on its disc and either
+    point's on their segment."""
     n_rows, n_cols = hit.shape
     idx = np.nonzero(ok)[0]
     if idx.size:
@@ -39,6 +43,9 @@ def stamp_hits(hit, cx, cy, rad, values, ok, near, confirms=None, far=None) -> N
         if confirms is not None:
             flags = np.broadcast_to(far[idx][:, None], pi.shape)
             confirms[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = flags[inside]
+        if unheld is not None:
+            flags = np.broadcast_to(held[idx][:, None], pi.shape)
+            unheld[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = flags[inside]
     seg = np.nonzero(near)[0]
     if seg.size:
         x0, y0, x1, y1 = cx[seg], cy[seg], cx[seg + 1], cy[seg + 1]
@@ -53,6 +60,9 @@ def stamp_hits(hit, cx, cy, rad, values, ok, near, confirms=None, far=None) -> N
         if confirms is not None:
             both = np.broadcast_to((far[seg] & far[seg + 1])[:, None], pi.shape)
             confirms[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = both[inside]
+        if unheld is not None:
+            either = np.broadcast_to((held[seg] | held[seg + 1])[:, None], pi.shape)
+            unheld[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = either[inside]
 
 
 class ReferenceAvoidanceMap(AvoidanceMap):
@@ -75,20 +85,40 @@ class ReferenceAvoidanceMap(AvoidanceMap):
         confirmed=0.0,
         confirms=None,
         confirmed_share=1.0,
+        unheld=None,
     ) -> None:
         """The map's own layers (confirmed obstacles clear in full), then the planner's (by
-        ``confirmed_share``)."""
-        for L, C, share in (
-            (self.log_odds, self.confirmed, 1.0),
-            (self.plan_log_odds, self.plan_confirmed, confirmed_share),
+        ``confirmed_share``; none from a hit that is ``unheld``)."""
+        for L, C, share, skip in (
+            (self.log_odds, self.confirmed, 1.0, None),
+            (self.plan_log_odds, self.plan_confirmed, confirmed_share, unheld),
         ):
             self._apply_layer(
-                L, C, free_mask, free_nats, hit_nats, weak, confirmed, confirms, share
+                L, C, free_mask, free_nats, hit_nats, weak, confirmed, confirms, share, skip
             )
 
     def _apply_layer(
-        self, L, C, free_mask, free_nats, hit_nats, weak, confirmed, confirms, confirmed_share
+        self,
+        L,
+        C,
+        free_mask,
+        free_nats,
+        hit_nats,
+        weak,
+        confirmed,
+        confirms,
+        confirmed_share,
+        skip=None,
     ) -> None:
+        if skip is not None and skip.any():
+            # a held-back hit leaves its cell's log odds as they were and confirms nothing
+            L0 = L.copy()
+            self._apply_layer(
+                L, C, free_mask, free_nats, hit_nats, weak, confirmed, confirms & ~skip,
+                confirmed_share,
+            )  # fmt: skip
+            L[skip] = L0[skip]
+            return
         lo, hi = self.options.clamp_nats
         sel = (free_mask > 0) & ~np.isfinite(hit_nats) if hit_nats is not None else free_mask > 0
         # inside only quadrilaterals beside a no-boundary column (2), a cell believed occupied
@@ -198,7 +228,9 @@ class ReferenceAvoidanceMap(AvoidanceMap):
         confirms = np.zeros(mask.shape, bool)
         with np.errstate(invalid="ignore"):
             far = rng >= model.confirm_range_m
-        stamp_hits(hit, bcx, bcy, rad, hit_nats, ok, near, confirms, far)
+        held = self._held_back(status, ok, (px, py), (nx, ny), world, model)
+        unheld = np.zeros(mask.shape, bool)
+        stamp_hits(hit, bcx, bcy, rad, hit_nats, ok, near, confirms, far, unheld, held)
         tc = (status == 2) & np.isfinite(nx + ny)
         if tc.any():
             tx, ty = self.to_cells(*world(nx[tc], ny[tc]))
@@ -209,6 +241,7 @@ class ReferenceAvoidanceMap(AvoidanceMap):
             confirms[ty[ok].astype(int), tx[ok].astype(int)] = (
                 np.hypot(nx[tc], ny[tc])[ok] >= model.confirm_range_m
             )
+            unheld[ty[ok].astype(int), tx[ok].astype(int)] = held[tc][ok]
         self._apply(
             mask,
             free_nats,
@@ -217,7 +250,33 @@ class ReferenceAvoidanceMap(AvoidanceMap):
             confirmed=model.confirmed_nats,
             confirms=confirms,
             confirmed_share=model.confirmed_clearing,
+            unheld=unheld & np.isfinite(hit),
         )
+
+    def _held_back(self, status, ok, point, near_edge, world, model) -> np.ndarray:
+        """Per reading: whether its hit (boundary point or ``too_close`` near edge) is nearer
+        than ``persist_range_m`` and neither the last insertion hit its cell or a neighbour
+        from that near nor the planner believes one of them occupied; rewrites
+        ``plan_near_hits`` with this insertion's near hits."""
+        gx = np.where(status == 0, np.where(ok, point[0], np.nan), np.nan)
+        gy = np.where(status == 0, np.where(ok, point[1], np.nan), np.nan)
+        gx = np.where(status == 2, near_edge[0], gx)
+        gy = np.where(status == 2, near_edge[1], gy)
+        with np.errstate(invalid="ignore"):
+            near = np.hypot(gx, gy) < model.persist_range_m
+            cx, cy = self.to_cells(*world(gx, gy))
+            inside = (cx >= 0) & (cx < self.n) & (cy >= 0) & (cy < self.n)
+        i = np.where(inside, cx, 0).astype(np.int64)
+        j = np.where(inside, cy, 0).astype(np.int64)
+        before = np.pad((self.plan_near_hits != 0) | (self.plan_log_odds > 0), 1)
+        seen = np.zeros(len(status), bool)
+        for dj in range(3):
+            for di in range(3):
+                seen |= before[j + dj, i + di]
+        held = near & ~(inside & seen)
+        self.plan_near_hits[:] = 0
+        self.plan_near_hits[j[near & inside], i[near & inside]] = 1
+        return held
 
     def insert_laser(
         self, ranges, angles, pose, *, range_max_m, hit_nats=2.2, miss_nats=-2.0

@@ -264,8 +264,12 @@ def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
     z = np.zeros(3)
     ok_conf = np.zeros((10, 10), np.uint8)
 
-    def plan():  # the planner's pair of layers
-        return np.zeros((10, 10), np.float32), np.zeros((10, 10), np.uint8)
+    def plan():  # the planner's layers: log odds, confirmed, near hits
+        return (
+            np.zeros((10, 10), np.float32),
+            np.zeros((10, 10), np.uint8),
+            np.zeros((10, 10), np.uint8),
+        )
 
     with pytest.raises(FloorscanError):  # a layer of another size
         m.insert_visual(
@@ -277,9 +281,11 @@ def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
             np.zeros((10, 10), np.float32), np.zeros((9, 10), np.uint8), *plan(), (0, 0),
             (0, 0, 0), np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
         )  # fmt: skip
+    f32, u8 = np.float32, np.uint8
     for bad_plan in (
-        (np.zeros((9, 10), np.float32), np.zeros((10, 10), np.uint8)),
-        (np.zeros((10, 10), np.float32), np.zeros((10, 9), np.uint8)),
+        (np.zeros((9, 10), f32), np.zeros((10, 10), u8), np.zeros((10, 10), u8)),
+        (np.zeros((10, 10), f32), np.zeros((10, 9), u8), np.zeros((10, 10), u8)),
+        (np.zeros((10, 10), f32), np.zeros((10, 10), u8), np.zeros((10, 11), u8)),
     ):
         with pytest.raises(FloorscanError):  # a planner's layer of another size
             m.insert_visual(
@@ -289,9 +295,17 @@ def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
     same = np.zeros((10, 10), np.float32)
     with pytest.raises(FloorscanError, match="plan_log_odds"):  # the map's layer given twice
         m.insert_visual(
-            same, ok_conf, same, np.zeros((10, 10), np.uint8), (0, 0), (0, 0, 0),
+            same, ok_conf, same, np.zeros((10, 10), np.uint8), np.zeros((10, 10), np.uint8),
+            (0, 0), (0, 0, 0), np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
+        )  # fmt: skip
+    with pytest.raises(FloorscanError, match="plan_near_hits"):  # confirmed given twice
+        m.insert_visual(
+            np.zeros((10, 10), np.float32), ok_conf, np.zeros((10, 10), np.float32),
+            np.zeros((10, 10), np.uint8), ok_conf, (0, 0), (0, 0, 0),
             np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
         )  # fmt: skip
+    with pytest.raises(FloorscanError, match="persist_range_m"):
+        VisualSensorModel(persist_range_m=-1.0)
     with pytest.raises(FloorscanError, match="plan_log_odds"):
         m.insert_laser(same, same, (1.0, 1.0), np.ones((1, 2)), np.ones(1, bool), 1.0, -1.0)
     with pytest.raises(FloorscanError):  # the laser's planner's layer of another size

@@ -36,6 +36,7 @@ def _same(a, b):
     assert diff == 0, f"{diff} planner's cells differ"
     held = a.plan_log_odds > 0
     np.testing.assert_array_equal(a.plan_confirmed[held], b.plan_confirmed[held])
+    np.testing.assert_array_equal(a.plan_near_hits, b.plan_near_hits)
 
 
 @pytest.mark.parametrize("world_name", ["corridor", "room"])
@@ -96,17 +97,17 @@ class _Table:
 
 
 @pytest.mark.parametrize(
-    "clearing, confirmed, confirm_range, confirmed_clearing",
+    "clearing, confirmed, confirm_range, confirmed_clearing, persist_range",
     [
-        (0.0, 0.0, 0.5, 1.0),
-        (0.4, 1.0, 0.0, 0.25),
-        (1.0, 0.0, 0.5, 0.25),
-        (0.0, 0.0, 2.0, 1.0),
-        (0.0, 0.0, 0.3, 0.25),
+        (0.0, 0.0, 0.5, 1.0, 0.0),
+        (0.4, 1.0, 0.0, 0.25, 0.5),
+        (1.0, 0.0, 0.5, 0.25, 2.0),
+        (0.0, 0.0, 2.0, 1.0, 0.5),
+        (0.0, 0.0, 0.3, 0.25, 6.0),
     ],
 )
 def test_random_scans_with_every_status_give_the_same_map(
-    clearing, confirmed, confirm_range, confirmed_clearing
+    clearing, confirmed, confirm_range, confirmed_clearing, persist_range
 ):
     rng = np.random.default_rng(3)
     model = VisualSensorModel(
@@ -117,6 +118,7 @@ def test_random_scans_with_every_status_give_the_same_map(
         confirmed_nats=confirmed,
         confirm_range_m=confirm_range,
         confirmed_clearing=confirmed_clearing,
+        persist_range_m=persist_range,
     )
     for trial in range(30):
         cell = [0.05, 0.04, 0.1][trial % 3]

@@ -464,3 +464,38 @@ def test_the_drives_ranger_sees_a_low_contrast_step_only_inside_its_band():
         DriveOptions(mid_range_m=(1.2, 0.6))
     with pytest.raises(OptionError, match="mid_contrast"):
         DriveOptions(mid_contrast=-1.0)
+
+
+@pytest.mark.parametrize("persist_range", [0.5, 0.0])
+def test_a_box_seen_near_enters_the_planners_map_on_its_second_frame(persist_range):
+    """A box whose face the camera sees 0.4 m away for the first time (rendered, ranged):
+    with `persist_range_m` 0.5 the map's own evidence takes the face at once and the
+    planner's obstacles on the next frame, which sees it again; with 0 both at once. The
+    face's cells come from the world's geometry, not from the map."""
+    camera = Camera()
+    table = make_table(camera, "exact")
+    ranger = VisualRanger(table, columns=160)
+    model = VisualSensorModel(persist_range_m=persist_range)
+    world = World.from_toml(HALL + BOX)
+    face_x = 2.8 - 0.225
+    pose = (face_x - 0.4 - camera.robot_from_camera[0], 1.5, 0.0)
+    m = AvoidanceMap(center=pose[:2])
+    fx, fy = m.to_cells(np.full(5, face_x + 0.01), np.linspace(1.4, 1.6, 5))
+    cells = (fy.astype(int), fx.astype(int))
+    occupied_nats = math.log(m.options.occupied_threshold / (1 - m.options.occupied_threshold))
+    seen = []
+    for k in range(2):
+        image, _ = render(world, camera, pose, frame=k)
+        m.insert_visual(
+            ranger.scan(image), pose, mount=camera.robot_from_camera, table=table, model=model
+        )
+        seen.append((m.log_odds[cells] > occupied_nats, m.occupied()[cells]))
+    (own_first, plan_first), (own_second, plan_second) = seen
+    assert own_first.all() and own_second.all()
+    assert plan_second.all()
+    if persist_range > 0:
+        assert not plan_first.any()
+        assert m.plan_near_hits[cells].all()
+    else:
+        assert plan_first.all()
+        assert not m.plan_near_hits.any()

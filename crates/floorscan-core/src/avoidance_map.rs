@@ -78,6 +78,24 @@ pub struct VisualModel {
     /// `confirm_range_m` or farther): such a cell clears over several frames, as OctoMap's
     /// miss is smaller than its hit. 1 treats it as any other.
     pub confirmed_clearing: f64,
+    /// Range [m] (>= 0) within which a hit (a boundary point, a `too_close` near edge) makes
+    /// a cell an obstacle of the planner's layers only when it persists: the previous
+    /// insertion hit its cell or a neighbour from as near, or the planner already believes
+    /// one of them occupied (a fleck of carpet magnified near the robot comes and goes between
+    /// frames, an obstacle stays); the map's own layers take every hit. 0: every hit enters
+    /// at once.
+    pub persist_range_m: f64,
+}
+
+/// The planner's layers (`floorscan.drive.AvoidanceMap`'s `plan_*`), updated with the map's
+/// own: its log odds, its confirmed obstacles (cleared by `confirmed_clearing`) and the cells
+/// the last insertion hit from nearer than `persist_range_m` (1, else 0), which each insertion
+/// rewrites.
+#[derive(Debug)]
+pub struct PlanLayers<'a> {
+    pub log_odds: &'a mut [f32],
+    pub confirmed: &'a mut [u8],
+    pub near_hits: &'a mut [u8],
 }
 
 /// One scan's readings, column by column, in the camera's ground frame [m]: status codes
@@ -129,6 +147,8 @@ struct Clearing {
     confirmed: f32,
     /// log odds above which a cell is believed occupied
     believed_nats: f32,
+    /// whether a hit that did not persist leaves the cell as it was (the planner's layers)
+    holds_back: bool,
 }
 
 impl Clearing {
@@ -137,6 +157,7 @@ impl Clearing {
         no_boundary: 1.0,
         confirmed: 1.0,
         believed_nats: 0.0,
+        holds_back: false,
     };
 }
 
@@ -154,6 +175,15 @@ pub struct AvoidanceMap {
     /// where `hit` is set: whether the hit confirms the cell (a boundary at least
     /// `confirm_range_m` away)
     confirms: Vec<bool>,
+    /// where `hit` is set: whether the hit is held back from the planner's layers (nearer
+    /// than `persist_range_m` and not persisting)
+    unheld: Vec<bool>,
+    /// per reading: whether its hit is nearer than `persist_range_m`, and whether it is held
+    /// back from the planner's layers
+    near_hit: Vec<bool>,
+    held_back: Vec<bool>,
+    /// per reading: the window cell of its hit (boundary point or `too_close` near edge)
+    hit_cell: Vec<Option<usize>>,
     /// per reading: cell coordinates of the near edge, the free end, the boundary point
     near_c: Vec<[f64; 2]>,
     end_c: Vec<[f64; 2]>,
@@ -196,6 +226,10 @@ impl AvoidanceMap {
             mask: vec![0; side * side],
             hit: vec![f32::NAN; side * side],
             confirms: vec![false; side * side],
+            unheld: vec![false; side * side],
+            near_hit: Vec::new(),
+            held_back: Vec::new(),
+            hit_cell: Vec::new(),
             near_c: Vec::new(),
             end_c: Vec::new(),
             point_c: Vec::new(),
@@ -231,17 +265,19 @@ impl AvoidanceMap {
     /// `confirmed` (the same cells) records which cells a hit from `confirm_range_m` or
     /// farther made confirmed obstacles (1; 0 once the cell's log odds are not positive).
     ///
-    /// `plan`, when given, is the planner's pair of the same layers: it takes the same
-    /// evidence, except that its confirmed obstacles clear by `confirmed_clearing` of the
-    /// free evidence, while `log_odds` then clear in full (the map's probabilities keep their
-    /// calibration, the planner keeps a contradicted obstacle for several frames). Without
-    /// it, `confirmed_clearing` applies to `log_odds`.
+    /// `plan`, when given, is the planner's layers: they take the same evidence, except that
+    /// their confirmed obstacles clear by `confirmed_clearing` of the free evidence, while
+    /// `log_odds` then clear in full (the map's probabilities keep their calibration, the
+    /// planner keeps a contradicted obstacle for several frames), and that a hit nearer than
+    /// `persist_range_m` makes an obstacle there only when it persists
+    /// (`VisualModel::persist_range_m`).
+    /// Without them, `confirmed_clearing` applies to `log_odds` and every hit enters.
     #[allow(clippy::too_many_arguments)]
     pub fn insert_visual(
         &mut self,
         log_odds: &mut [f32],
         confirmed: &mut [u8],
-        plan: Option<(&mut [f32], &mut [u8])>,
+        plan: Option<PlanLayers<'_>>,
         origin_cells: (i64, i64),
         camera: Pose2,
         readings: &VisualReadings<'_>,
@@ -255,13 +291,14 @@ impl AvoidanceMap {
                 log_odds.len()
             )));
         }
-        if let Some((pl, pc)) = &plan {
-            if pl.len() != log_odds.len() || pc.len() != log_odds.len() {
+        if let Some(p) = &plan {
+            let n = log_odds.len();
+            if p.log_odds.len() != n || p.confirmed.len() != n || p.near_hits.len() != n {
                 return Err(Error::LengthMismatch(format!(
-                    "the planner's layers have {} and {} cells, the map {}",
-                    pl.len(),
-                    pc.len(),
-                    log_odds.len()
+                    "the planner's layers have {}, {} and {} cells, the map {n}",
+                    p.log_odds.len(),
+                    p.confirmed.len(),
+                    p.near_hits.len(),
                 )));
             }
         }
@@ -310,6 +347,12 @@ impl AvoidanceMap {
             return Err(invalid_option(
                 "confirmed_clearing",
                 format!("must be in (0, 1], got {}", model.confirmed_clearing),
+            ));
+        }
+        if !(model.persist_range_m.is_finite() && model.persist_range_m >= 0.0) {
+            return Err(invalid_option(
+                "persist_range_m",
+                format!("must be finite and >= 0, got {}", model.persist_range_m),
             ));
         }
         let weak_clearing = model.no_boundary_clearing < 1.0;
@@ -366,6 +409,30 @@ impl AvoidanceMap {
             self.hit_nats
                 .push(model.fusion_weight * (model.hit_a + model.hit_b * rng));
         }
+        // hits nearer than persist_range_m that the planner's layers do not take yet: no hit
+        // in the last insertion at their cell or a neighbour, no believed obstacle there
+        let side = self.side;
+        self.near_hit.clear();
+        self.held_back.clear();
+        self.hit_cell.clear();
+        for k in 0..n {
+            let (gx, gy) = match readings.status[k] {
+                BOUNDARY if self.ok[k] => (readings.x_m[k], readings.y_m[k]),
+                TOO_CLOSE => (readings.near_x_m[k], readings.near_y_m[k]),
+                _ => (f64::NAN, f64::NAN),
+            };
+            let [cx, cy] = to_cells(gx, gy);
+            let inside = cx >= 0.0 && cx < side as f64 && cy >= 0.0 && cy < side as f64;
+            let cell = inside.then(|| cy as usize * side + cx as usize);
+            let near = gx.hypot(gy) < model.persist_range_m;
+            let held_back = match &plan {
+                Some(p) if near => !cell.is_some_and(|c| persists(p, side, c)),
+                _ => false,
+            };
+            self.near_hit.push(near);
+            self.held_back.push(held_back);
+            self.hit_cell.push(cell);
+        }
         // the obstacle's faces between adjacent close boundary points
         let close = |k: usize, me: &Self| {
             let gap = (readings.x_m[k + 1] - readings.x_m[k])
@@ -394,7 +461,6 @@ impl AvoidanceMap {
         } else {
             0
         };
-        let side = self.side;
         let mut rows = RowSpan::EMPTY;
         // the floor quadrilaterals between neighbouring valid readings, filled at once (those
         // beside a no-boundary column apart, first, when they clear less)
@@ -434,12 +500,12 @@ impl AvoidanceMap {
             let r = (sig / cell).max(0.5);
             let far = readings.x_m[k].hypot(readings.y_m[k]) >= model.confirm_range_m;
             stamp_disc(
-                (&mut self.hit, &mut self.confirms),
+                (&mut self.hit, &mut self.confirms, &mut self.unheld),
                 side,
                 x,
                 y,
                 r,
-                (self.hit_nats[k] as f32, far),
+                (self.hit_nats[k] as f32, far, self.held_back[k]),
                 &mut rows,
             );
         }
@@ -455,6 +521,7 @@ impl AvoidanceMap {
                 let v = nan_min(self.hit_nats[k], self.hit_nats[k + 1]) as f32;
                 let far = readings.x_m[k].hypot(readings.y_m[k]) >= model.confirm_range_m
                     && readings.x_m[k + 1].hypot(readings.y_m[k + 1]) >= model.confirm_range_m;
+                let unheld = self.held_back[k] || self.held_back[k + 1];
                 for t in 0..steps {
                     let t = if t + 1 == steps {
                         1.0
@@ -467,6 +534,7 @@ impl AvoidanceMap {
                         let (i, j) = (pi as usize, pj as usize);
                         self.hit[j * side + i] = v;
                         self.confirms[j * side + i] = far;
+                        self.unheld[j * side + i] = unheld;
                         rows.cover(j);
                     }
                 }
@@ -484,6 +552,7 @@ impl AvoidanceMap {
                 let (i, j) = (tx as usize, ty as usize);
                 self.hit[j * side + i] = too_close;
                 self.confirms[j * side + i] = nx.hypot(ny) >= model.confirm_range_m;
+                self.unheld[j * side + i] = self.held_back[k];
                 rows.cover(j);
             }
         }
@@ -494,6 +563,7 @@ impl AvoidanceMap {
             no_boundary: model.no_boundary_clearing as f32,
             confirmed: model.confirmed_clearing as f32,
             believed_nats: model.confirmed_nats as f32,
+            holds_back: false,
         };
         let free = |i: usize, j: usize| {
             let r = ((i as f64 + 0.5 - cam_c[0]).hypot(j as f64 + 0.5 - cam_c[1]) * cell) as f32;
@@ -501,14 +571,25 @@ impl AvoidanceMap {
         };
         match plan {
             None => self.apply(&mut [Layer::visual(log_odds, confirmed, weak)], &rows, free),
-            Some((plan_log_odds, plan_confirmed)) => {
+            Some(plan) => {
+                // this insertion's near hits are the next one's to persist
+                plan.near_hits.fill(0);
+                for (near, cell) in self.near_hit.iter().zip(&self.hit_cell) {
+                    if let (true, Some(c)) = (near, cell) {
+                        plan.near_hits[*c] = 1;
+                    }
+                }
                 let full = Clearing {
                     confirmed: 1.0,
                     ..weak
                 };
+                let held = Clearing {
+                    holds_back: true,
+                    ..weak
+                };
                 let mut layers = [
                     Layer::visual(log_odds, confirmed, full),
-                    Layer::visual(plan_log_odds, plan_confirmed, weak),
+                    Layer::visual(plan.log_odds, plan.confirmed, held),
                 ];
                 self.apply(&mut layers, &rows, free)
             }
@@ -615,16 +696,18 @@ impl AvoidanceMap {
                 let k = row + i;
                 let (h, mask) = (self.hit[k], self.mask[k]);
                 let confirms = h.is_finite() && self.confirms[k];
+                let unheld = h.is_finite() && self.unheld[k];
                 let f = if mask != 0 && !h.is_finite() {
                     free(i, j)
                 } else {
                     0.0
                 };
                 for layer in layers.iter_mut() {
-                    layer.update(k, h, mask, confirms, f);
+                    layer.update(k, h, mask, confirms, f, unheld);
                 }
                 self.hit[k] = f32::NAN;
                 self.confirms[k] = false;
+                self.unheld[k] = false;
                 self.mask[k] = 0;
             }
         }
@@ -663,10 +746,14 @@ impl<'a> Layer<'a> {
     }
 
     /// Cell `k`'s update: its hit `h` (NaN: none), the quadrilateral mask, whether the hit
-    /// confirms, and the free evidence `f` where the mask is set and there is no hit.
+    /// confirms, the free evidence `f` where the mask is set and there is no hit, and whether
+    /// the hit is held back from a layer that `holds_back` (which then keeps the cell as it
+    /// was but for a confirmation its log odds no longer support).
     #[inline]
-    fn update(&mut self, k: usize, h: f32, mask: u8, confirms: bool, f: f32) {
+    fn update(&mut self, k: usize, h: f32, mask: u8, confirms: bool, f: f32, unheld: bool) {
         let w = self.weak;
+        let held = unheld && w.holds_back;
+        let confirms = confirms && !held;
         let l = &mut self.log_odds[k];
         let mut believed = *l > w.believed_nats;
         if let Some(c) = self.confirmed.as_deref_mut() {
@@ -678,7 +765,9 @@ impl<'a> Layer<'a> {
                 c[k] = 1;
             }
         }
-        if h.is_finite() {
+        if held {
+            // a near hit that did not persist: no evidence
+        } else if h.is_finite() {
             *l += h;
         } else if mask == 1 && believed {
             *l += w.confirmed * f;
@@ -751,12 +840,12 @@ impl RowSpan {
 /// Sets the cells whose centre lies within `r` of (x, y) [cells] to `value` (hit evidence,
 /// whether it confirms the cell).
 fn stamp_disc(
-    (hit, confirms): (&mut [f32], &mut [bool]),
+    (hit, confirms, unheld): (&mut [f32], &mut [bool], &mut [bool]),
     side: usize,
     x: f64,
     y: f64,
     r: f64,
-    (value, confirm): (f32, bool),
+    (value, confirm, held_back): (f32, bool, bool),
     rows: &mut RowSpan,
 ) {
     let (fx, fy) = (x.floor(), y.floor());
@@ -775,10 +864,26 @@ fn stamp_disc(
             if a * a + b * b <= rr {
                 hit[j * side + i] = value;
                 confirms[j * side + i] = confirm;
+                unheld[j * side + i] = held_back;
                 rows.cover(j);
             }
         }
     }
+}
+
+/// Whether a hit at window cell `cell` persists for the planner's layers: the last insertion
+/// hit it or one of its eight neighbours from near, or the planner has evidence that one is occupied.
+fn persists(plan: &PlanLayers<'_>, side: usize, cell: usize) -> bool {
+    let (i, j) = (cell % side, cell / side);
+    for jj in j.saturating_sub(1)..=(j + 1).min(side - 1) {
+        for ii in i.saturating_sub(1)..=(i + 1).min(side - 1) {
+            let q = jj * side + ii;
+            if plan.near_hits[q] != 0 || plan.log_odds[q] > 0.0 {
+                return true;
+            }
+        }
+    }
+    false
 }
 
 /// Forgetting: every value times `factor` (in [0, 1]).
@@ -806,6 +911,7 @@ mod tests {
             confirmed_nats: 1.5,
             confirm_range_m: 0.0,
             confirmed_clearing: 1.0,
+            persist_range_m: 0.0,
         }
     }
 
@@ -1003,6 +1109,14 @@ mod tests {
                 confirmed_clearing: f64::NAN,
                 ..model()
             },
+            VisualModel {
+                persist_range_m: -0.1,
+                ..model()
+            },
+            VisualModel {
+                persist_range_m: f64::INFINITY,
+                ..model()
+            },
         ] {
             let (mut map, mut l, mut c) = new_map();
             let cam = Pose2::new(2.5, 2.5, 0.0);
@@ -1019,13 +1133,14 @@ mod tests {
         let mut hit = vec![f32::NAN; side * side];
         let mut rows = RowSpan::EMPTY;
         let mut confirms = vec![false; side * side];
+        let mut unheld = vec![false; side * side];
         stamp_disc(
-            (&mut hit, &mut confirms),
+            (&mut hit, &mut confirms, &mut unheld),
             side,
             7.3,
             9.8,
             2.4,
-            (1.0, true),
+            (1.0, true, true),
             &mut rows,
         );
         for j in 0..side {
@@ -1033,17 +1148,18 @@ mod tests {
                 let d = ((i as f64 + 0.5 - 7.3).powi(2) + (j as f64 + 0.5 - 9.8).powi(2)).sqrt();
                 assert_eq!(hit[j * side + i] == 1.0, d <= 2.4, "{i} {j}");
                 assert_eq!(confirms[j * side + i], d <= 2.4);
+                assert_eq!(unheld[j * side + i], d <= 2.4);
             }
         }
         assert!(rows.lo == 7 && rows.hi == 12);
         // a huge disc far outside stays within the grid's loops
         stamp_disc(
-            (&mut hit, &mut confirms),
+            (&mut hit, &mut confirms, &mut unheld),
             side,
             -1e300,
             5.0,
             1e200,
-            (2.0, false),
+            (2.0, false, false),
             &mut rows,
         );
     }
@@ -1106,12 +1222,16 @@ mod tests {
                 &model()
             )
             .is_err());
-        let (mut pl, mut pc) = (vec![0.0f32; 99], vec![0u8; 100]);
+        let (mut pl, mut pc, mut pn) = (vec![0.0f32; 99], vec![0u8; 100], vec![0u8; 100]);
         assert!(map
             .insert_visual(
                 &mut l,
                 &mut c,
-                Some((&mut pl, &mut pc)),
+                Some(PlanLayers {
+                    log_odds: &mut pl,
+                    confirmed: &mut pc,
+                    near_hits: &mut pn,
+                }),
                 (0, 0),
                 Pose2::IDENTITY,
                 &r,
@@ -1129,6 +1249,120 @@ mod tests {
                 -1.0
             )
             .is_err());
+    }
+
+    /// A near hit enters the planner's layers only when it persists: a face 0.4 m ahead
+    /// (within `persist_range_m` 0.5) seen once is an obstacle in the map's own layer and
+    /// stays below the planner's threshold (0.6 nats) in the planner's; seen again from the
+    /// same place it is an obstacle there too; one seen each frame at another place (a fleck
+    /// that comes and goes) never is; a face beyond the range enters at once; a cell with
+    /// free evidence takes the hit in full when that stays below the threshold; a near hit on
+    /// a cell the planner counts an obstacle enters at once; with the range 0 the two layers
+    /// are equal.
+    #[test]
+    fn near_hits_enter_the_planners_layers_when_they_persist() {
+        let side = 100;
+        let n = 9;
+        let face = |ahead: f64, left: f64| {
+            let status = vec![BOUNDARY; n];
+            let ys: Vec<f64> = (0..n).map(|k| left + 0.01 * k as f64).collect();
+            let x = vec![ahead; n];
+            let nx = vec![0.25; n];
+            (status, x, ys.clone(), nx, ys)
+        };
+        let fp = vec![0.005; n];
+        let err = vec![0.005; n];
+        let held = VisualModel {
+            persist_range_m: 0.5,
+            ..model()
+        };
+        let cam = Pose2::new(2.5, 2.5, 0.0);
+        let cell_of = |ahead: f64, left: f64| {
+            ((2.5 + left + 0.04) / 0.05) as usize * side + ((2.5 + ahead) / 0.05) as usize
+        };
+        struct Run {
+            map: AvoidanceMap,
+            l: Vec<f32>,
+            c: Vec<u8>,
+            pl: Vec<f32>,
+            pc: Vec<u8>,
+            pn: Vec<u8>,
+        }
+        let new_run = || Run {
+            map: AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap(),
+            l: vec![0.0; side * side],
+            c: vec![0; side * side],
+            pl: vec![0.0; side * side],
+            pc: vec![0; side * side],
+            pn: vec![0; side * side],
+        };
+        let insert = |run: &mut Run, ahead: f64, left: f64, m: &VisualModel| {
+            let (status, x, y, nx, ny) = face(ahead, left);
+            let r = readings(&status, (&x, &y), (&nx, &ny), (&fp, &err));
+            run.map
+                .insert_visual(
+                    &mut run.l,
+                    &mut run.c,
+                    Some(PlanLayers {
+                        log_odds: &mut run.pl,
+                        confirmed: &mut run.pc,
+                        near_hits: &mut run.pn,
+                    }),
+                    (0, 0),
+                    cam,
+                    &r,
+                    m,
+                )
+                .unwrap();
+        };
+        // seen once, then again from the same place
+        let mut run = new_run();
+        let k = cell_of(0.4, 0.0);
+        insert(&mut run, 0.4, 0.0, &held);
+        assert!(
+            run.l[k] > 0.5,
+            "the map's own layer takes the hit: {}",
+            run.l[k]
+        );
+        assert_eq!(run.pl[k], 0.0, "the planner's layer does not yet take it");
+        assert_eq!(run.pc[k], 0, "nor does it confirm the cell");
+        assert_eq!(
+            run.pn[k], 1,
+            "the near hit is remembered for the next insertion"
+        );
+        insert(&mut run, 0.4, 0.0, &held);
+        assert!(run.pl[k] > 1.0, "persisting, it enters: {}", run.pl[k]);
+        // a fleck at another place each frame (0.3 m apart, all within 0.5 m) never enters
+        let mut run = new_run();
+        for f in 0..3 {
+            insert(&mut run, 0.3, -0.3 + 0.3 * f as f64, &held);
+        }
+        assert!(
+            run.pl.iter().all(|&v| v <= 0.0),
+            "a fleck that moves entered"
+        );
+        assert!(run.l.iter().any(|&v| v > 0.5));
+        // beyond the range: at once
+        let mut run = new_run();
+        insert(&mut run, 1.0, 0.0, &held);
+        assert!(run.pl[cell_of(1.0, 0.0)] > 0.5);
+        // a cell with free evidence keeps it against a near hit that does not persist
+        let mut run = new_run();
+        run.pl[k] = -1.5;
+        insert(&mut run, 0.4, 0.0, &held);
+        assert_eq!(run.pl[k], -1.5);
+        // a cell the planner believes occupied takes a near hit at once
+        let mut run = new_run();
+        run.pl[k] = 1.0;
+        insert(&mut run, 0.4, 0.0, &held);
+        assert!(run.pl[k] > 1.5, "{}", run.pl[k]);
+        // range 0: the planner's layers equal the map's own (confirmed_clearing 1)
+        let mut run = new_run();
+        for f in 0..3 {
+            insert(&mut run, 0.4, -0.3 + 0.3 * f as f64, &model());
+        }
+        assert_eq!((&run.l, &run.c), (&run.pl, &run.pc));
+        assert!(run.pn.iter().all(|&v| v == 0));
     }
 
     /// With the planner's layers, the map's own layers evolve as a single map with
@@ -1160,6 +1394,7 @@ mod tests {
         let mut both = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
         let mut single = both.clone();
         let ((mut l, mut c), (mut pl, mut pc)) = (layers(), layers());
+        let mut pn = vec![0u8; side * side];
         let ((mut fl, mut fc), (mut sl, mut sc)) = (layers(), layers());
         let wall_cell = (2.5 / 0.05) as usize * side + (4.0 / 0.05) as usize;
         let mut differed = false;
@@ -1171,7 +1406,11 @@ mod tests {
             both.insert_visual(
                 &mut l,
                 &mut c,
-                Some((&mut pl, &mut pc)),
+                Some(PlanLayers {
+                    log_odds: &mut pl,
+                    confirmed: &mut pc,
+                    near_hits: &mut pn,
+                }),
                 (0, 0),
                 cam,
                 r,

@@ -1,7 +1,7 @@
 //! Bindings of `floorscan_core::avoidance_map`: the drive's avoidance map updates, in place on
 //! the numpy layers `floorscan.drive.AvoidanceMap` keeps.
 
-use floorscan_core::avoidance_map::{self, AvoidanceMap, VisualModel, VisualReadings};
+use floorscan_core::avoidance_map::{self, AvoidanceMap, PlanLayers, VisualModel, VisualReadings};
 use numpy::{
     PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray2,
     PyUntypedArrayMethods,
@@ -60,9 +60,12 @@ impl PyAvoidanceMap {
 
     /// Adds one visual scan to `log_odds` ((side, side) float32, in place; its cell (0, 0) is
     /// world cell `origin_cells`) and to `confirmed` ((side, side) uint8, in place: the cells a
-    /// hit from `confirm_range_m` or farther confirmed), and to the planner's pair of the same
-    /// layers `plan_log_odds` and `plan_confirmed`, whose confirmed obstacles alone clear by
-    /// the model's `confirmed_clearing` (`log_odds` clear in full), seen by the camera at
+    /// hit from `confirm_range_m` or farther confirmed), and to the planner's layers
+    /// `plan_log_odds` and `plan_confirmed`, whose confirmed obstacles alone clear by the
+    /// model's `confirmed_clearing` (`log_odds` clear in full), and which take a hit nearer
+    /// than the model's `persist_range_m` only when it persists (`plan_near_hits`, (side,
+    /// side) uint8, in place: the cells the last insertion hit from that near), seen by the
+    /// camera at
     /// `camera` (world_from_camera): per column the status codes, boundary points, near edges
     /// [m, camera ground frame], footprints and predicted errors [m] (NaN: none); `model` a
     /// `floorscan.drive.VisualSensorModel` (its fields are read by name).
@@ -74,6 +77,7 @@ impl PyAvoidanceMap {
         mut confirmed: PyReadwriteArray2<'_, u8>,
         plan_log_odds: Bound<'_, PyArray2<f32>>,
         plan_confirmed: Bound<'_, PyArray2<u8>>,
+        plan_near_hits: Bound<'_, PyArray2<u8>>,
         origin_cells: (i64, i64),
         camera: [f64; 3],
         status: PyReadonlyArray1<'_, u8>,
@@ -100,6 +104,7 @@ impl PyAvoidanceMap {
                 confirmed_nats: field("confirmed_nats")?,
                 confirm_range_m: field("confirm_range_m")?,
                 confirmed_clearing: field("confirmed_clearing")?,
+                persist_range_m: field("persist_range_m")?,
             };
             let status = status.as_slice().map_err(|_| {
                 error(
@@ -122,13 +127,19 @@ impl PyAvoidanceMap {
             let mut plan_confirmed = own_layer(&plan_confirmed, "plan_confirmed")?;
             let (plan_values, _) = layer(&mut plan_log_odds, "plan_log_odds")?;
             let (plan_confirmed, _) = layer(&mut plan_confirmed, "plan_confirmed")?;
+            let mut plan_near_hits = own_layer(&plan_near_hits, "plan_near_hits")?;
+            let (plan_near_hits, _) = layer(&mut plan_near_hits, "plan_near_hits")?;
             let camera = pose(camera);
             let inner = &mut self.inner;
             py.detach(|| {
                 inner.insert_visual(
                     values,
                     confirmed,
-                    Some((plan_values, plan_confirmed)),
+                    Some(PlanLayers {
+                        log_odds: plan_values,
+                        confirmed: plan_confirmed,
+                        near_hits: plan_near_hits,
+                    }),
                     origin_cells,
                     camera,
                     &readings,

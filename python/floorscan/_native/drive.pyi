@@ -20,13 +20,16 @@ class AvoidanceMap:
         [fractional cells of the window] gets `miss_nats`, the end cells where `returned` (N,)
         bool get `hit_nats`.
         """
-    def insert_visual(self, /, log_odds: Incomplete, confirmed: Incomplete, plan_log_odds: Incomplete, plan_confirmed: Incomplete, origin_cells: tuple[SupportsIndex, SupportsIndex], camera: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], status: Incomplete, x: Incomplete, y: Incomplete, near_x: Incomplete, near_y: Incomplete, footprints: Incomplete, errors: Incomplete, model: Any) -> None:
+    def insert_visual(self, /, log_odds: Incomplete, confirmed: Incomplete, plan_log_odds: Incomplete, plan_confirmed: Incomplete, plan_near_hits: Incomplete, origin_cells: tuple[SupportsIndex, SupportsIndex], camera: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], status: Incomplete, x: Incomplete, y: Incomplete, near_x: Incomplete, near_y: Incomplete, footprints: Incomplete, errors: Incomplete, model: Any) -> None:
         """
         Adds one visual scan to `log_odds` ((side, side) float32, in place; its cell (0, 0) is
         world cell `origin_cells`) and to `confirmed` ((side, side) uint8, in place: the cells a
-        hit from `confirm_range_m` or farther confirmed), and to the planner's pair of the same
-        layers `plan_log_odds` and `plan_confirmed`, whose confirmed obstacles alone clear by
-        the model's `confirmed_clearing` (`log_odds` clear in full), seen by the camera at
+        hit from `confirm_range_m` or farther confirmed), and to the planner's layers
+        `plan_log_odds` and `plan_confirmed`, whose confirmed obstacles alone clear by the
+        model's `confirmed_clearing` (`log_odds` clear in full), and which take a hit nearer
+        than the model's `persist_range_m` only when it persists (`plan_near_hits`, (side,
+        side) uint8, in place: the cells the last insertion hit from that near), seen by the
+        camera at
         `camera` (world_from_camera): per column the status codes, boundary points, near edges
         [m, camera ground frame], footprints and predicted errors [m] (NaN: none); `model` a
         `floorscan.drive.VisualSensorModel` (its fields are read by name).

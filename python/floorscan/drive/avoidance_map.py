@@ -5,8 +5,10 @@ so obstacles that moved away clear.
 
 The planner reads its own copy of the evidence (``plan_log_odds``, updated in the same
 pass), in which a confirmed obstacle that the floor seen beyond it contradicts clears over
-several frames (``VisualSensorModel.confirmed_clearing``); ``log_odds``, whose calibrated
-:meth:`AvoidanceMap.probabilities` must mean what they say, clear in full.
+several frames (``VisualSensorModel.confirmed_clearing``) and, if asked, a hit near the camera
+enters only when the next frame hits there again (``VisualSensorModel.persist_range_m``);
+``log_odds``, whose calibrated :meth:`AvoidanceMap.probabilities` must mean what they say,
+clear in full and take every hit.
 
 Cells between adjacent columns count as seen: each pair of neighbouring readings fills the
 floor quadrilateral between their near edges of view and their ends, so one frame covers the
@@ -149,7 +151,14 @@ def _logit(p: float) -> float:
 
 
 _DEFAULT_MODEL = VisualSensorModel()
-_LAYERS = ("log_odds", "bumps", "confirmed", "plan_log_odds", "plan_confirmed")
+_LAYERS = (
+    "log_odds",
+    "bumps",
+    "confirmed",
+    "plan_log_odds",
+    "plan_confirmed",
+    "plan_near_hits",
+)
 """The map's layers, scrolled together by :meth:`AvoidanceMap.recenter`."""
 _BOUNDARY = int(ColumnStatus.BOUNDARY)  # a plain int compares faster than the enum
 
@@ -170,6 +179,10 @@ class AvoidanceMap:
         # frame (log_odds clear in full, so probabilities() keeps its calibration)
         self.plan_log_odds = np.zeros((self.n, self.n), np.float32)
         self.plan_confirmed = np.zeros((self.n, self.n), np.uint8)
+        # 1 where the last visual insertion hit from nearer than
+        # VisualSensorModel.persist_range_m: such a hit enters the planner's layers when the
+        # next one hits there again (or the planner has evidence the place is occupied)
+        self.plan_near_hits = np.zeros((self.n, self.n), np.uint8)
         self.x_cell = 0
         self.y_cell = 0
         self.recenter(*center[:2])
@@ -286,6 +299,7 @@ class AvoidanceMap:
             self.confirmed,
             self.plan_log_odds,
             self.plan_confirmed,
+            self.plan_near_hits,
             (self.x_cell, self.y_cell),
             cam,
             status,
