@@ -14,6 +14,7 @@ from ..evaluation.calibration_error import table_for_dataset
 from ..evaluation.case import case_from_dataset
 from ..evaluation.demo import SIMULATION_CONFIG
 from ..evaluation.floor_eval import run_floor_eval
+from ..evaluation.real_sets import default_losses, format_real_table, score_real_sets
 from ..evaluation.report import write_report
 from ..evaluation.runner import evaluate_case, run_suite
 from ..evaluation.scenarios import full_suite, quick_suite
@@ -42,6 +43,15 @@ def register(sub) -> None:
         "--floors",
         help="a folder of real frames with floor masks (images/, masks/; the format of "
         "../shared/data/floors): scored in image rows per clip and floor type",
+    )
+    p.add_argument(
+        "--real",
+        nargs="?",
+        const="../shared/data",
+        metavar="DIR",
+        help="score every real set with truth under DIR (default ../shared/data; floor-mask "
+        "folders found by their layout) for each ranger kind on grey and colour frames, in one "
+        "table; exits 3 when the configured kind loses to the edge ranger on any set",
     )
     p.add_argument(
         "--ranger",
@@ -74,6 +84,8 @@ def run(args: argparse.Namespace) -> int:
     )
     out = Path(args.output)
     t0 = time.perf_counter()
+    if args.real:
+        return _real(args, cfg, out, command, t0)
     if args.floors:
         return _floors(args, cfg, out, command, t0)
     if args.ranger and args.ranger != "all":
@@ -152,3 +164,21 @@ def _floors(args: argparse.Namespace, cfg, out: Path, command: str, t0: float) -
     print(md, end="")
     print(f"\nscored in {time.perf_counter() - t0:.1f} s; floors.md, floors.json in {out}/")
     return 0
+
+
+def _real(args: argparse.Namespace, cfg, out: Path, command: str, t0: float) -> int:
+    import json
+
+    kinds = ("edge", "appearance", "fused") if args.ranger in (None, "all") else (args.ranger,)
+    if "edge" not in kinds:
+        kinds = ("edge", *kinds)
+    if cfg.ranger.kind not in kinds:
+        kinds = (*kinds, cfg.ranger.kind)
+    res = score_real_sets(args.real, cfg, kinds=kinds)
+    out.mkdir(parents=True, exist_ok=True)
+    md = f"# Real sets: {args.real}\n\n" + format_real_table(res, command=command)
+    write_atomic(out / "real.md", md)
+    write_atomic(out / "real.json", json.dumps(res, indent=1, default=float))
+    print(md, end="")
+    print(f"\nscored in {time.perf_counter() - t0:.1f} s; real.md, real.json in {out}/")
+    return 3 if default_losses(res) else 0

@@ -57,7 +57,7 @@ class DriveOptions:
       2.5 cm chair leg at 1 m spans at least one).
     - ``ranger``: the range sensor's kind, ``"edge"``, ``"appearance"`` or ``"fused"`` (a
       ``config`` given to :func:`drive` supplies the rangers' options, this their kind).
-      Default ``"edge"``, not the configuration's ``fused``: on the carpet worlds the closed
+      Default ``"edge"``, the configuration's default too: on the carpet worlds the closed
       loop drives better with the paper's ranger (built-in suite at 0.8 m/s: 0 contacts
       against 2; the held-out open plan at 0.3 m/s: 93 % of waypoints against 71 %, the pose
       estimate within 0.48 m against 1.36 m: the appearance boundaries scatter more for the

@@ -209,30 +209,37 @@ def load_floor_frames(
     return out
 
 
-def score_floor_frames(
-    loaded: Sequence[LoadedFrame], make_ranger: RangerFactory
-) -> Dict[str, tuple]:
+def range_floor_frames(loaded: Sequence[LoadedFrame], make_ranger: RangerFactory):
     """Ranges every frame (one ranger per clip and image size, frames in order, so a model
-    learned over a clip carries over as on a robot); per clip: (wrong columns, columns,
-    truth status counts (4,), frames)."""
-    out: Dict[str, tuple] = {}
-    for clip, group in _by_clip(loaded):
+    learned over a clip carries over as on a robot). Yields ``(frame, columns, scan)``:
+    ``columns`` the sampled image columns (intp), ``scan`` the :class:`Scan`."""
+    for _clip, group in _by_clip(loaded):
         ranger, size = None, None
-        wrong, cols_n, mix = 0, 0, np.zeros(4, np.int64)
         for lf in group:
             h, w = lf.rgb.shape[:2]
             if ranger is None or size != (w, h):
                 ranger, size = make_ranger(w, h), (w, h)
             scan = ranger.scan(lf.rgb, timestamp=float(lf.frame.frame))
-            cols = scan.columns.astype(np.intp)
-            bad = wrong_columns(
-                scan.status_codes, scan.rows, lf.true_status[cols], lf.true_rows[cols], h
-            )
-            wrong += int(bad.sum())
-            cols_n += bad.size
-            mix += np.bincount(lf.true_status[cols], minlength=4)
-        out[clip] = (wrong, cols_n, mix, len(group))
-    return out
+            yield lf, scan.columns.astype(np.intp), scan
+
+
+def score_floor_frames(
+    loaded: Sequence[LoadedFrame], make_ranger: RangerFactory
+) -> Dict[str, tuple]:
+    """Ranges every frame (:func:`range_floor_frames`); per clip: (wrong columns, columns,
+    truth status counts (4,), frames)."""
+    out: Dict[str, list] = {}
+    for lf, cols, scan in range_floor_frames(loaded, make_ranger):
+        h = lf.rgb.shape[0]
+        bad = wrong_columns(
+            scan.status_codes, scan.rows, lf.true_status[cols], lf.true_rows[cols], h
+        )
+        acc = out.setdefault(lf.frame.clip, [0, 0, np.zeros(4, np.int64), 0])
+        acc[0] += int(bad.sum())
+        acc[1] += bad.size
+        acc[2] += np.bincount(lf.true_status[cols], minlength=4)
+        acc[3] += 1
+    return {clip: tuple(acc) for clip, acc in out.items()}
 
 
 def summarise_floor_scores(

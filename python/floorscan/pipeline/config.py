@@ -44,8 +44,8 @@ class RangerExtras:
     """The pipeline's own keys of ``[ranger]`` (beside the Rust ``RangerOptions``)."""
 
     kind: str = doc(
-        "range sensor: edge (the paper's box filter; fastest, for plain floors) | appearance (floor colour and texture model) | fused (appearance boundaries placed by nearby edges; the default: the fewest wrong columns over the simulated suite and the real floor set together, EVALUATION.md)",
-        "fused",
+        "range sensor: edge (the paper's box filter; the default: no other kind has fewer wrong columns on every real set with truth, `floorscan eval --real`, EVALUATION.md) | appearance (floor colour and texture model) | fused (appearance boundaries placed by nearby edges; fewer wrong columns on the simulator's tiles, more on real floors)",
+        "edge",
     )
     auto_threshold: bool = doc(
         "set `threshold` (the least threshold) once from the first frame: auto_threshold_k x the carpet's texture noise near the robot (false: as configured; `noise_multiple` and `contrast` adapt every frame either way)",
