@@ -142,6 +142,19 @@ def refine_motion(table, cur, prv, m, band, iters=5):
     return m
 
 
+def floor_noise(table, cur, prv, m, band):
+    """Robust sigma of the floor band's residual after the warp [grey levels]: the frame's
+    noise, the two views' resolution and lighting and what is left of the motion's error."""
+    vv, uu = np.nonzero(band)
+    u, v = uu.astype(float), vv.astype(float)
+    x, y = table.lookup(u, v)
+    gp = m @ np.stack([x, y, np.ones(x.size)])
+    up, vp = inverse_lookup(table, gp[0], gp[1], u, v)
+    ok = np.isfinite(up)
+    r = cur[vv[ok], uu[ok]] - bilinear(prv, up[ok], vp[ok])
+    return float(1.4826 * np.median(np.abs(r - np.median(r))))
+
+
 def zero_mean_residual(table, cur, prv, u, v, g_prev):
     up, vp = inverse_lookup(table, g_prev[0], g_prev[1], u, v)
     ok = np.isfinite(up)
@@ -151,7 +164,9 @@ def zero_mean_residual(table, cur, prv, u, v, g_prev):
     return float(np.sqrt(np.mean(((a - a.mean()) - (b - b.mean())) ** 2)))
 
 
-def floor_explains(table, cur, prv, m, u, vb, *, rows_above, ratio, texture, min_gap):
+def floor_explains(
+    table, cur, prv, m, u, vb, *, rows_above, ratio, texture, min_llr, noise_sigma, min_parallax
+):
     """True when the rows above edge row vb of column u moved as floor, clearly better than as a
     vertical surface standing at vb."""
     vs = np.arange(vb - rows_above, vb, dtype=float)
@@ -169,9 +184,30 @@ def floor_explains(table, cur, prv, m, u, vb, *, rows_above, ratio, texture, min
     floor = (m @ np.stack([gx, gy, ones]))[:2]
     s = np.hypot(bx, by) / np.hypot(gx, gy)
     standing = (m @ np.stack([s * gx, s * gy, ones]))[:2] / s
+    if min_parallax > 0:
+        # the two explanations must put the patch's pixels apart in the earlier frame, else
+        # the test cannot tell them apart (pure rotation, a short baseline, a low patch)
+        fu, fv = inverse_lookup(table, floor[0], floor[1], uf, vf)
+        su, sv = inverse_lookup(table, standing[0], standing[1], uf, vf)
+        # what the earlier frame's gradient says the two explanations differ by: a texture
+        # that runs along the difference (a skirting parallel to the motion, the aperture
+        # problem) cannot tell them apart however far apart they put it
+        gy_img, gx_img = np.gradient(prv)
+        ok = np.isfinite(fu) & np.isfinite(su)
+        if ok.sum() < 0.7 * ok.size:
+            return False
+        gxs = bilinear(gx_img, fu[ok], fv[ok])
+        gys = bilinear(gy_img, fu[ok], fv[ok])
+        apart = np.sqrt(np.mean((gxs * (su - fu)[ok] + gys * (sv - fv)[ok]) ** 2))
+        if not (apart >= min_parallax):
+            return False
     rf = zero_mean_residual(table, cur, prv, uf, vf, floor)
     ro = zero_mean_residual(table, cur, prv, uf, vf, standing)
-    return bool(np.isfinite(rf) and np.isfinite(ro) and rf < ratio * ro and ro - rf > min_gap)
+    if not (np.isfinite(rf) and np.isfinite(ro) and rf < ratio * ro):
+        return False
+    # the log-likelihood ratio of the two explanations, Gaussian residuals of the floor's sigma
+    llr = uf.size * (ro**2 - rf**2) / (2 * noise_sigma**2)
+    return bool(llr > min_llr)
 
 
 def scan_with_motion(table, ranger, img, cur, prv, m, args, max_vetoes=10):
@@ -196,7 +232,9 @@ def scan_with_motion(table, ranger, img, cur, prv, m, args, max_vetoes=10):
                 rows_above=args.rows_above,
                 ratio=args.ratio,
                 texture=args.texture,
-                min_gap=args.min_gap,
+                min_llr=args.min_llr,
+                noise_sigma=args.noise_sigma,
+                min_parallax=args.min_parallax,
             ):
                 # the edge is the floor's: flatten the column below it and scan on above it
                 v = int(round(vb)) - 1
@@ -212,7 +250,7 @@ def scan_with_motion(table, ranger, img, cur, prv, m, args, max_vetoes=10):
 
 def probe(world, seed, args):
     cfg = Config()
-    camera = Camera()
+    camera = Camera(width=args.width, height=args.height)
     run = simulate_run(world, camera=camera, seconds=args.seconds, seed=seed, threads=2)
     table, _ = calibrated_table(camera, calibration=cfg.calibration.kwargs())
     case = case_from_run("probe", run, table, cell_size_m=cfg.grid.cell_size_m)
@@ -232,6 +270,7 @@ def probe(world, seed, args):
         odo = case.odometry
         m = np.linalg.inv(mount) @ np.linalg.inv(se2(odo[k - args.gap])) @ se2(odo[k]) @ mount
         m = refine_motion(table, cur, prv, m, band)
+        args.noise_sigma = max(floor_noise(table, cur, prv, m, band), 0.5)
         for key, scan in (
             ("edge", ranger.scan(img)),
             ("motion", scan_with_motion(table, ranger, img, cur, prv, m, args)),
@@ -248,16 +287,24 @@ def main() -> None:
     ap.add_argument("--floor", choices=["as-is", *HELD_OUT_FLOORS], default="as-is")
     ap.add_argument("--seeds", nargs="+", type=int, default=[1])
     ap.add_argument("--seconds", type=float, default=8.0)
+    ap.add_argument("--width", type=int, default=320)
+    ap.add_argument("--height", type=int, default=240)
     ap.add_argument("--stride", type=int, default=5, help="score every n-th frame")
     ap.add_argument("--gap", type=int, default=6, help="frames between the two views (10 Hz)")
     ap.add_argument("--rows-above", type=int, default=30)
     ap.add_argument("--ratio", type=float, default=0.8)
     ap.add_argument("--texture", type=float, default=2.0)
     ap.add_argument(
-        "--min-gap",
+        "--min-llr",
         type=float,
         default=0.0,
-        help="least difference of the two residuals [grey levels] for a veto",
+        help="least log-likelihood ratio of floor over a standing surface for a veto",
+    )
+    ap.add_argument(
+        "--min-parallax",
+        type=float,
+        default=0.0,
+        help="least RMS intensity difference [grey levels] the earlier frame's gradient predicts between the two explanations, for a veto",
     )
     args = ap.parse_args()
     for spec in args.worlds:
