@@ -183,7 +183,7 @@ impl ScanMatcherOptions {
         }
         if let Some(g) = self.rejection_threshold {
             // inf (no gate) passes, NaN does not
-            if !(g > 0.0) {
+            if g.is_nan() || g <= 0.0 {
                 return Err(invalid_option(
                     "rejection_threshold",
                     format!("must be > 0, got {g}"),
