@@ -102,8 +102,8 @@ def stages(
         inflate,
         navigation_function,
     )
-    from floorscan.drive.loop import _visual_points
-    from floorscan.drive.scan_matcher import ScanMatcher
+    from floorscan.mapping.scan_matcher import ScanMatcher
+    from floorscan.mapping.scan_matcher import boundary_points_robot as _visual_points
 
     cam, table, ranger, pose, image = corridor_frame(width, height, config, band)
     m = AvoidanceMap(center=pose[:2])

@@ -15,8 +15,8 @@ import math
 from pathlib import Path
 
 import numpy as np
-from floorscan.drive.scan_matcher import ScanMatcher, ScanMatcherOptions
 from floorscan.formats.carmen import read_carmen
+from floorscan.mapping.scan_matcher import ScanMatcher, ScanMatcherOptions
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "carmen"
 LOGS = {

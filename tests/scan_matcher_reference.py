@@ -1,20 +1,20 @@
 """The scan matcher's storing (novelty test, hit counts, stamps into the cached likelihood
 field) as first written with numpy: the reference the Rust core (``floorscan_core::hit_map``)
-must equal (tests/drive/test_scan_matcher_native.py); its filter (the odometry prediction, the
+must equal (tests/mapping/test_scan_matcher_native.py); its filter (the odometry prediction, the
 match's information matrix, the fusion) as first written with numpy: the reference of the Rust
 core's ``floorscan_core::match_information`` and of the filter's algebra on floats
-(tests/drive/test_scan_matcher_filter.py)."""
+(tests/mapping/test_scan_matcher_filter.py)."""
 
 from __future__ import annotations
 
 import math
 
 import numpy as np
-from floorscan.drive.scan_matcher import MatchResult, ScanMatcher, _disc
+from floorscan.mapping.scan_matcher import MatchResult, ScanMatcher, _disc
 
 
 class ReferenceScanMatcher(ScanMatcher):
-    """:class:`~floorscan.drive.scan_matcher.ScanMatcher` storing with numpy."""
+    """:class:`~floorscan.mapping.scan_matcher.ScanMatcher` storing with numpy."""
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
@@ -71,7 +71,7 @@ class ReferenceScanMatcher(ScanMatcher):
 
 
 class ReferenceFilter(ScanMatcher):
-    """:class:`~floorscan.drive.scan_matcher.ScanMatcher` predicting, reading the match's
+    """:class:`~floorscan.mapping.scan_matcher.ScanMatcher` predicting, reading the match's
     information and fusing with numpy, as first written (``covariance`` set through its
     property)."""
 

@@ -16,7 +16,7 @@ from typing import Any, Callable, Dict
 
 import numpy as np
 
-from ._native import mapping, ranging
+from ._native import drive, mapping, ranging
 
 KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "ranger": ranging.default_ranger_options,
@@ -24,6 +24,8 @@ KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "grid": mapping.default_grid_options,
     "inserter": mapping.default_inserter_options,
     "local_map": mapping.default_local_map_options,
+    "scan_matcher": drive.default_scan_matcher_options,
+    "slam": mapping.default_slam_options,
 }
 """Each options type by its name, with its defaults function."""
 
@@ -33,6 +35,8 @@ CHECKS: Dict[str, Callable[[Dict[str, Any]], Dict[str, Any]]] = {
     "grid": mapping.check_grid_options,
     "inserter": mapping.check_inserter_options,
     "local_map": mapping.check_local_map_options,
+    "scan_matcher": drive.check_scan_matcher_options,
+    "slam": mapping.check_slam_options,
 }
 """Each options type's check: a dict of any of its fields in, every field out (validated)."""
 
@@ -42,6 +46,8 @@ SCHEMAS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "grid": mapping.grid_options_schema,
     "inserter": mapping.inserter_options_schema,
     "local_map": mapping.local_map_options_schema,
+    "scan_matcher": drive.scan_matcher_options_schema,
+    "slam": mapping.slam_options_schema,
 }
 
 

@@ -123,14 +123,26 @@ def test_merge_refuses_other_lattices_and_options():
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
-    """Two recordings of the room from different start poses, each through `floorscan run`."""
+    """Two recordings of the room from different start poses, each through `floorscan run`
+    at their odometry poses (`[slam] mode = "off"`: one mapper fed both then places every
+    frame where each run did)."""
     d = tmp_path_factory.mktemp("ev")
     camera_table().save(d / "table.json")
+    (d / "off.toml").write_text('[slam]\nmode = "off"\n')
     out = {}
     for name, start, seed in (("a", (0.0, 0.0, 0.0), 1), ("b", (0.8, 0.4, 1.2), 2)):
         make_recording(d / name, n=25, seed=seed, start=start)
         rc = main(
-            ["run", str(d / name), "--table", str(d / "table.json"), "-o", str(d / f"out-{name}")]
+            [
+                "run",
+                str(d / name),
+                "--table",
+                str(d / "table.json"),
+                "--config",
+                str(d / "off.toml"),
+                "-o",
+                str(d / f"out-{name}"),
+            ]
         )
         assert rc == 0
         out[name] = d / f"out-{name}"
@@ -148,7 +160,7 @@ def test_merging_runs_equals_one_grid_fed_both_and_the_plain_sum(runs, tmp_path)
     origin, total = sum_by_hand([a, b])
     assert np.array_equal(ab.values, total) and ab.origin_m == pytest.approx(origin, abs=1e-12)
     # One mapper fed both recordings' frames keeps the same evidence.
-    mapper = Mapper(camera_table(), Config())
+    mapper = Mapper(camera_table(), Config.from_dict({"slam": {"mode": "off"}}))
     for name in ("a", "b"):
         src = DatasetSource(d / name)
         for frame in src:

@@ -1,5 +1,5 @@
 //! The correlative scan matcher's persistent map of where its scans ended
-//! (`floorscan.drive.scan_matcher.ScanMatcher`): hit counts on a fixed `side` x `side` grid
+//! (`floorscan.mapping.scan_matcher.ScanMatcher`): hit counts on a fixed `side` x `side` grid
 //! (row major, row 0 = lowest y, cell (0, 0)'s corner at `origin_m`), and the likelihood field
 //! cached over part of it, raised around each newly stored hit to its Gaussian stamp.
 //!

@@ -52,6 +52,8 @@ pub mod ray_update;
 pub mod raycast;
 pub mod scan;
 pub mod scan_matcher;
+pub mod scan_matcher_options;
+pub mod slam_options;
 pub mod sonar;
 #[cfg(test)]
 mod test_rng;
@@ -84,4 +86,6 @@ pub use ranger_options::{ColumnSelection, ColumnStart, RangerOptions};
 pub use ray_update::{Ray, UpdateStats};
 pub use raycast::CellIndex;
 pub use scan::{ColumnOutcome, ColumnReading, ColumnStatus, Scan};
+pub use scan_matcher_options::ScanMatcherOptions;
+pub use slam_options::{SlamMode, SlamOptions};
 pub use sonar::SonarReading;

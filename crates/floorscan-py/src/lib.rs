@@ -36,7 +36,9 @@ mod ranger_options;
 mod read_ahead;
 mod scan;
 mod scan_matcher;
+mod scan_matcher_options;
 mod sim;
+mod slam_options;
 
 /// Panics inside [`errors::guard`], for the test that a panic reaches Python as
 /// `floorscan.errors.InternalError` (never `PanicException`).
@@ -133,6 +135,8 @@ mod _native {
         use crate::log_odds::{
             occupancy_classes, probabilities_from_units, units_from_probabilities,
         };
+        #[pymodule_export]
+        use crate::slam_options::{check_slam_options, default_slam_options, slam_options_schema};
 
         /// Stored log-odds units per nat (`floorscan_core::log_odds::UNITS_PER_NAT`).
         #[pymodule_export]
@@ -167,6 +171,10 @@ mod _native {
         use crate::navigation::{coarse_grid, geodesic_distances};
         #[pymodule_export]
         use crate::scan_matcher::correlative_search;
+        #[pymodule_export]
+        use crate::scan_matcher_options::{
+            check_scan_matcher_options, default_scan_matcher_options, scan_matcher_options_schema,
+        };
 
         #[pymodule_init]
         fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -62,6 +62,11 @@ def best_velocity_sample(pose: SupportsLenAndGetItem[SupportsFloat | SupportsInd
     `inscribed` up are not admissible.
     """
 
+def check_scan_matcher_options(options: Any) -> Any:
+    """
+    Reads `ScanMatcherOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def coarse_grid(cost: Incomplete, factor: SupportsIndex, blocked_from: SupportsIndex, unknown_cost: SupportsFloat | SupportsIndex, known: Incomplete | None = None) -> tuple[Incomplete, Incomplete]:
     """
     The navigation function's coarse grid from a costmap `cost` (H, W) uint8 in blocks of
@@ -85,6 +90,11 @@ def decay(values: Incomplete, factor: SupportsFloat | SupportsIndex) -> None:
     Forgetting: every value of `values` (float32, in place) times `factor`.
     """
 
+def default_scan_matcher_options() -> Any:
+    """
+    The default `ScanMatcherOptions` (its serde form, a dict).
+    """
+
 def geodesic_distances(blocked: Incomplete, weight: Incomplete, seed_cells: Incomplete, seed_costs: Incomplete, step_m: SupportsFloat | SupportsIndex) -> Incomplete:
     """
     Geodesic cost-to-goal (H, W) float64 [m, weighted] over an 8-connected grid: `blocked`
@@ -101,6 +111,11 @@ def match_information(field: Incomplete, origin_m: tuple[SupportsFloat | Support
     points over (x, y, yaw), by central differences of a cell and of `yaw_step_rad`, its
     negative eigenvalues cut to 0; a point whose four cells leave the field reads 0
     (`floorscan_core::match_information`).
+    """
+
+def scan_matcher_options_schema() -> Any:
+    """
+    The JSON schema of `ScanMatcherOptions`: field docs, types, defaults.
     """
 
 def __getattr__(name: str) -> Incomplete: ...

@@ -134,6 +134,11 @@ def check_local_map_options(options: Any) -> Any:
     Reads `LocalMapOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
+def check_slam_options(options: Any) -> Any:
+    """
+    Reads `SlamOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def default_grid_options() -> Any:
     """
     The default `GridOptions` (its serde form, a dict).
@@ -147,6 +152,11 @@ def default_inserter_options() -> Any:
 def default_local_map_options() -> Any:
     """
     The default `LocalMapOptions` (its serde form, a dict).
+    """
+
+def default_slam_options() -> Any:
+    """
+    The default `SlamOptions` (its serde form, a dict).
     """
 
 def grid_options_schema() -> Any:
@@ -181,6 +191,11 @@ def probabilities_from_units(units: Incomplete) -> Incomplete:
     """
     Probabilities of stored log-odds values (any shape, int16 or int32 [1/1000 nat]) as
     float64: `1 / (1 + exp(-units / 1000))`.
+    """
+
+def slam_options_schema() -> Any:
+    """
+    The JSON schema of `SlamOptions`: field docs, types, defaults.
     """
 
 def units_from_probabilities(probabilities: Incomplete, lo: SupportsIndex, hi: SupportsIndex) -> Incomplete:

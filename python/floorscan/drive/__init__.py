@@ -10,12 +10,12 @@ contact from truth. ``sensor="laser"`` drives the same planner with an ideal 2-D
 ['collisions', 'distance_m']
 """
 
+from ..mapping.scan_matcher import MatchResult, ScanMatcher, ScanMatcherOptions
 from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
 from .costmap import CostmapOptions, inflate, navigation_function
 from .dwa import DwaOptions, choose_velocity
 from .loop import SENSORS, TABLES, DriveOptions, drive, make_table
 from .result import DriveResult
-from .scan_matcher import MatchResult, ScanMatcher, ScanMatcherOptions
 from .sensor_model import VisualSensorModel
 from .solids import Solids
 

@@ -21,17 +21,16 @@ import numpy as np
 
 from ..calibration import calibrate
 from ..errors import OptionError
+from ..mapping.scan_matcher import ScanMatcher, ScanMatcherOptions, boundary_points_robot
 from ..options import check, defaults
 from ..pipeline.config import Config
 from ..pipeline.driven_floor import driven_floor_for
 from ..pipeline.mapper import RANGER_KINDS, ranger_from_config
-from ..ranging.scan import ColumnStatus
 from ..sim import Camera, Robot, render_calibration, render_image
 from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
 from .costmap import CostmapOptions, inflate, navigation_function
 from .dwa import DwaOptions, choose_velocity
 from .result import DriveResult
-from .scan_matcher import ScanMatcher, ScanMatcherOptions
 from .sensor_model import VisualSensorModel
 from .solids import Solids
 
@@ -90,7 +89,7 @@ class DriveOptions:
       again (with 5 cm it stayed inside, escaped along the face and bumped it again:
       `bench/drive_bumper.py`).
     - ``scan_matching``: estimate the robot's pose in the world frame by matching each scan
-      against its own persistent map (:class:`~floorscan.drive.scan_matcher.ScanMatcher`):
+      against its own persistent map (:class:`~floorscan.mapping.scan_matcher.ScanMatcher`):
       the correction ``map_from_odom`` carries the waypoints into the odometry frame the
       avoidance map and the planner work in. Default True; False drives on odometry alone.
     """
@@ -227,15 +226,6 @@ def _between(a, b):
     return (c * dx + s * dy, -s * dx + c * dy, _wrap(b[2] - a[2]))
 
 
-def _visual_points(scan, mount) -> np.ndarray:
-    """The scan's boundary points (N, 2) [m, robot frame]: the camera's ground frame moved by
-    ``mount`` (robot_from_camera)."""
-    bnd = np.asarray(scan.status_codes) == int(ColumnStatus.BOUNDARY)  # an int compares fast
-    x, y = np.asarray(scan.x)[bnd], np.asarray(scan.y)[bnd]
-    c, s = math.cos(mount[2]), math.sin(mount[2])
-    return np.stack([mount[0] + c * x - s * y, mount[1] + s * x + c * y], 1)
-
-
 def make_table(camera, kind: str):
     """The ranger's ground table: the camera's exact one or calibrated from the simulated
     pattern of dark lines (as ``floorscan demo``), with the calibration's error bars."""
@@ -367,7 +357,7 @@ def drive(
             if driven is not None:
                 driven.update(odo_pose, mount, t)
             if matcher is not None:
-                est_pose = matcher.correct(_visual_points(scan, mount), est_pose).pose
+                est_pose = matcher.correct(boundary_points_robot(scan, mount), est_pose).pose
             amap.insert_visual(scan, odo_pose, mount=mount, table=ranger.table, model=o.model)
         else:
             r = solids.laser(true_pose, angles, range_max_m=o.laser_range_m)

@@ -21,9 +21,10 @@ import numpy as np
 from .._atomic import write_atomic
 from ..calibration import calibrate, draw_calibration_overlay
 from ..formats.image_io import read_grey, write_png
+from ..mapping.grid import OccupancyGrid
 from ..mapping.grid_views import GridExtent
 from ..pipeline.config import Config
-from ..pipeline.mapper import Mapper, run
+from ..pipeline.mapper import Mapper, grid_kwargs, run
 from ..pipeline.outputs import RunOutputs
 from ..pipeline.sources import DatasetSource
 from ..sim import World, simulate_run
@@ -116,12 +117,18 @@ def run_demo(
     stats = run(source, mapper, outputs)
     t_run = time.perf_counter()
 
-    # 2. The same frames with the true poses (decoded images already in memory), scored.
-    truth_mapper = Mapper(table, cfg, robot_from_camera=source.rig.robot_from_camera)
+    # 2. The same frames with the true poses (decoded images already in memory), scored; and
+    # their scans at the odometry poses as they are (the map without scan matching).
+    plain = cfg.with_overrides({"slam.mode": "off"})
+    truth_mapper = Mapper(table, plain, robot_from_camera=source.rig.robot_from_camera)
+    uncorrected = OccupancyGrid(**grid_kwargs(cfg))
     column_scores = []
     for k in range(len(sim)):
         scan = truth_mapper.process(
             sim.images[k], timestamp=float(sim.timestamps[k]), pose=tuple(sim.poses[k])
+        )
+        uncorrected.insert_scan(
+            scan, pose=tuple(sim.odometry[k]), mount=source.rig.robot_from_camera
         )
         column_scores.append(score_columns(scan, sim.truth.status[k], sim.truth.points[k]))
     boundary = summarise_columns(column_scores)
@@ -129,7 +136,12 @@ def run_demo(
     # 3. Maps against the true occupancy.
     raster = world.occupancy(resolution_m=cfg.grid.cell_size_m)
     scores = {}
-    for name, grid in (("odometry", mapper.global_map), ("true_poses", truth_mapper.global_map)):
+    maps = (
+        ("odometry", mapper.global_map),
+        ("odometry_without_matching", uncorrected),
+        ("true_poses", truth_mapper.global_map),
+    )
+    for name, grid in maps:
         ext = grid.extent
         scores[name] = score_map(
             grid.occupancy_classes(),

@@ -50,6 +50,15 @@ def median_frames(values: Sequence[Optional[int]]) -> Optional[float]:
     return float(np.median(v)) if v else None
 
 
+def _final_error(poses: np.ndarray, truth: np.ndarray) -> Optional[float]:
+    """Distance [m] between the last finite pose of ``poses`` (N, 3) and the truth then."""
+    ok = np.all(np.isfinite(poses), axis=1) & np.all(np.isfinite(truth), axis=1)
+    if not ok.any():
+        return None
+    k = int(np.nonzero(ok)[0][-1])
+    return float(np.hypot(*(np.asarray(poses[k][:2]) - np.asarray(truth[k][:2]))))
+
+
 def evaluate_case(
     case: EvalCase,
     cfg: Config,
@@ -63,7 +72,10 @@ def evaluate_case(
     true raster), free space along the path, frames to a reliable local map, speed."""
     kw = grid_kwargs(cfg)
     poses = case.odometry if case.odometry is not None else case.true_poses
+    if case.odometry is None:  # true poses: nothing for scan matching to correct
+        cfg = cfg.with_overrides({"slam.mode": "off"})
     mapper = Mapper(case.table, cfg, robot_from_camera=case.robot_from_camera)
+    placed: List[Optional[tuple]] = []
     true_map = None
     if case.true_poses is not None and case.odometry is not None:
         true_map = OccupancyGrid(**kw)
@@ -74,6 +86,7 @@ def evaluate_case(
         if poses is not None and np.all(np.isfinite(poses[k])):
             pose = tuple(float(v) for v in poses[k])
         scan = mapper.process(case.images[k], timestamp=float(case.timestamps[k]), pose=pose)
+        placed.append(mapper.last_pose)
         scans.append(scan)
         if true_map is not None and np.all(np.isfinite(case.true_poses[k])):
             true_map.insert_scan(scan, pose=tuple(case.true_poses[k]), mount=case.robot_from_camera)
@@ -89,6 +102,17 @@ def evaluate_case(
         "mapping_ms_per_frame": 1e3 * mapper.times.mapping_s / n,
         "calibration": case.calibration or {"status": "not measured"},
     }
+    if mapper.slam is not None and case.odometry is not None and case.true_poses is not None:
+        metrics["slam"] = {
+            **mapper.slam.counts.as_dict(),
+            "final_pose_error_m": {
+                "odometry": _final_error(case.odometry, case.true_poses),
+                "corrected": _final_error(
+                    np.array([p if p is not None else (np.nan,) * 3 for p in placed]),
+                    case.true_poses,
+                ),
+            },
+        }
     worst: List[Dict[str, Any]] = []
     if column_scores:
         metrics["boundary"] = summarise_columns(column_scores).as_dict()

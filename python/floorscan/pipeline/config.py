@@ -2,9 +2,10 @@
 outputs, with documented defaults. ``floorscan config --default`` prints it; command-line flags
 override it; unknown, ill-typed or out-of-range keys are errors that name the key.
 
-The tables ``[ranger]``, ``[appearance]``, ``[grid]``, ``[local_map]`` and ``[sensors]`` are
-exactly the serde form of the Rust options types (``RangerOptions``, ``AppearanceOptions``,
-``GridOptions``, ``LocalMapOptions``, ``InserterOptions``): their defaults, docs and checks are
+The tables ``[ranger]``, ``[appearance]``, ``[grid]``, ``[local_map]``, ``[sensors]`` and
+``[slam]`` are exactly the serde form of the Rust options types (``RangerOptions``,
+``AppearanceOptions``, ``GridOptions``, ``LocalMapOptions``, ``InserterOptions``,
+``SlamOptions``): their defaults, docs and checks are
 the Rust ones, read through :mod:`floorscan.options`. ``[ranger]`` also holds the pipeline's
 own keys (``kind``, ``auto_threshold``...) and ``[appearance]`` takes ``columns``, ``start`` and
 ``max_range_m`` from ``[ranger]``; ``[local_map]`` takes its grid from ``[grid]``. The other
@@ -279,6 +280,7 @@ def _default_tables() -> Dict[str, OptionsTable]:
         "grid": grid,
         "local_map": _local_map_table({}, grid),
         "sensors": OptionsTable("inserter", check("inserter", {})),
+        "slam": OptionsTable("slam", check("slam", {})),
     }
 
 
@@ -288,6 +290,7 @@ RUST_TABLES = {
     "grid": ("grid", None),
     "local_map": ("local_map", None),
     "sensors": ("inserter", None),
+    "slam": ("slam", None),
 }
 """Config table -> (its Rust options type in :mod:`floorscan.options`, its pipeline keys)."""
 
@@ -361,6 +364,7 @@ class Config:
     grid: OptionsTable = field(default_factory=lambda: _default_tables()["grid"])
     local_map: OptionsTable = field(default_factory=lambda: _default_tables()["local_map"])
     sensors: OptionsTable = field(default_factory=lambda: _default_tables()["sensors"])
+    slam: OptionsTable = field(default_factory=lambda: _default_tables()["slam"])
     outputs: OutputsConfig = field(default_factory=OutputsConfig)
     limits: LimitsConfig = field(default_factory=LimitsConfig)
     node: NodeConfig = field(default_factory=NodeConfig)
@@ -411,6 +415,8 @@ class Config:
             tables["local_map"] = _local_map_table(values, tables["grid"])
         with _named(source, "sensors"):
             tables["sensors"] = OptionsTable("inserter", check("inserter", split("sensors")[0]))
+        with _named(source, "slam"):
+            tables["slam"] = OptionsTable("slam", check("slam", split("slam")[0]))
         rest = {k: v for k, v in d.items() if k not in RUST_TABLES}
         return _build(cls, rest, source, "", **tables)
 
@@ -540,6 +546,8 @@ def _unset_keys(cfg: Config, section: str, docs: Dict[str, str]):
             return []
     if isinstance(node, OptionsTable):
         names = [k for k, v in node.options().items() if v is None]
+    elif isinstance(node, dict):  # a nested struct of an options table ([slam.matcher])
+        names = [k for k, v in node.items() if v is None]
     elif dataclasses.is_dataclass(node):
         names = [f.name for f in fields(node) if getattr(node, f.name) is None]
     else:

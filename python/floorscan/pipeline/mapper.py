@@ -27,6 +27,7 @@ from ..ranging.ranger import VisualRanger
 from ..ranging.scan import ColumnStatus, Scan
 from .config import SHARED_WITH_RANGER, Config
 from .driven_floor import driven_floor_for
+from .pose_correction import PoseCorrection
 from .sources import FrameSource
 
 PoseTuple = Tuple[float, float, float]
@@ -85,6 +86,7 @@ class StageTimes:
 
     decode_s: float = 0.0
     ranging_s: float = 0.0
+    matching_s: float = 0.0
     mapping_s: float = 0.0
     output_s: float = 0.0
 
@@ -97,7 +99,10 @@ class Mapper:
 
     ``robot_from_camera``: (x [m], y [m], yaw [rad]) of the camera ground frame on the robot.
     Poses passed to :meth:`process` are ``world_from_robot`` (x, y, yaw) from odometry; with
-    ``None`` (no odometry), only the local map is updated, as if the robot stood still.
+    ``None`` (no odometry), only the local map is updated, as if the robot stood still. In
+    ``[slam]``'s local mode (the default) each odometry pose is corrected by matching the
+    scan against the scans kept so far (:class:`~floorscan.pipeline.pose_correction.
+    PoseCorrection`, :attr:`slam`) before the scan is inserted; off: odometry as it is.
     """
 
     def __init__(
@@ -115,26 +120,39 @@ class Mapper:
         # The global map keeps its unclamped evidence too, so runs merge exactly (evidence.py).
         self.global_map = OccupancyGrid(keep_evidence=True, **kw)
         self.local_map = LocalMap(**local_map_kwargs(cfg))
+        self.slam: Optional[PoseCorrection] = None
+        if cfg.slam.mode == "local":
+            self.slam = PoseCorrection(
+                cfg.slam.options()["matcher"], robot_from_camera=self.robot_from_camera
+            )
         self.times = StageTimes()
         self.frames = 0
         self.points = 0
+        self.last_pose: Optional[PoseTuple] = None
+        """The pose the last frame was inserted at (corrected when ``slam`` is on)."""
 
     def process(self, image: np.ndarray, *, timestamp: float, pose: Optional[PoseTuple]) -> Scan:
         if self.threshold_pending:
             self._set_auto_threshold(image)
         t0 = time.perf_counter()
         scan = self.ranger.scan(image, timestamp=timestamp)
+        t1 = time.perf_counter()
+        if pose is not None and self.slam is not None:
+            pose = self.slam.correct(scan, pose, timestamp=timestamp)
+        t2 = time.perf_counter()
         if pose is not None and self.driven_floor is not None:
             self.driven_floor.update(pose, self.robot_from_camera, timestamp)
-        t1 = time.perf_counter()
+        self.last_pose = pose
+        t3 = time.perf_counter()
         if pose is not None:
             self.global_map.insert_scan(scan, pose=pose, mount=self.robot_from_camera)
             self.local_map.insert_scan(scan, pose=pose, mount=self.robot_from_camera)
         else:
             self.local_map.insert_scan(scan, pose=(0.0, 0.0, 0.0), mount=self.robot_from_camera)
-        t2 = time.perf_counter()
-        self.times.ranging_s += t1 - t0
-        self.times.mapping_s += t2 - t1
+        t4 = time.perf_counter()
+        self.times.ranging_s += (t1 - t0) + (t3 - t2)
+        self.times.matching_s += t2 - t1
+        self.times.mapping_s += t4 - t3
         self.frames += 1
         self.points += int(np.count_nonzero(scan.status_codes == ColumnStatus.BOUNDARY))
         return scan

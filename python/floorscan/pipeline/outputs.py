@@ -8,7 +8,11 @@ finalised (atomically, file by file) at the end, on Ctrl-C and on error:
 - ``bag/``: a ROS 2 bag with ``/scan`` (sensor_msgs/LaserScan) and ``/map``
   (nav_msgs/OccupancyGrid);
 - ``overlay.gif`` (or ``.mp4``): frames with the boundary points circled (Fig. 1b);
-- ``summary.json``: counts, per-stage timings, the configuration used.
+- ``trajectory.tum`` and ``trajectory_odometry.tum`` (with odometry and ``[slam] mode =
+  "local"``): the poses the scans were inserted at (odometry corrected by local scan
+  matching) and the odometry poses of the same frames, TUM format (docs/formats.md);
+- ``summary.json``: counts, per-stage timings, the configuration used; ``slam``: frames
+  matched and not, the final correction.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ from .._atomic import _make_readable, deferred_signals, write_atomic
 from ..errors import OptionError, OutputError
 from ..formats.gif import GifWriter
 from ..formats.rosbag import Ros2BagWriter
+from ..formats.trajectory import write_tum
 from ..ranging.overlay import OVERLAY_PALETTE, draw_scan_overlay, draw_scan_overlay_indexed
 from ..ranging.scan import SCAN_CSV_HEADER, Scan
 from .config import Config
@@ -225,6 +230,7 @@ class RunOutputs:
         steps = [
             self._finish_scans,
             lambda: self._finish_map(mapper),
+            lambda: self._write_trajectories(mapper),
             self._write_overlay,
             lambda: self._write_summary(mapper, stats),
         ]
@@ -319,6 +325,13 @@ class RunOutputs:
         vw.release()
         os.replace(tmp, self.out / "overlay.mp4")
 
+    def _write_trajectories(self, mapper) -> None:
+        slam = getattr(mapper, "slam", None)
+        if slam is None or not slam.counts.frames:
+            return
+        write_tum(self.out / "trajectory.tum", slam.corrected)
+        write_tum(self.out / "trajectory_odometry.tum", slam.odometry)
+
     def _write_summary(self, mapper, stats) -> None:
         t = mapper.times
         n = max(mapper.frames, 1)
@@ -345,4 +358,9 @@ class RunOutputs:
             },
             **self.extra_summary,
         }
+        slam = getattr(mapper, "slam", None)
+        summary["slam"] = {"mode": mapper.cfg.slam.mode}
+        if slam is not None:
+            summary["slam"].update(slam.summary())
+            summary["ms_per_frame"]["matching"] = 1e3 * t.matching_s / n
         write_atomic(self.out / "summary.json", json.dumps(summary, indent=2, default=float))

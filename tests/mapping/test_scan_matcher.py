@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 import pytest
-from floorscan.drive.scan_matcher import MatchResult, ScanMatcher, ScanMatcherOptions
 from floorscan.errors import OptionError
+from floorscan.mapping.scan_matcher import MatchResult, ScanMatcher, ScanMatcherOptions
 
 
 def _room_scan(pose, n=180):

@@ -1,5 +1,8 @@
 """Correcting the odometry pose with the robot's own scans: a correlative scan-to-map matcher
 (Olson 2009; cartographer's real-time correlative scan matcher, hector_mapping's role).
+The drive loop (``floorscan drive``) and the pipeline's local scan matching (``floorscan run``,
+``node``, ``fleet``, ``eval``: :mod:`floorscan.pipeline.pose_correction`) share it; its
+options are the Rust ``ScanMatcherOptions`` (``[slam.matcher]`` in the config file).
 
 The robot keeps a persistent map of where its scans ended (hit counts on a fixed grid centred
 on its start, in the frame its waypoints are given in). Each frame, the scan's end points
@@ -40,18 +43,30 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
 from .._native.drive import HitMap, correlative_search, match_information
-from ..errors import OptionError
+from ..options import check
+from ..ranging.scan import ColumnStatus
 
 CACHE_MARGIN_M = 1.0
 """The likelihood field is computed this much [m] beyond what one match needs, and reused
 (new hits stamped into it) while the robot stays within it."""
 STAMP_SIGMAS = 3.0
 """The field is 0 beyond this many sigmas from every hit (exp(-4.5) = 0.011)."""
+
+
+def boundary_points_robot(scan, robot_from_camera) -> np.ndarray:
+    """The scan's boundary points (N, 2) [m, robot frame]: the camera's ground frame moved by
+    ``robot_from_camera`` (x [m], y [m], yaw [rad]). What the matcher matches and stores of a
+    visual scan (its columns with no boundary, too close or invalid say nothing of walls)."""
+    bnd = np.asarray(scan.status_codes) == int(ColumnStatus.BOUNDARY)  # an int compares fast
+    x, y = np.asarray(scan.x)[bnd], np.asarray(scan.y)[bnd]
+    m = robot_from_camera
+    c, s = math.cos(m[2]), math.sin(m[2])
+    return np.stack([m[0] + c * x - s * y, m[1] + s * x + c * y], 1)
 
 
 def _disc(r: int, cell_m: float, radius_m: float):
@@ -76,134 +91,57 @@ def _inverse3(a):
     ]
 
 
-@dataclass(frozen=True)
 class ScanMatcherOptions:
-    """- ``size_m``: side of the persistent map [m], centred on the start, in [4, 400].
-      Default 80 (a floor of a building; 10 MB at the default cell). Points outside it are
-      neither matched nor stored.
-    - ``cell_size_m``: [m/cell], in [0.01, 0.2]. Default 0.025 (half the avoidance map's).
-    - ``sigma_m``: width of the likelihood field [m], > 0. Default 0.05 (the camera's
-      boundary error within 2 m; EVALUATION.md).
-    - ``search_xy_m``, ``search_yaw_rad``: half-widths of the search window. Defaults 0.15 m
-      and 0.15 rad (odometry's heading error over a room's excursion: the wheelbase error alone
-      is 0.06 rad per half turn).
-    - ``yaw_step_rad``: default 0.01 (2.5 cm at 2.5 m, one cell).
-    - ``prior_xy_m``, ``prior_yaw_rad``: widths of the odometry prior. Defaults 0.3 m and
-      0.3 rad (weak: a wall seen before wins, a featureless view keeps odometry).
-    - ``min_points``: fewest scan points to match, >= 3. Default 40: a scan with fewer (a
-      view across the open middle of a room, a desk's face or two) is not matched; odometry
-      carries the pose and the points are stored at its prediction. Matched anyway (15
-      before), such scans were each accepted with good scores and each turned the heading a
-      few thousandths of a radian the same way (a held-out open plan: 0.05 -> 0.28 rad in 5
-      s), since the filter takes successive matches of the same few points as independent.
-      On four held-out worlds, 64 runs at 0.3 and 0.5 m/s: collisions 16 -> 8, waypoints
-      93.9 -> 97.1 %, estimates strayed > 1 m in 17 -> 6 runs; the cost, the built-in
-      corridor's full tour at 0.5 m/s: 0 -> 4 contacts in 4 runs (EVALUATION.md, "More seeds
-      on the held-out worlds").
-    - ``min_score``: the best pose's mean field value needed to accept it, in (0, 1).
-      Default 0.35 (about half the points within 7 cm of a stored hit).
-    - ``range_max_m``: points farther than this are ignored [m]. Default 3.0 (the ranger's
-      range; boundaries beyond it are a footprint of a pixel row apart).
-    - ``max_points``: at most this many points, evenly spaced along the scan, are matched
-      (>= ``min_points``), a bound on the work of one match. Default 400 (more than a
-      640-wide image's 320 columns give; 100 of a laser's 271 beams measured worse: 0.27 m
-      against 0.10 m largest pose error on the corridor test drive).
-    - ``novelty_m``: a scan point joins the map only when no stored hit lies within this
-      distance [m] of it, in [0, 1]; 0 stores every point. Default 0.1 (2 sigma).
-    - ``match_variance_scale``: the match is fused with the odometry prediction as an
-      extended Kalman filter does, >= 0; 0 keeps the match as it is (the matcher before
-      fusion). The match's information matrix is the curvature of the sum of field values at
-      the points over (x, y, yaw) at the pose found (each point on a wall counts as an
-      observation with the field's width as its error, and only across the wall: a
-      corridor tells nothing along itself, a narrow view of near walls little of the
-      heading); its covariance is that matrix's inverse times this scale. Default 1 (the
-      field's width as each point's error). Tried: 4 and 10 (a quarter or a tenth of the
-      points independent) estimate the turn scale better on the corridor (+0.002-0.007
-      against the simulator's +0.010; 1 gives -0.012) but 10 met obstacles 3-4 times a
-      corridor run and 4 let the Freiburg 079 log's largest error reach 1.22 m (0.31 m
-      with 1; EVALUATION.md, "Long tours").
-    - ``odometry_wheel_sigma``: the random error of each wheel's travel [m/sqrt(m)] the
-      prediction's variance grows with, in [0, 1]. Default 0.01 (the simulator's default
-      ``OdometryNoise``; a real base's figure belongs here).
-    - ``odometry_wheelbase_m``: the wheelbase [m] turning that error into heading, in (0, 5].
-      Default 0.3 (the simulator's ``Robot``).
-    - ``calibrate_odometry``: estimate odometry's systematic errors online, as two more
-      states of the filter: the turn scale error g (true turn = (1 + g) x odometry's, a
-      wheelbase error) and the heading drift k per metre driven (a wheel radius difference);
-      each prediction's turn is corrected by g dtheta + k d. Default True (only with
-      ``match_variance_scale`` > 0).
-    - ``turn_error_prior``: the standard deviation of g before any match, in [0, 0.5].
-      Default 0.05 (a wheelbase known to 5 %; the simulator's default error is 2 %).
-    - ``drift_prior_rad_per_m``: the standard deviation of k before any match [rad/m], in
-      [0, 1]. Default 0.03 (wheel radii equal to 1 % on a 0.3 m wheelbase; the simulator's
-      default is 0.013).
-    - ``calibration_drift``: how fast g and k may change, in [0, 0.1]: their variances grow
-      by its square per radian turned and per metre driven. Default 1e-4 (they stay put
-      over a building's tour unless the matches say otherwise).
-    - ``rejection_threshold``: an innovation gate, as robot_localization's
-      ``*_rejection_threshold``: a match farther from the prediction than this Mahalanobis
-      distance (under the prediction's covariance plus the match's; only what the match
-      informs counts, so a corridor's length never does) is refused and odometry kept, > 0.
-      Default inf (no gate). Tried: 4 (chi-square's 0.999 quantile for three degrees of
-      freedom, not tuned): on 15 drives it kept the pose closer (waypoints truly reached
-      95 -> 110), on 10 others with other seeds it lost it twice (corridor 0.3 m/s seed 2:
-      pose error 0.45 -> 2.61 m), as a gate does once the estimate has strayed: the matches
-      that would bring it back are the ones refused (EVALUATION.md, "An innovation gate").
+    """The matcher's options: the Rust ``ScanMatcherOptions`` (defaults, docs and rules live
+    there, ``crates/floorscan-core/src/scan_matcher_options.rs``; ``floorscan.options.
+    field_docs("scan_matcher")`` reads the docs). Keyword arguments are any of its fields;
+    the others take their defaults; a bad one is an :class:`~floorscan.OptionError` naming
+    it. Read-only, attribute access; ``replace(**changes)`` makes a changed copy.
+
+    >>> ScanMatcherOptions(size_m=8.0).size_m, ScanMatcherOptions().min_points
+    (8.0, 40)
     """
 
-    size_m: float = 80.0
-    cell_size_m: float = 0.025
-    sigma_m: float = 0.05
-    search_xy_m: float = 0.15
-    search_yaw_rad: float = 0.15
-    yaw_step_rad: float = 0.01
-    prior_xy_m: float = 0.3
-    prior_yaw_rad: float = 0.3
-    min_points: int = 40
-    min_score: float = 0.35
-    range_max_m: float = 3.0
-    novelty_m: float = 0.1
-    max_points: int = 400
-    match_variance_scale: float = 1.0
-    calibrate_odometry: bool = True
-    turn_error_prior: float = 0.05
-    drift_prior_rad_per_m: float = 0.03
-    calibration_drift: float = 1e-4
-    odometry_wheel_sigma: float = 0.01
-    odometry_wheelbase_m: float = 0.3
-    rejection_threshold: float = math.inf
+    __slots__ = ("_values",)
 
-    def __post_init__(self) -> None:
-        checks = {
-            "size_m": 4.0 <= self.size_m <= 400.0,
-            "cell_size_m": 0.01 <= self.cell_size_m <= 0.2,
-            "sigma_m": 0 < self.sigma_m <= 1.0,
-            "search_xy_m": 0 <= self.search_xy_m <= 2.0,
-            "search_yaw_rad": 0 <= self.search_yaw_rad <= 0.5,
-            "yaw_step_rad": 0.001 <= self.yaw_step_rad <= 0.1,
-            "prior_xy_m": self.prior_xy_m > 0,
-            "prior_yaw_rad": self.prior_yaw_rad > 0,
-            "min_points": int(self.min_points) >= 3,
-            "min_score": 0 < self.min_score < 1,
-            "range_max_m": 0 < self.range_max_m <= 100,
-            "novelty_m": 0 <= self.novelty_m <= 1,
-            "max_points": int(self.min_points) <= int(self.max_points) <= 100_000,
-            "match_variance_scale": 0 <= self.match_variance_scale <= 1e6,
-            "turn_error_prior": 0 <= self.turn_error_prior <= 0.5,
-            "drift_prior_rad_per_m": 0 <= self.drift_prior_rad_per_m <= 1,
-            "calibration_drift": 0 <= self.calibration_drift <= 0.1,
-            "odometry_wheel_sigma": 0 <= self.odometry_wheel_sigma <= 1,
-            "odometry_wheelbase_m": 0 < self.odometry_wheelbase_m <= 5,
-        }
-        for name, ok in checks.items():
-            if not (ok and math.isfinite(float(getattr(self, name)))):
-                raise OptionError(f"invalid option `{name}`: got {getattr(self, name)!r}")
-        if not float(self.rejection_threshold) > 0:  # inf (no gate) passes, NaN does not
-            raise OptionError(
-                f"invalid option `rejection_threshold`: got {self.rejection_threshold!r}"
-            )
-        if (self.size_m / self.cell_size_m) ** 2 > 64e6:
-            raise OptionError("invalid options: size_m / cell_size_m gives over 64 M cells")
+    def __init__(self, **options: Any) -> None:
+        object.__setattr__(self, "_values", check("scan_matcher", options))
+
+    @classmethod
+    def from_dict(cls, values: Dict[str, Any]) -> ScanMatcherOptions:
+        """The options of a dict of any of the fields (a config table's ``matcher``)."""
+        return cls(**values)
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return object.__getattribute__(self, "_values")[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError("ScanMatcherOptions is read-only: use replace(...)")
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, ScanMatcherOptions) and self._values == other._values
+
+    def __hash__(self) -> int:
+        return hash(tuple(sorted(self._values.items())))
+
+    def __repr__(self) -> str:
+        return f"ScanMatcherOptions({self._values!r})"
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Every field (the serde form)."""
+        return dict(self._values)
+
+    def replace(self, **changes: Any) -> ScanMatcherOptions:
+        return ScanMatcherOptions(**{**self._values, **changes})
+
+    @property
+    def gate(self) -> float:
+        """``rejection_threshold``, inf when unset (no gate)."""
+        g = self._values["rejection_threshold"]
+        return math.inf if g is None else float(g)
 
 
 @dataclass(frozen=True)
@@ -220,9 +158,8 @@ class MatchResult:
 class ScanMatcher:
     """The persistent hit map and the correlative search (see the module's docstring)."""
 
-    def __init__(
-        self, options: ScanMatcherOptions = ScanMatcherOptions(), *, center=(0.0, 0.0)
-    ) -> None:
+    def __init__(self, options: Optional[ScanMatcherOptions] = None, *, center=(0.0, 0.0)) -> None:
+        options = options if options is not None else ScanMatcherOptions()
         self.options = options
         self.cell = options.cell_size_m
         self.n = int(math.ceil(options.size_m / self.cell))
@@ -520,7 +457,7 @@ class ScanMatcher:
         self.last_mahalanobis = math.sqrt(
             max(0.0, sum(z[r] * sum(j[r][c] * w[c] for c in range(3)) for r in range(3)))
         )
-        if self.last_mahalanobis > o.rejection_threshold:
+        if self.last_mahalanobis > o.gate:
             self._last = prior
             return MatchResult(prior, result.score, False, result.points)
         step = [r[0] * u[0] + r[1] * u[1] + r[2] * u[2] for r in post]

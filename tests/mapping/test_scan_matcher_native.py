@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from floorscan.drive.scan_matcher import ScanMatcher, ScanMatcherOptions
 from floorscan.errors import FloorscanError
+from floorscan.mapping.scan_matcher import ScanMatcher, ScanMatcherOptions
 from scan_matcher_reference import ReferenceScanMatcher
 
 

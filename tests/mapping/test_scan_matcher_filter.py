@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 import pytest
-from floorscan.drive.scan_matcher import MatchResult, ScanMatcher, ScanMatcherOptions
 from floorscan.errors import FloorscanError
+from floorscan.mapping.scan_matcher import MatchResult, ScanMatcher, ScanMatcherOptions
 from scan_matcher_reference import ReferenceFilter
 
 
