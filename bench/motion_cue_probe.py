@@ -4,16 +4,16 @@ own edges (grout, plank joints) from obstacles' bases? numpy, per frame, not the
 For each sampled column the edge ranger's boundary is tested against two explanations of the
 image rows above it, between the current frame and one `--gap` frames before:
 - floor: every pixel is floor, so it moved as the ground table and the motion predict;
-- obstacle: the pixels stand on a vertical surface whose base is the edge. A pixel whose ray meets
-  the floor at G (camera ground frame, origin under the camera) then sits at horizontal position
-  s * G, s = |B| / |G| with B the base's ground point, at the height that makes s the ratio of the
-  camera's height left above it; in the earlier frame its ray meets the floor at M(s G) / s (M the
-  earlier camera frame from the current one). Neither needs the camera's height or a pinhole:
-  only the table.
+- obstacle: the pixels stand on a vertical surface through the edge's ground point B, along
+  the base line drawn by the neighbouring columns' boundaries (facing the camera where there
+  are none nearby). A pixel whose ray meets the floor at G (camera ground frame, origin under
+  the camera) meets that surface at s G; in the earlier frame its ray meets the floor at
+  M(s G) / s (M the earlier camera frame from the current one). Neither needs the camera's
+  height or a pinhole: only the table.
 The edge is the floor's own (vetoed, and the column scanned on above it) when the floor explains
-the patch's zero-mean intensities with a residual below `--ratio` times the obstacle's; a patch
-without texture, or two explanations that predict the same pixels (little parallax: pure
-rotation, a short baseline, a low obstacle), leave the edge ranger's reading as it is. The
+the patch's zero-mean intensities better: the log-likelihood ratio summed over the pairs (each
+at the floor's residual sigma) exceeds `--min-llr` and at least `--agree` of the pairs that
+could tell favour the floor. A patch without texture keeps the edge ranger's reading. The
 motion M comes from odometry, refined by Lucas-Kanade on the floor within 1 m of the camera.
 
     .venv/bin/python bench/motion_cue_probe.py --worlds tiles corridor parquet --seeds 1 2
@@ -164,25 +164,30 @@ def zero_mean_residual(table, cur, prv, u, v, g_prev):
     return float(np.sqrt(np.mean(((a - a.mean()) - (b - b.mean())) ** 2)))
 
 
-def floor_explains(
-    table, cur, prv, m, u, vb, *, rows_above, ratio, texture, min_llr, noise_sigma, min_parallax
-):
-    """True when the rows above edge row vb of column u moved as floor, clearly better than as a
-    vertical surface standing at vb."""
+def pair_llr(table, cur, prv, m, u, vb, along, *, rows_above, texture, noise_sigma, min_parallax):
+    """The log-likelihood ratio that the rows above edge row vb of column u moved as floor
+    rather than as a vertical surface standing at vb (0 where the pair cannot tell)."""
     vs = np.arange(vb - rows_above, vb, dtype=float)
     if vs.min() < 0:
-        return False
+        return 0.0
     vg, ug = np.meshgrid(vs, np.arange(u - 1, u + 2, dtype=float))
     uf, vf = ug.ravel(), vg.ravel()
     gx, gy = table.lookup(uf, vf)
     bx, by = table.lookup(np.full_like(uf, u), np.full_like(vf, vb))
     if not (np.all(np.isfinite(gx)) and np.all(np.isfinite(bx))):
-        return False
+        return 0.0
     if bilinear(cur, uf, vf).std() < texture:
-        return False
+        return 0.0
     ones = np.ones_like(gx)
     floor = (m @ np.stack([gx, gy, ones]))[:2]
-    s = np.hypot(bx, by) / np.hypot(gx, gy)
+    # the surface: vertical, through the base point B, along the direction `along` (the base
+    # line of the neighbouring columns' boundaries; None: facing the camera); a ray meeting the
+    # floor at G meets it at s G
+    d = np.array([-by[0], bx[0]]) if along is None else np.asarray(along, float)
+    cross = gx * d[1] - gy * d[0]
+    s = (bx * d[1] - by * d[0]) / np.where(np.abs(cross) > 1e-9, cross, np.nan)
+    if not np.all((s > 0.05) & (s <= 1.0)):
+        return 0.0
     standing = (m @ np.stack([s * gx, s * gy, ones]))[:2] / s
     if min_parallax > 0:
         # the two explanations must put the patch's pixels apart in the earlier frame, else
@@ -195,22 +200,69 @@ def floor_explains(
         gy_img, gx_img = np.gradient(prv)
         ok = np.isfinite(fu) & np.isfinite(su)
         if ok.sum() < 0.7 * ok.size:
-            return False
+            return 0.0
         gxs = bilinear(gx_img, fu[ok], fv[ok])
         gys = bilinear(gy_img, fu[ok], fv[ok])
         apart = np.sqrt(np.mean((gxs * (su - fu)[ok] + gys * (sv - fv)[ok]) ** 2))
         if not (apart >= min_parallax):
-            return False
+            return 0.0
     rf = zero_mean_residual(table, cur, prv, uf, vf, floor)
     ro = zero_mean_residual(table, cur, prv, uf, vf, standing)
-    if not (np.isfinite(rf) and np.isfinite(ro) and rf < ratio * ro):
+    if not (np.isfinite(rf) and np.isfinite(ro)):
+        return 0.0
+    # the log-likelihood ratio of floor over a standing surface, Gaussian residuals of the
+    # floor's sigma
+    return float(uf.size * (ro**2 - rf**2) / (2 * noise_sigma**2))
+
+
+def floor_explains(table, cur, pairs, u, vb, along, args) -> bool:
+    """The edge at row vb of column u is the floor's own: over the pairs (earlier frame,
+    motion, floor sigma) the summed log-likelihood ratio exceeds `--min-llr` and at least
+    `--agree` of the pairs that could tell favour the floor."""
+    llrs = [
+        pair_llr(
+            table,
+            cur,
+            prv,
+            m,
+            u,
+            vb,
+            along,
+            rows_above=args.rows_above,
+            texture=args.texture,
+            noise_sigma=sigma,
+            min_parallax=args.min_parallax,
+        )
+        for prv, m, sigma in pairs
+    ]
+    told = [x for x in llrs if x != 0.0]
+    if not told:
         return False
-    # the log-likelihood ratio of the two explanations, Gaussian residuals of the floor's sigma
-    llr = uf.size * (ro**2 - rf**2) / (2 * noise_sigma**2)
-    return bool(llr > min_llr)
+    agree = np.mean([x > 0 for x in told])
+    return bool(sum(llrs) > args.min_llr and agree >= args.agree)
 
 
-def scan_with_motion(table, ranger, img, cur, prv, m, args, max_vetoes=10):
+def base_direction(scan, j, max_gap_m=0.25):
+    """The direction of the base line at column j from its neighbours' boundary points (None
+    where they are not boundaries near it)."""
+    pts = [
+        (scan.x[i], scan.y[i])
+        for i in (j - 1, j + 1)
+        if 0 <= i < len(scan.x) and scan.status_codes[i] == 0
+    ]
+    here = np.array([scan.x[j], scan.y[j]])
+    near = [np.array(p) for p in pts if np.hypot(*(np.array(p) - here)) < max_gap_m]
+    if len(near) == 2:
+        d = near[1] - near[0]
+    elif len(near) == 1:
+        d = near[0] - here
+    else:
+        return None
+    n = np.hypot(*d)
+    return d / n if n > 1e-6 else None
+
+
+def scan_with_motion(table, ranger, img, cur, pairs, args, max_vetoes=10):
     work = img.copy()
     scan = ranger.scan(work)
     cols = scan.columns.astype(int)
@@ -222,20 +274,7 @@ def scan_with_motion(table, ranger, img, cur, prv, m, args, max_vetoes=10):
                 open_cols[j] = False
                 continue
             vb = float(scan.rows[j])
-            if floor_explains(
-                table,
-                cur,
-                prv,
-                m,
-                c,
-                vb,
-                rows_above=args.rows_above,
-                ratio=args.ratio,
-                texture=args.texture,
-                min_llr=args.min_llr,
-                noise_sigma=args.noise_sigma,
-                min_parallax=args.min_parallax,
-            ):
+            if floor_explains(table, cur, pairs, c, vb, base_direction(scan, j), args):
                 # the edge is the floor's: flatten the column below it and scan on above it
                 v = int(round(vb)) - 1
                 work[v:, max(0, c - 3) : c + 4] = work[v, max(0, c - 3) : c + 4]
@@ -261,19 +300,19 @@ def probe(world, seed, args):
     band = np.isfinite(x) & (np.hypot(x, y) < 1.0)
     mount = se2(case.robot_from_camera)
     wrong = {"edge": [0, 0], "motion": [0, 0]}
-    for k in range(args.gap, len(case), args.stride):
+    for k in range(max(args.gaps), len(case), args.stride):
         img = np.asarray(case.images[k])
         cur = cv2.GaussianBlur(img.astype(np.float32), (0, 0), 1.0)
-        prv = cv2.GaussianBlur(
-            np.asarray(case.images[k - args.gap]).astype(np.float32), (0, 0), 1.0
-        )
         odo = case.odometry
-        m = np.linalg.inv(mount) @ np.linalg.inv(se2(odo[k - args.gap])) @ se2(odo[k]) @ mount
-        m = refine_motion(table, cur, prv, m, band)
-        args.noise_sigma = max(floor_noise(table, cur, prv, m, band), 0.5)
+        pairs = []
+        for gap in args.gaps:
+            prv = cv2.GaussianBlur(np.asarray(case.images[k - gap]).astype(np.float32), (0, 0), 1.0)
+            m = np.linalg.inv(mount) @ np.linalg.inv(se2(odo[k - gap])) @ se2(odo[k]) @ mount
+            m = refine_motion(table, cur, prv, m, band)
+            pairs.append((prv, m, max(floor_noise(table, cur, prv, m, band), 0.5)))
         for key, scan in (
             ("edge", ranger.scan(img)),
-            ("motion", scan_with_motion(table, ranger, img, cur, prv, m, args)),
+            ("motion", scan_with_motion(table, ranger, img, cur, pairs, args)),
         ):
             sc = score_columns(scan, case.true_status[k], case.true_points[k])
             wrong[key][0] += int(sc.wrong.sum())
@@ -290,9 +329,20 @@ def main() -> None:
     ap.add_argument("--width", type=int, default=320)
     ap.add_argument("--height", type=int, default=240)
     ap.add_argument("--stride", type=int, default=5, help="score every n-th frame")
-    ap.add_argument("--gap", type=int, default=6, help="frames between the two views (10 Hz)")
+    ap.add_argument(
+        "--gaps",
+        nargs="+",
+        type=int,
+        default=[6],
+        help="frames between the current view and each earlier one (10 Hz)",
+    )
+    ap.add_argument(
+        "--agree",
+        type=float,
+        default=0.0,
+        help="least share of the pairs that could tell which favour the floor",
+    )
     ap.add_argument("--rows-above", type=int, default=30)
-    ap.add_argument("--ratio", type=float, default=0.8)
     ap.add_argument("--texture", type=float, default=2.0)
     ap.add_argument(
         "--min-llr",
