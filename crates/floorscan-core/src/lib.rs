@@ -27,10 +27,12 @@ pub mod edge;
 pub mod error;
 pub mod evidence;
 pub mod floor_model;
+pub mod floor_parallax;
 pub mod fusion;
 pub mod grid;
 pub mod grid_options;
 pub mod ground_table;
+pub mod ground_table_inverse;
 pub mod hit_map;
 pub mod image;
 pub mod inserter;
@@ -43,6 +45,7 @@ pub mod match_information;
 pub mod mount;
 pub mod navigation;
 pub mod noise_threshold;
+pub mod parallax_options;
 pub mod polygon_fill;
 pub mod pose;
 pub mod queries;
@@ -66,6 +69,7 @@ pub use edge::Refinement;
 pub use error::{Error, Result};
 pub use evidence::EvidenceRaster;
 pub use floor_model::FloorModel;
+pub use floor_parallax::{FloorParallax, ParallaxReport};
 pub use fusion::{
     fuse_scans, fuse_scans_after, fuse_scans_driven, TextureState, MIN_TEXTURE_EVIDENCE,
     TEXTURE_MEMORY_FRAMES,
@@ -80,6 +84,7 @@ pub use lens::Lens;
 pub use local_map::{LocalMap, LocalMapOptions};
 pub use log_odds::{Evidence, LogOdds};
 pub use mount::CameraMount;
+pub use parallax_options::ParallaxOptions;
 pub use pose::{Point2, Pose2};
 pub use ranger::VisualRanger;
 pub use ranger_options::{ColumnSelection, ColumnStart, RangerOptions};

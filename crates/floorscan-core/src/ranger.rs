@@ -429,6 +429,63 @@ impl VisualRanger {
         Ok(())
     }
 
+    /// Scans on, above a row, columns of the frame last scanned whose first boundary another
+    /// cue found to be the floor's own (`crate::floor_parallax`): each `(j, row)` (j a
+    /// reading's index, `row` its boundary row v) continues the search from the first row
+    /// above `row` where the response has fallen back under the threshold, at that frame's
+    /// thresholds; the column's new outcome replaces the old one and `out` is filled again.
+    /// `image` must be the frame last scanned.
+    pub fn continue_above<P: Pixel>(
+        &mut self,
+        image: &ImageView<P>,
+        restarts: &[(usize, f64)],
+        out: &mut Scan,
+    ) -> Result<()> {
+        self.check_size(image)?;
+        let d = self.options.half_width_px;
+        let height = image.height();
+        for &(j, row) in restarts {
+            let Some(plan) = self.plans.get(j).copied() else {
+                continue;
+            };
+            let Some((lo, hi)) = plan.window else {
+                continue;
+            };
+            if !(row.is_finite() && (0.0..height as f64).contains(&row)) {
+                continue;
+            }
+            let c = plan.column as usize;
+            let threshold = self.column_threshold_sum[j];
+            let response = |k| direct_response_at(image, c, k, d);
+            // leave the vetoed edge's own crossing, then find the next one whose refined row
+            // lies above it (a line's far side, within the filter's reach, refines back onto
+            // the same step)
+            let mut k = (((height - 1) as f64 - row).round() as usize).max(lo + 1);
+            let outcome = loop {
+                while k <= hi && response(k).abs() > threshold {
+                    k += 1;
+                }
+                let Some(k_cross) = (k..=hi).find(|&k| response(k).abs() > threshold) else {
+                    break self.no_boundary(j, height);
+                };
+                let outcome = self.resolve_with(j, k_cross, height, response, |k| {
+                    image.get(c, height - 1 - k).to_i32()
+                });
+                match outcome {
+                    ColumnOutcome::Boundary { row: r, .. } if r > row - 1.0 => k = k_cross + 1,
+                    _ => {
+                        self.crossings[j] = k_cross;
+                        self.confidence[j] = edge_confidence(response(k_cross), threshold);
+                        break outcome;
+                    }
+                }
+            };
+            self.outcomes[j] = Some(outcome);
+        }
+        self.fill_scan(out.timestamp_s, out);
+        Ok(())
+    }
+
     /// The `mid_range_m` band's second look: in each column whose first crossing (at the
     /// frame's threshold) is not nearer than its band, the band's rows below that crossing
     /// are tested against the band's lower threshold; the first that crosses becomes the

@@ -1,0 +1,252 @@
+//! The floor-parallax cue on frames rendered here by ray casting: a pinhole camera 0.3 m above a
+//! textured floor with dark grout lines across it every 0.3 m, and a textured wall standing
+//! 1.2 m ahead of the first view. Truth is the scene's geometry.
+
+use super::*;
+use crate::image::ImageView;
+use crate::ranger_options::{ColumnSelection, RangerOptions};
+
+const W: usize = 240;
+const H: usize = 180;
+const F: f64 = 170.0;
+const HEIGHT_M: f64 = 0.3;
+const PITCH_DEG: f64 = 25.0;
+const WALL_X: f64 = 1.2;
+const GROUT_EVERY_M: f64 = 0.3;
+const GROUT_M: f64 = 0.012;
+
+/// The ray of pixel (u, v) in the camera ground frame: (dx, dy, dz), camera at height HEIGHT_M.
+fn ray(u: f64, v: f64) -> (f64, f64, f64) {
+    let (xc, yc, zc) = (
+        1.0,
+        -(u - (W as f64 - 1.0) / 2.0) / F,
+        -(v - (H as f64 - 1.0) / 2.0) / F,
+    );
+    let (s, c) = PITCH_DEG.to_radians().sin_cos();
+    (c * xc + s * zc, yc, -s * xc + c * zc)
+}
+
+fn floor_of_pixel(u: f64, v: f64) -> Option<Point2> {
+    let (dx, dy, dz) = ray(u, v);
+    (dz < -1e-6).then(|| {
+        let t = HEIGHT_M / -dz;
+        Point2::new(t * dx, t * dy)
+    })
+}
+
+fn table() -> GroundTable {
+    GroundTable::from_fn(W, H, 4, floor_of_pixel).unwrap()
+}
+
+fn floor_grey(x: f64, y: f64) -> f64 {
+    if x.rem_euclid(GROUT_EVERY_M) < GROUT_M {
+        return 55.0;
+    }
+    150.0 + 22.0 * (x * 41.0).sin() * (y * 37.0).cos() + 12.0 * (x * 97.0 + y * 13.0).sin()
+}
+
+fn wall_grey(y: f64, z: f64) -> f64 {
+    85.0 + 20.0 * (y * 53.0).sin() * (z * 47.0).cos() + 10.0 * (y * 131.0 - z * 71.0).sin()
+}
+
+/// The frame seen from camera foot x = `foot_x` (2 x 2 samples a pixel).
+fn render(foot_x: f64) -> Vec<u8> {
+    let mut img = vec![0u8; W * H];
+    for v in 0..H {
+        for u in 0..W {
+            let mut acc = 0.0;
+            for (a, b) in [(-0.25, -0.25), (0.25, -0.25), (-0.25, 0.25), (0.25, 0.25)] {
+                let (dx, dy, dz) = ray(u as f64 + a, v as f64 + b);
+                let t_wall = (dx > 1e-9).then(|| (WALL_X - foot_x) / dx).filter(|&t| {
+                    let z = HEIGHT_M + t * dz;
+                    (0.0..=1.0).contains(&z)
+                });
+                let t_floor = (dz < -1e-9).then(|| HEIGHT_M / -dz);
+                acc += match (t_floor, t_wall) {
+                    (Some(tf), Some(tw)) if tf < tw => floor_grey(foot_x + tf * dx, tf * dy),
+                    (_, Some(tw)) => wall_grey(tw * dy, HEIGHT_M + tw * dz),
+                    (Some(tf), None) => floor_grey(foot_x + tf * dx, tf * dy),
+                    (None, None) => 200.0,
+                };
+            }
+            img[v * W + u] = (acc / 4.0).round().clamp(0.0, 255.0) as u8;
+        }
+    }
+    img
+}
+
+fn ranger(table: &GroundTable) -> VisualRanger {
+    let options = RangerOptions {
+        columns: ColumnSelection::Explicit((20..220).step_by(10).map(|u| u as u32).collect()),
+        ..RangerOptions::default()
+    };
+    VisualRanger::new(table.clone(), options).unwrap()
+}
+
+fn boundary_x(scan: &Scan) -> Vec<Option<f64>> {
+    scan.readings
+        .iter()
+        .map(|r| match r.outcome {
+            ColumnOutcome::Boundary { point, .. } => Some(point.x),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Ranges the second view (camera foot at 0.2 m) after the first (at 0), the first's pose
+/// given as `first_pose` (odometry, possibly wrong).
+fn view(img: &[u8]) -> ImageView<'_, u8> {
+    ImageView::new(img, W, H).unwrap()
+}
+
+fn two_views(first_pose: Pose2, options: ParallaxOptions) -> (Scan, Scan, ParallaxReport) {
+    let table = table();
+    let (a, b) = (render(0.0), render(0.2));
+    let mut plain = ranger(&table);
+    let mut cued = ranger(&table);
+    let mut cue = FloorParallax::new(table, options).unwrap();
+    let mut out = Scan::default();
+    let r0 = cue
+        .scan_into(&mut cued, &view(&a), 0.0, Some(first_pose), &mut out)
+        .unwrap();
+    assert_eq!(r0.vetoes, 0, "no earlier frame yet");
+    let report = cue
+        .scan_into(
+            &mut cued,
+            &view(&b),
+            0.5,
+            Some(Pose2::new(0.2, 0.0, 0.0)),
+            &mut out,
+        )
+        .unwrap();
+    let before = plain.scan(&view(&b), 0.5).unwrap();
+    (before, out, report)
+}
+
+/// The camera-frame x of the first grout line ahead of the second view and of the wall.
+fn truths() -> (f64, f64) {
+    let first_grout = (0.2f64 / GROUT_EVERY_M).ceil() * GROUT_EVERY_M;
+    (first_grout + GROUT_M - 0.2, WALL_X - 0.2)
+}
+
+#[test]
+fn grout_lines_are_the_floors_own_and_the_wall_base_is_found_above_them() {
+    let (grout_x, wall_x) = truths();
+    let (before, after, report) = two_views(Pose2::IDENTITY, ParallaxOptions::default());
+    assert!(report.baseline_m > 0.19 && report.vetoes > 0, "{report:?}");
+    let (xb, xa) = (boundary_x(&before), boundary_x(&after));
+    // the edge ranger alone stops at a grout line in most columns: nearer than the wall
+    let at_grout = xb.iter().flatten().filter(|&&x| x < wall_x - 0.1).count();
+    assert!(
+        at_grout * 2 > xb.len(),
+        "{xb:?} (grout from {grout_x:.2} m)"
+    );
+    // with the cue, the wall's base (every column sees the wall) within 3 cm
+    let right = xa
+        .iter()
+        .flatten()
+        .filter(|&&x| (x - wall_x).abs() < 0.03)
+        .count();
+    assert!(
+        right * 10 >= xa.len() * 8,
+        "{right} of {}: {xa:?}",
+        xa.len()
+    );
+    // never past the wall
+    assert!(xa.iter().flatten().all(|&x| x < wall_x + 0.03), "{xa:?}");
+}
+
+#[test]
+fn the_refinement_absorbs_odometry_off_by_two_centimetres_and_a_degree() {
+    let (_, wall_x) = truths();
+    let wrong = Pose2::new(0.02, -0.015, 1f64.to_radians());
+    let (_, after, report) = two_views(wrong, ParallaxOptions::default());
+    let xa = boundary_x(&after);
+    let right = xa
+        .iter()
+        .flatten()
+        .filter(|&&x| (x - wall_x).abs() < 0.03)
+        .count();
+    assert!(
+        right * 10 >= xa.len() * 8,
+        "{right} of {}: {xa:?} {report:?}",
+        xa.len()
+    );
+}
+
+#[test]
+fn without_a_pose_or_a_baseline_the_scan_is_the_edge_rangers() {
+    let table = table();
+    let img = render(0.2);
+    let view = ImageView::new(&img, W, H).unwrap();
+    let plain = ranger(&table).scan(&view, 1.0).unwrap();
+    let mut cued = ranger(&table);
+    let mut cue = FloorParallax::new(table, ParallaxOptions::default()).unwrap();
+    let mut out = Scan::default();
+    for _ in 0..3 {
+        let r = cue
+            .scan_into(&mut cued, &view, 1.0, None, &mut out)
+            .unwrap();
+        assert_eq!(
+            (r.vetoes, out.readings.clone()),
+            (0, plain.readings.clone())
+        );
+    }
+    // turning on the spot: every kept frame is nearer than the least baseline
+    for k in 0..4 {
+        let pose = Pose2::new(0.0, 0.0, 0.01 * k as f64);
+        let r = cue
+            .scan_into(&mut cued, &view, 1.0, Some(pose), &mut out)
+            .unwrap();
+        assert_eq!(r.vetoes, 0);
+        assert_eq!(out.readings, plain.readings);
+    }
+}
+
+#[test]
+fn a_ranger_on_another_table_or_a_pose_not_finite_is_refused() {
+    let table = table();
+    let img = render(0.0);
+    let view = ImageView::new(&img, W, H).unwrap();
+    let mut cue = FloorParallax::new(table.clone(), ParallaxOptions::default()).unwrap();
+    let mut out = Scan::default();
+    let other = GroundTable::from_fn(W, H, 8, floor_of_pixel).unwrap();
+    assert!(cue
+        .scan_into(&mut ranger(&other), &view, 0.0, None, &mut out)
+        .is_err());
+    let bad = Some(Pose2::new(f64::NAN, 0.0, 0.0));
+    assert!(cue
+        .scan_into(&mut ranger(&table), &view, 0.0, bad, &mut out)
+        .is_err());
+    let options = ParallaxOptions {
+        history_frames: 0,
+        ..ParallaxOptions::default()
+    };
+    assert!(FloorParallax::new(table, options).is_err());
+}
+
+#[test]
+fn solve3_and_the_blur_agree_with_their_definitions() {
+    let a = [[4.0, 1.0, 0.5], [1.0, 3.0, 0.2], [0.5, 0.2, 2.0]];
+    let x = [0.3, -1.2, 2.5];
+    let b = [0, 1, 2].map(|r| (0..3).map(|c| a[r][c] * x[c]).sum::<f64>());
+    let got = solve3(a, b).unwrap();
+    assert!(got.iter().zip(x).all(|(g, e)| (g - e).abs() < 1e-12));
+    assert!(solve3(
+        [[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]],
+        [1.0; 3]
+    )
+    .is_none());
+    // a blur keeps a constant image and the sum of a point inside the image
+    let k = gaussian_kernel(1.0);
+    assert!((k.iter().sum::<f32>() - 1.0).abs() < 1e-6);
+    let mut img = vec![7u8; 15 * 11];
+    let (mut s, mut out) = (vec![0.0; 15 * 11], vec![0.0; 15 * 11]);
+    blur_into(&ImageView::new(&img, 15, 11).unwrap(), &k, &mut s, &mut out);
+    assert!(out.iter().all(|&p| (p - 7.0).abs() < 1e-4));
+    img.fill(0);
+    img[5 * 15 + 7] = 200;
+    blur_into(&ImageView::new(&img, 15, 11).unwrap(), &k, &mut s, &mut out);
+    assert!((out.iter().sum::<f32>() - 200.0).abs() < 1e-2);
+    assert!(out[5 * 15 + 7] > out[5 * 15 + 8] && out[5 * 15 + 8] > out[5 * 15 + 9]);
+}

@@ -1,0 +1,171 @@
+//! Options of the floor-parallax cue (`[parallax]` in the config file, [`crate::floor_parallax`]):
+//! whether the edge ranger's boundaries are checked against the motion between two frames, and
+//! how.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{invalid_option, Result};
+
+/// Most earlier frames a [`crate::floor_parallax::FloorParallax`] may keep (memory: this many
+/// frames of 4 bytes a pixel).
+pub const MAX_HISTORY_FRAMES: usize = 64;
+
+/// Options of [`crate::floor_parallax::FloorParallax`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+pub struct ParallaxOptions {
+    /// Check each boundary of the edge ranger against the motion since an earlier frame where
+    /// poses are known (`run`, `node`, `eval`; a single image is ranged as before). Default
+    /// false: an opt-in until real frames with motion judge it (EVALUATION.md).
+    pub enabled: bool,
+    /// Least camera travel [m] between the current frame and the earlier one it is compared
+    /// with, finite and > 0: the newest kept frame at least this far back is used, none if no
+    /// kept frame is (a robot standing or turning on the spot: the boundaries stay as ranged).
+    /// Default 0.15 (0.5 s at 0.3 m/s).
+    pub min_baseline_m: f64,
+    /// Earlier frames kept, 1 ..= 64. Default 10 (1 s at 10 Hz).
+    pub history_frames: usize,
+    /// Rows above a boundary compared between the two frames, as a share of the image height,
+    /// in (0, 0.5]. Default 0.125 (30 rows of 240).
+    pub rows_above_fraction: f64,
+    /// Least standard deviation [grey levels] of those rows for a test: a patch without
+    /// texture cannot tell floor from a standing surface, and its boundary stays. Finite and
+    /// >= 0. Default 2.
+    pub min_texture_grey: f64,
+    /// Gaussian blur applied to both frames before they are compared [px], finite, in
+    /// [0, 5]; 0 for none. Default 1.
+    pub blur_sigma_px: f64,
+    /// Floor within this range [m] of the camera refines the odometry's motion (Lucas-Kanade
+    /// on the floor between the two frames) and gives the residual's noise; finite and > 0.
+    /// Default 1.
+    pub refine_range_m: f64,
+    /// Least log-likelihood ratio of "the rows above are floor" over "they stand on a vertical
+    /// surface at the boundary" for the boundary to be the floor's own, finite. Default 0.
+    pub min_log_likelihood_ratio: f64,
+    /// Most boundaries of one column found to be the floor's own in one frame, 1 ..= 100.
+    /// Default 10.
+    pub max_vetoes: usize,
+    /// Neighbouring columns' boundaries within this distance [m] of a boundary give the
+    /// direction of the surface standing there (else it faces the camera); finite and > 0.
+    /// Default 0.25.
+    pub base_line_gap_m: f64,
+}
+
+impl Default for ParallaxOptions {
+    fn default() -> Self {
+        Self {
+            enabled: false,
+            min_baseline_m: 0.15,
+            history_frames: 10,
+            rows_above_fraction: 0.125,
+            min_texture_grey: 2.0,
+            blur_sigma_px: 1.0,
+            refine_range_m: 1.0,
+            min_log_likelihood_ratio: 0.0,
+            max_vetoes: 10,
+            base_line_gap_m: 0.25,
+        }
+    }
+}
+
+impl ParallaxOptions {
+    /// Every field's rule (an error names the field).
+    pub fn validate(&self) -> Result<()> {
+        let positive = |name: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(invalid_option(
+                    name,
+                    format!("must be finite and > 0, got {v}"),
+                ))
+            }
+        };
+        positive("min_baseline_m", self.min_baseline_m)?;
+        positive("refine_range_m", self.refine_range_m)?;
+        positive("base_line_gap_m", self.base_line_gap_m)?;
+        if !(1..=MAX_HISTORY_FRAMES).contains(&self.history_frames) {
+            return Err(invalid_option(
+                "history_frames",
+                format!(
+                    "must be in 1 ..= {MAX_HISTORY_FRAMES}, got {}",
+                    self.history_frames
+                ),
+            ));
+        }
+        if !(self.rows_above_fraction > 0.0 && self.rows_above_fraction <= 0.5) {
+            return Err(invalid_option(
+                "rows_above_fraction",
+                format!("must be in (0, 0.5], got {}", self.rows_above_fraction),
+            ));
+        }
+        if !(self.min_texture_grey.is_finite() && self.min_texture_grey >= 0.0) {
+            return Err(invalid_option(
+                "min_texture_grey",
+                format!("must be finite and >= 0, got {}", self.min_texture_grey),
+            ));
+        }
+        if !(0.0..=5.0).contains(&self.blur_sigma_px) {
+            return Err(invalid_option(
+                "blur_sigma_px",
+                format!("must be in [0, 5], got {}", self.blur_sigma_px),
+            ));
+        }
+        if !self.min_log_likelihood_ratio.is_finite() {
+            return Err(invalid_option(
+                "min_log_likelihood_ratio",
+                format!("must be finite, got {}", self.min_log_likelihood_ratio),
+            ));
+        }
+        if !(1..=100).contains(&self.max_vetoes) {
+            return Err(invalid_option(
+                "max_vetoes",
+                format!("must be in 1 ..= 100, got {}", self.max_vetoes),
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    type Change = Box<dyn Fn(&mut ParallaxOptions)>;
+
+    #[test]
+    fn the_defaults_are_valid_and_each_rule_names_its_field() {
+        ParallaxOptions::default().validate().unwrap();
+        let cases: Vec<(&str, Change)> = vec![
+            ("min_baseline_m", Box::new(|o| o.min_baseline_m = 0.0)),
+            ("history_frames", Box::new(|o| o.history_frames = 65)),
+            ("history_frames", Box::new(|o| o.history_frames = 0)),
+            (
+                "rows_above_fraction",
+                Box::new(|o| o.rows_above_fraction = 0.6),
+            ),
+            (
+                "min_texture_grey",
+                Box::new(|o| o.min_texture_grey = f64::NAN),
+            ),
+            ("blur_sigma_px", Box::new(|o| o.blur_sigma_px = -1.0)),
+            (
+                "refine_range_m",
+                Box::new(|o| o.refine_range_m = f64::INFINITY),
+            ),
+            (
+                "min_log_likelihood_ratio",
+                Box::new(|o| o.min_log_likelihood_ratio = f64::NAN),
+            ),
+            ("max_vetoes", Box::new(|o| o.max_vetoes = 0)),
+            ("base_line_gap_m", Box::new(|o| o.base_line_gap_m = -0.1)),
+        ];
+        for (name, change) in cases {
+            let mut o = ParallaxOptions::default();
+            change(&mut o);
+            let e = o.validate().unwrap_err().to_string();
+            assert!(e.contains(name), "{name}: {e}");
+        }
+    }
+}
