@@ -26,6 +26,7 @@ KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "local_map": mapping.default_local_map_options,
     "scan_matcher": drive.default_scan_matcher_options,
     "slam": mapping.default_slam_options,
+    "parallax": ranging.default_parallax_options,
 }
 """Each options type by its name, with its defaults function."""
 
@@ -37,6 +38,7 @@ CHECKS: Dict[str, Callable[[Dict[str, Any]], Dict[str, Any]]] = {
     "local_map": mapping.check_local_map_options,
     "scan_matcher": drive.check_scan_matcher_options,
     "slam": mapping.check_slam_options,
+    "parallax": ranging.check_parallax_options,
 }
 """Each options type's check: a dict of any of its fields in, every field out (validated)."""
 
@@ -48,6 +50,7 @@ SCHEMAS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "local_map": mapping.local_map_options_schema,
     "scan_matcher": drive.scan_matcher_options_schema,
     "slam": mapping.slam_options_schema,
+    "parallax": ranging.parallax_options_schema,
 }
 
 

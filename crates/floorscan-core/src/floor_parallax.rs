@@ -74,7 +74,7 @@ pub struct FloorParallax {
     residuals: Vec<f32>,
     restarts: Vec<(usize, f64)>,
     patch: Vec<(f64, f64, Point2)>,
-    samples: Vec<(f32, f32)>,
+    samples: Vec<[f32; 4]>,
 }
 
 impl FloorParallax {
@@ -332,48 +332,50 @@ impl FloorParallax {
         if (sum2 / n - (sum / n).powi(2)).max(0.0).sqrt() < self.options.min_texture_grey {
             return 0.0;
         }
-        let residual = |standing: bool, this: &mut Self| -> Option<f64> {
-            this.samples.clear();
-            for &(pu, pv, g) in &this.patch {
-                let earlier_ground = if standing {
-                    let s = cross(base) / cross(g);
-                    if !(s.is_finite() && s > 0.05 && s <= 1.0 + 1e-9) {
-                        return None;
-                    }
-                    let p = motion.transform_point(Point2::new(s * g.x, s * g.y));
-                    Point2::new(p.x / s, p.y / s)
-                } else {
-                    motion.transform_point(g)
-                };
-                if let Some((eu, ev)) = this.table.pixel_of(earlier_ground, (pu, pv)) {
-                    this.samples.push((
-                        bilinear(&this.current, this.width, this.height, pu, pv),
-                        bilinear(earlier, this.width, this.height, eu, ev),
-                    ));
-                }
+        // each pixel's earlier position under both explanations, its variance (the noise, and
+        // what a warp `warp_error_px` off does to it: a strong edge along the motion, which both
+        // explanations place alike up to their small errors, weighs little)
+        self.samples.clear();
+        let mut apart = 0.0f64;
+        for &(pu, pv, g) in &self.patch {
+            let s = cross(base) / cross(g);
+            if !(s.is_finite() && s > 0.05 && s <= 1.0 + 1e-9) {
+                return 0.0;
             }
-            let k = this.samples.len();
-            if (k as f64) < MIN_PLACED_SHARE * this.patch.len() as f64 {
-                return None;
-            }
-            let (ma, mb) = this
-                .samples
-                .iter()
-                .fold((0.0f64, 0.0f64), |(x, y), &(a, b)| {
-                    (x + a as f64, y + b as f64)
-                });
-            let (ma, mb) = (ma / k as f64, mb / k as f64);
-            let ss: f64 = this
-                .samples
-                .iter()
-                .map(|&(a, b)| ((a as f64 - ma) - (b as f64 - mb)).powi(2))
-                .sum();
-            Some(ss / k as f64)
-        };
-        let (Some(floor), Some(standing)) = (residual(false, self), residual(true, self)) else {
+            let p = motion.transform_point(Point2::new(s * g.x, s * g.y));
+            let floor = self.table.pixel_of(motion.transform_point(g), (pu, pv));
+            let standing = self.table.pixel_of(Point2::new(p.x / s, p.y / s), (pu, pv));
+            let (Some((fu, fv)), Some((su, sv))) = (floor, standing) else {
+                continue;
+            };
+            apart += (fu - su).powi(2) + (fv - sv).powi(2);
+            let (gu, gv) = gradient(&self.current, self.width, self.height, pu, pv);
+            let slip = gu.hypot(gv) as f64 * self.options.warp_error_px;
+            self.samples.push([
+                bilinear(&self.current, self.width, self.height, pu, pv),
+                bilinear(earlier, self.width, self.height, fu, fv),
+                bilinear(earlier, self.width, self.height, su, sv),
+                (1.0 / (noise * noise + slip * slip)) as f32,
+            ]);
+        }
+        let k = self.samples.len();
+        if (k as f64) < MIN_PLACED_SHARE * n {
             return 0.0;
-        };
-        n * (standing - floor) / (2.0 * noise * noise)
+        }
+        // explanations that put the rows nearly in the same place cannot be told apart
+        if (apart / k as f64).sqrt() < self.options.min_separation_px {
+            return 0.0;
+        }
+        let mean = |i: usize| self.samples.iter().map(|x| x[i] as f64).sum::<f64>() / k as f64;
+        let (mc, mf, ms) = (mean(0), mean(1), mean(2));
+        let (mut floor, mut standing) = (0.0, 0.0);
+        for &[c, f, st, w] in &self.samples {
+            let c = c as f64 - mc;
+            floor += w as f64 * (c - (f as f64 - mf)).powi(2);
+            standing += w as f64 * (c - (st as f64 - ms)).powi(2);
+        }
+        // as if every pixel of the patch had been placed
+        (standing - floor) / 2.0 * n / k as f64
     }
 }
 

@@ -43,6 +43,16 @@ pub struct ParallaxOptions {
     /// Least log-likelihood ratio of "the rows above are floor" over "they stand on a vertical
     /// surface at the boundary" for the boundary to be the floor's own, finite. Default 0.
     pub min_log_likelihood_ratio: f64,
+    /// How far [px] the warp between the two frames may be off (the table's and the motion's
+    /// errors): each pixel's residual variance is the noise's plus (its gradient x this)^2,
+    /// so a strong edge running along the motion, which both explanations place alike up to
+    /// such errors, weighs little. Finite and >= 0. Default 0.5.
+    pub warp_error_px: f64,
+    /// Least distance [px, root mean square over the rows] between the two explanations'
+    /// positions of the rows in the earlier frame for a test: closer, the frames cannot tell
+    /// them apart (a wall along the motion, a short baseline, a low or far obstacle) and the
+    /// boundary stays. Finite and >= 0. Default 1.5.
+    pub min_separation_px: f64,
     /// Most boundaries of one column found to be the floor's own in one frame, 1 ..= 100.
     /// Default 10.
     pub max_vetoes: usize,
@@ -63,6 +73,8 @@ impl Default for ParallaxOptions {
             blur_sigma_px: 1.0,
             refine_range_m: 1.0,
             min_log_likelihood_ratio: 0.0,
+            warp_error_px: 0.5,
+            min_separation_px: 1.5,
             max_vetoes: 10,
             base_line_gap_m: 0.25,
         }
@@ -118,6 +130,18 @@ impl ParallaxOptions {
                 format!("must be finite, got {}", self.min_log_likelihood_ratio),
             ));
         }
+        if !(self.warp_error_px.is_finite() && self.warp_error_px >= 0.0) {
+            return Err(invalid_option(
+                "warp_error_px",
+                format!("must be finite and >= 0, got {}", self.warp_error_px),
+            ));
+        }
+        if !(self.min_separation_px.is_finite() && self.min_separation_px >= 0.0) {
+            return Err(invalid_option(
+                "min_separation_px",
+                format!("must be finite and >= 0, got {}", self.min_separation_px),
+            ));
+        }
         if !(1..=100).contains(&self.max_vetoes) {
             return Err(invalid_option(
                 "max_vetoes",
@@ -159,6 +183,11 @@ mod tests {
                 Box::new(|o| o.min_log_likelihood_ratio = f64::NAN),
             ),
             ("max_vetoes", Box::new(|o| o.max_vetoes = 0)),
+            ("warp_error_px", Box::new(|o| o.warp_error_px = -0.5)),
+            (
+                "min_separation_px",
+                Box::new(|o| o.min_separation_px = f64::NAN),
+            ),
             ("base_line_gap_m", Box::new(|o| o.base_line_gap_m = -0.1)),
         ];
         for (name, change) in cases {

@@ -17,6 +17,7 @@ mod avoidance_map;
 mod dynamic_window;
 mod errors;
 mod evidence;
+mod floor_parallax;
 mod gif;
 mod grid;
 mod grid_options;
@@ -30,6 +31,7 @@ mod log_odds;
 mod match_information;
 mod navigation;
 mod options;
+mod parallax_options;
 mod png;
 mod ranger;
 mod ranger_options;
@@ -82,7 +84,13 @@ mod _native {
             appearance_options_schema, check_appearance_options, default_appearance_options,
         };
         #[pymodule_export]
+        use crate::floor_parallax::PyFloorParallax;
+        #[pymodule_export]
         use crate::ground_table::PyGroundTable;
+        #[pymodule_export]
+        use crate::parallax_options::{
+            check_parallax_options, default_parallax_options, parallax_options_schema,
+        };
         #[pymodule_export]
         use crate::ranger::PyVisualRanger;
         #[pymodule_export]

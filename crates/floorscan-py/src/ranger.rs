@@ -13,7 +13,7 @@ use crate::scan::PyScan;
 
 #[pyclass(name = "VisualRanger", module = "floorscan._native.ranging")]
 pub struct PyVisualRanger {
-    inner: VisualRanger,
+    pub(crate) inner: VisualRanger,
 }
 
 #[pymethods]

@@ -58,6 +58,25 @@ class AppearanceRanger:
         """
 
 @final
+class FloorParallax:
+    def __new__(cls, /, table: GroundTable, options: Any) -> FloorParallax: ...
+    @property
+    def options(self, /) -> Any:
+        """
+        The options (every field, serde form).
+        """
+    def reset(self, /) -> None:
+        """
+        Forgets the earlier frames.
+        """
+    def scan(self, /, ranger: VisualRanger, image: Any, timestamp: SupportsFloat | SupportsIndex, world_from_camera: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex] | None = None) -> tuple[Scan, tuple[float, int, float]]:
+        """
+        Ranges a (H, W) uint8 or uint16 image with `ranger` and checks its boundaries against
+        the earlier frames when `world_from_camera` (x, y, yaw) is given; returns the scan and
+        the report `(baseline_m, vetoes, noise_grey)`. The GIL is released meanwhile.
+        """
+
+@final
 class GroundTable:
     def __eq__(self, other: object, /) -> bool: ...
     @staticmethod
@@ -183,6 +202,11 @@ def check_appearance_options(options: Any) -> Any:
     Reads `AppearanceOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
+def check_parallax_options(options: Any) -> Any:
+    """
+    Reads `ParallaxOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def check_ranger_options(options: Any) -> Any:
     """
     Reads `RangerOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
@@ -199,6 +223,11 @@ def default_appearance_options() -> Any:
     The default `AppearanceOptions` (its serde form, a dict).
     """
 
+def default_parallax_options() -> Any:
+    """
+    The default `ParallaxOptions` (its serde form, a dict).
+    """
+
 def default_ranger_options() -> Any:
     """
     The default `RangerOptions` (its serde form, a dict).
@@ -212,6 +241,11 @@ def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex,
     scan and the judgement after this frame, `(scan, textured, frames_inherited)`.
     `driven_floor`: the appearance ranger's `driven_floor_borders` (an edge on such a border is
     the border of floor driven over, not an obstacle).
+    """
+
+def parallax_options_schema() -> Any:
+    """
+    The JSON schema of `ParallaxOptions`: field docs, types, defaults.
     """
 
 def ranger_options_schema() -> Any:

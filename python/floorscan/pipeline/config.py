@@ -3,9 +3,9 @@ outputs, with documented defaults. ``floorscan config --default`` prints it; com
 override it; unknown, ill-typed or out-of-range keys are errors that name the key.
 
 The tables ``[ranger]``, ``[appearance]``, ``[grid]``, ``[local_map]``, ``[sensors]`` and
-``[slam]`` are exactly the serde form of the Rust options types (``RangerOptions``,
+``[slam]``, ``[parallax]`` are exactly the serde form of the Rust options types (``RangerOptions``,
 ``AppearanceOptions``, ``GridOptions``, ``LocalMapOptions``, ``InserterOptions``,
-``SlamOptions``): their defaults, docs and checks are
+``SlamOptions``, ``ParallaxOptions``): their defaults, docs and checks are
 the Rust ones, read through :mod:`floorscan.options`. ``[ranger]`` also holds the pipeline's
 own keys (``kind``, ``auto_threshold``...) and ``[appearance]`` takes ``columns``, ``start`` and
 ``max_range_m`` from ``[ranger]``; ``[local_map]`` takes its grid from ``[grid]``. The other
@@ -281,6 +281,7 @@ def _default_tables() -> Dict[str, OptionsTable]:
         "local_map": _local_map_table({}, grid),
         "sensors": OptionsTable("inserter", check("inserter", {})),
         "slam": OptionsTable("slam", check("slam", {})),
+        "parallax": OptionsTable("parallax", check("parallax", {})),
     }
 
 
@@ -291,6 +292,7 @@ RUST_TABLES = {
     "local_map": ("local_map", None),
     "sensors": ("inserter", None),
     "slam": ("slam", None),
+    "parallax": ("parallax", None),
 }
 """Config table -> (its Rust options type in :mod:`floorscan.options`, its pipeline keys)."""
 
@@ -365,6 +367,7 @@ class Config:
     local_map: OptionsTable = field(default_factory=lambda: _default_tables()["local_map"])
     sensors: OptionsTable = field(default_factory=lambda: _default_tables()["sensors"])
     slam: OptionsTable = field(default_factory=lambda: _default_tables()["slam"])
+    parallax: OptionsTable = field(default_factory=lambda: _default_tables()["parallax"])
     outputs: OutputsConfig = field(default_factory=OutputsConfig)
     limits: LimitsConfig = field(default_factory=LimitsConfig)
     node: NodeConfig = field(default_factory=NodeConfig)
@@ -417,6 +420,8 @@ class Config:
             tables["sensors"] = OptionsTable("inserter", check("inserter", split("sensors")[0]))
         with _named(source, "slam"):
             tables["slam"] = OptionsTable("slam", check("slam", split("slam")[0]))
+        with _named(source, "parallax"):
+            tables["parallax"] = OptionsTable("parallax", check("parallax", split("parallax")[0]))
         rest = {k: v for k, v in d.items() if k not in RUST_TABLES}
         return _build(cls, rest, source, "", **tables)
 

@@ -16,13 +16,14 @@ import numpy as np
 from .._signals import StopRequest
 from ..errors import ConfigError, FloorscanError, ImageError, OutOfBoundsError
 from ..formats.image_io import as_grey
-from ..formats.trajectory import Pose2, Trajectory
+from ..formats.trajectory import Pose2, Trajectory, compose
 from ..mapping.grid import OccupancyGrid
 from ..mapping.local_map import LocalMap
 from ..ranging.appearance import AppearanceRanger
 from ..ranging.auto_threshold import MIN_AUTO_THRESHOLD, auto_threshold
 from ..ranging.fused import FusedRanger
 from ..ranging.ground_table import GroundTable
+from ..ranging.parallax import ParallaxRanger
 from ..ranging.ranger import VisualRanger
 from ..ranging.scan import ColumnStatus, Scan
 from .config import SHARED_WITH_RANGER, Config
@@ -64,6 +65,21 @@ def ranger_from_config(table: GroundTable, cfg: Config, **overrides):
         snap_rows=a.snap_rows,
         snap_fraction=a.snap_fraction,
         texture_share=a.texture_share,
+    )
+
+
+def parallax_for(ranger, cfg: Config) -> Optional[ParallaxRanger]:
+    """The floor-parallax cue over ``ranger`` when ``[parallax] enabled`` (the edge ranger
+    only: ConfigError for another kind)."""
+    if not cfg.parallax.enabled:
+        return None
+    if not isinstance(ranger, VisualRanger):
+        raise ConfigError(
+            f'[parallax] enabled needs the edge ranger (ranger.kind = "edge"), not '
+            f"{cfg.ranger.kind!r}"
+        )
+    return ParallaxRanger(
+        ranger, **{k: v for k, v in cfg.parallax.options().items() if k != "enabled"}
     )
 
 
@@ -120,6 +136,7 @@ class Mapper:
         # The global map keeps its unclamped evidence too, so runs merge exactly (evidence.py).
         self.global_map = OccupancyGrid(keep_evidence=True, **kw)
         self.local_map = LocalMap(**local_map_kwargs(cfg))
+        self.parallax: Optional[ParallaxRanger] = parallax_for(self.ranger, cfg)
         self.slam: Optional[PoseCorrection] = None
         if cfg.slam.mode == "local":
             self.slam = PoseCorrection(
@@ -135,7 +152,11 @@ class Mapper:
         if self.threshold_pending:
             self._set_auto_threshold(image)
         t0 = time.perf_counter()
-        scan = self.ranger.scan(image, timestamp=timestamp)
+        if self.parallax is not None:
+            camera = None if pose is None else compose(pose, self.robot_from_camera)
+            scan = self.parallax.scan(image, timestamp=timestamp, world_from_camera=camera)
+        else:
+            scan = self.ranger.scan(image, timestamp=timestamp)
         t1 = time.perf_counter()
         if pose is not None and self.slam is not None:
             pose = self.slam.correct(scan, pose, timestamp=timestamp)
@@ -173,6 +194,7 @@ class Mapper:
         )
         self.ranger = ranger_from_config(self.ranger.table, cfg)
         self.driven_floor = driven_floor_for(self.ranger)
+        self.parallax = parallax_for(self.ranger, cfg)
         self.threshold_pending = False
 
 

@@ -122,13 +122,18 @@ class VisualRanger:
             ) from None
         if not math.isfinite(t):
             raise OptionError(f"invalid option `timestamp`: must be finite, got {timestamp}")
-        if grey.dtype == np.uint16:
-            if self._native16 is None:
-                options = self.options
-                options["threshold"] *= U16_PER_U8
-                self._native16 = _native.VisualRanger(self._table._native, options)
-            return Scan(self._native16.scan(grey, t))
-        return Scan(self._native.scan(grey, t))
+        return Scan(self._native_for(grey).scan(grey, t))
+
+    def _native_for(self, grey: np.ndarray):
+        """The native ranger for ``grey``'s depth: a uint16 image is scanned at the threshold
+        x 257 (made on the first such image)."""
+        if grey.dtype != np.uint16:
+            return self._native
+        if self._native16 is None:
+            options = self.options
+            options["threshold"] *= U16_PER_U8
+            self._native16 = _native.VisualRanger(self._table._native, options)
+        return self._native16
 
 
 def start_rows_from_mask(mask: np.ndarray, image_width: int, image_height: int) -> list:
