@@ -59,8 +59,12 @@ def load_world(spec: str, floor: str) -> World:
             return World.builtin(spec)
         text = builtin_world_text(spec)
     if floor != "as-is":
-        text = re.sub(r'(\[floor\]\s*\ncovering\s*=\s*)"[^"]*"', r'\1"probe_floor"', text)
-        text += "\n[coverings.probe_floor]\n" + HELD_OUT_FLOORS[floor]
+        swapped, n = re.subn(r'(\[floor\]\s*\ncovering\s*=\s*)"[^"]*"', r'\1"probe_floor"', text)
+        if n == 0:
+            if re.search(r"^\[floor\]", text, re.M):
+                raise SystemExit(f"{spec}: its [floor] table does not start with `covering`")
+            swapped = text + '\n[floor]\ncovering = "probe_floor"\n'
+        text = swapped + "\n[coverings.probe_floor]\n" + HELD_OUT_FLOORS[floor]
     return World.from_toml(text, source_name=f"{spec} ({floor})")
 
 
