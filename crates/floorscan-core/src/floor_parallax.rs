@@ -73,6 +73,7 @@ pub struct FloorParallax {
     band_guess: Vec<(f64, f64)>,
     residuals: Vec<f32>,
     restarts: Vec<(usize, f64)>,
+    dirty: Vec<bool>,
     patch: Vec<(f64, f64, Point2)>,
     samples: Vec<[f32; 4]>,
 }
@@ -102,6 +103,7 @@ impl FloorParallax {
             band_guess,
             band,
             restarts: Vec::new(),
+            dirty: Vec::new(),
             patch: Vec::new(),
             samples: Vec::new(),
             options,
@@ -158,9 +160,16 @@ impl FloorParallax {
                 vetoes: 0,
                 noise_grey: noise,
             };
+            // a column's test reads its own boundary and its neighbours': it is tested again
+            // only when one of those moved
+            self.dirty.clear();
+            self.dirty.resize(out.readings.len(), true);
             for _ in 0..self.options.max_vetoes {
                 self.restarts.clear();
                 for j in 0..out.readings.len() {
+                    if !self.dirty[j] {
+                        continue;
+                    }
                     if let ColumnOutcome::Boundary { row, point, .. } = out.readings[j].outcome {
                         let along = base_direction(out, j, point, self.options.base_line_gap_m);
                         let u = out.readings[j].column as f64;
@@ -176,6 +185,12 @@ impl FloorParallax {
                 }
                 report.vetoes += self.restarts.len();
                 ranger.continue_above(image, &self.restarts, out)?;
+                self.dirty.fill(false);
+                for &(j, _) in &self.restarts {
+                    for k in j.saturating_sub(1)..=(j + 1).min(self.dirty.len() - 1) {
+                        self.dirty[k] = true;
+                    }
+                }
             }
             self.frames[i].image = earlier;
         }
@@ -337,17 +352,29 @@ impl FloorParallax {
         // explanations place alike up to their small errors, weighs little)
         self.samples.clear();
         let mut apart = 0.0f64;
+        let (mut last_floor, mut last_standing) = (None, None);
         for &(pu, pv, g) in &self.patch {
             let s = cross(base) / cross(g);
             if !(s.is_finite() && s > 0.05 && s <= 1.0 + 1e-9) {
                 return 0.0;
             }
             let p = motion.transform_point(Point2::new(s * g.x, s * g.y));
-            let floor = self.table.pixel_of(motion.transform_point(g), (pu, pv));
-            let standing = self.table.pixel_of(Point2::new(p.x / s, p.y / s), (pu, pv));
+            // the search starts where the previous pixel's ended, moved as the pixel moved
+            let guess = |at: Option<(f64, f64, f64, f64)>| match at {
+                Some((lu, lv, eu, ev)) => (eu + pu - lu, ev + pv - lv),
+                None => (pu, pv),
+            };
+            let floor = self
+                .table
+                .pixel_of(motion.transform_point(g), guess(last_floor));
+            let standing = self
+                .table
+                .pixel_of(Point2::new(p.x / s, p.y / s), guess(last_standing));
             let (Some((fu, fv)), Some((su, sv))) = (floor, standing) else {
                 continue;
             };
+            last_floor = Some((pu, pv, fu, fv));
+            last_standing = Some((pu, pv, su, sv));
             apart += (fu - su).powi(2) + (fv - sv).powi(2);
             let (gu, gv) = gradient(&self.current, self.width, self.height, pu, pv);
             let slip = gu.hypot(gv) as f64 * self.options.warp_error_px;
