@@ -53,7 +53,7 @@ fuzz: dev
 	    $(PY) -m pytest -q -p no:cacheprovider tests/test_fuzz_readers.py
 
 demo: dev
-	$(VENV)/bin/floorscan demo -o demo-out
+	$(VENV)/bin/floorscan demo -o demo-out --force
 
 lint: deps
 	$(CARGO) fmt --all -- --check

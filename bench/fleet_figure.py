@@ -94,7 +94,16 @@ def main() -> int:
     seeds = [int(s) for s in args.seeds.split(",")]
     recs, world = simulate(out / "data", args.world, args.seconds, starts, seeds)
     maps = out / "maps"
-    cmd = FLOORSCAN + ["fleet", *recs, "--shared-frame", "--ray", "local", "-o", str(maps)]
+    cmd = FLOORSCAN + [
+        "fleet",
+        *recs,
+        "--shared-frame",
+        "--ray",
+        "local",
+        "-o",
+        str(maps),
+        "--force",
+    ]
     print(" ".join(cmd[2:]), file=sys.stderr)
     subprocess.run(cmd, check=True)
 

@@ -42,6 +42,8 @@ class Case:
     stderr_has: Optional[str] = None
     check: Optional[Callable[[Path], None]] = None
     """Extra assertions on the case folder after the run."""
+    needs: Sequence[str] = ()
+    """Optional modules the case needs (its test skips without them)."""
 
 
 @dataclass
@@ -263,7 +265,15 @@ def _cases() -> List[Case]:
         counts = json.loads((d / "out" / "summary.json").read_text())["counts"]
         assert counts["skipped_unreadable"] == 1 and counts["frames_mapped"] >= 1, counts
 
-    add(Case("run_bag_with_32700px_png", bomb_in_bag, (EXIT_OK,), check=bomb_checked))
+    add(
+        Case(
+            "run_bag_with_32700px_png",
+            bomb_in_bag,
+            (EXIT_OK,),
+            check=bomb_checked,
+            needs=("rosbags",),
+        )
+    )
 
     def far_wall(d, s):
         w = d / "w.toml"
@@ -404,7 +414,14 @@ def _cases() -> List[Case]:
         return build
 
     for damage in ("metadata", "truncated", "corrupt", "empty_data"):
-        add(Case(f"ros2_bag_{damage}", ros2_bag(damage), (EXIT_OK, EXIT_ERROR)))
+        add(
+            Case(
+                f"ros2_bag_{damage}",
+                ros2_bag(damage),
+                (EXIT_OK, EXIT_ERROR),
+                needs=("rosbags",),
+            )
+        )
 
     # Decompression bombs.
     def bomb_in_dataset(d, s):

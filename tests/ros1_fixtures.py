@@ -4,6 +4,7 @@ sensor_msgs / nav_msgs classes: an implementation independent of floorscan's cod
 
 from __future__ import annotations
 
+import importlib
 import os
 import shutil
 import socket
@@ -19,8 +20,21 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
+ROS1_MODULES = (
+    "rosgraph",
+    "genpy",
+    "sensor_msgs.msg",
+    "nav_msgs.msg",
+    "tf2_msgs.msg",
+    "rosbags.typesys",
+)
+"""Every module the ROS 1 node's tests import besides rospy (the tests' own imports and the
+node's: rosgraph and genpy by the node, rosbags for its message codec): one missing is a skip
+(a machine with a partial ROS 1, e.g. without ros-noetic-tf2-msgs, skips, never fails)."""
+
+
 def require_ros1():
-    """rospy, sensor_msgs and nav_msgs, or a skip naming what is missing."""
+    """rospy and every module of ROS1_MODULES, or a skip naming what is missing."""
     from floorscan.errors import MiddlewareError
     from floorscan.node.ros1 import import_rospy
 
@@ -28,10 +42,13 @@ def require_ros1():
         pytest.skip("ROS 1 is not installed: no roscore (apt-get install ros-core python3-rospy)")
     try:
         rospy = import_rospy()
-        import nav_msgs.msg  # noqa: F401
-        import sensor_msgs.msg  # noqa: F401
-    except (MiddlewareError, ImportError) as e:
+    except MiddlewareError as e:
         pytest.skip(f"ROS 1 Python packages missing: {e}")
+    for module in ROS1_MODULES:
+        try:
+            importlib.import_module(module)
+        except ImportError as e:
+            pytest.skip(f"ROS 1 Python packages missing: {module} ({e})")
     return rospy
 
 

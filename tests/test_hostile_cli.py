@@ -17,6 +17,8 @@ def shared(tmp_path_factory):
 
 @pytest.mark.parametrize("case", CASES, ids=[c.name for c in CASES])
 def test_hostile_input_ends_cleanly(case, shared, tmp_path):
+    for module in case.needs:
+        pytest.importorskip(module, reason=f"{module} is not installed")
     r = run_case(case, tmp_path / "case", shared)
     assert not r.hang, f"{case.name}: still running after the time limit"
     assert not r.traceback, r.stderr

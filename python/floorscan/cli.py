@@ -14,6 +14,7 @@ from typing import List, Optional
 from . import __version__
 from ._signals import abandoned_by, exit_code, handle_signals, ignore_stop_signals
 from .commands import COMMAND_MODULES
+from .commands._output import refuse_overwrites
 from .errors import FloorscanError
 
 EXIT_OK = 0
@@ -76,6 +77,7 @@ def _main(argv: Optional[List[str]]) -> int:
             if not getattr(args, "run", None):
                 parser.print_help()
                 return EXIT_USAGE
+            refuse_overwrites(args)  # before any work: nothing overwritten without --force
             return int(args.run(args) or 0)
     except SystemExit:
         raise

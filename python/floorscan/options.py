@@ -12,11 +12,13 @@ only reads them through the binding, and turns numpy values into plain ones on t
 
 from __future__ import annotations
 
-from typing import Any, Callable, Dict
+import re
+from typing import Any, Callable, Dict, List
 
 import numpy as np
 
 from ._native import drive, mapping, ranging
+from .errors import OptionError
 
 KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "ranger": ranging.default_ranger_options,
@@ -62,8 +64,86 @@ def defaults(kind: str) -> Dict[str, Any]:
 def check(kind: str, options: Dict[str, Any]) -> Dict[str, Any]:
     """``options`` completed with the defaults and validated by the Rust type (OptionError).
     A nested table given in part (``[sensors.visual]`` with ``hit_nats`` only) keeps the
-    default of its other fields."""
-    return CHECKS[kind](merged(defaults(kind), plain(options)))
+    default of its other fields.
+
+    >>> check("ranger", {"threshold": "abc"})
+    Traceback (most recent call last):
+    ...
+    floorscan.errors.OptionError: invalid option `threshold`: expected a number, got 'abc'
+    """
+    given = merged(defaults(kind), plain(options))
+    try:
+        return CHECKS[kind](given)
+    except OptionError as e:
+        raise in_user_words(kind, given, e) from None
+
+
+TYPE_ERRORS = re.compile(
+    r"^(TypeError|OverflowError|ValueError): |^expected either |^invalid type: "
+    r"|^data did not match any variant"
+)
+"""How pythonize and serde word a value of the wrong type (Python's words, not the user's)."""
+
+
+def in_user_words(kind: str, given: Dict[str, Any], error: OptionError) -> OptionError:
+    """``error`` with a wrong value type said as what was expected, from the default's type
+    (``expected a number, got 'abc'``); any other error unchanged."""
+    m = re.match(r"^invalid option `([^`]+)`: (.*)$", str(error))
+    if m is None or not TYPE_ERRORS.search(m.group(2)):
+        return error
+    path = re.findall(r"[^.\[\]]+", m.group(1))
+    default: Any = defaults(kind)
+    value: Any = given
+    try:
+        for p in path:
+            key: Any = int(p) if p.isdigit() else p
+            default, value = default[key], value[key]
+    except (KeyError, IndexError, TypeError):
+        return error
+    values = re.findall(r"One of: (.*)\.$", field_docs(kind).get(m.group(1), ""))
+    forms = _forms(kind, path) if "untagged enum" in m.group(2) else ""
+    expected = forms or _expected(default, values)
+    return OptionError(f"invalid option `{m.group(1)}`: expected {expected}, got {value!r}")
+
+
+def _forms(kind: str, path: List[str]) -> str:
+    """The forms an untagged enum field takes, from its schema (``a whole number or a list or
+    a table of obstacle_width_m, range_m``); "" if the schema does not say."""
+    schema = SCHEMAS[kind]()
+    defs = schema.get("$defs", {})
+    node: Any = schema
+    for p in path:
+        node = node.get("properties", {}).get(p)
+        if node is None:
+            return ""
+        while "$ref" in node:
+            node = defs[node["$ref"].rsplit("/", 1)[-1]]
+    words = {"integer": "a whole number", "number": "a number", "array": "a list"}
+    forms = []
+    for alt in node.get("anyOf", []):
+        if alt.get("type") == "object":
+            forms.append("a table of " + ", ".join(alt.get("properties", {})))
+        elif alt.get("type") in words:
+            forms.append(words[alt["type"]])
+    return " or ".join(forms)
+
+
+def _expected(default: Any, values: List[str]) -> str:
+    if values:
+        return "one of " + values[0]
+    if isinstance(default, bool):
+        return "true or false"
+    if isinstance(default, int):
+        return "a whole number" + (" >= 0" if default >= 0 else "")
+    if isinstance(default, float):
+        return "a number"
+    if isinstance(default, str):
+        return "a string"
+    if isinstance(default, list):
+        return f"a list like {default}"
+    if isinstance(default, dict):
+        return "a table of " + ", ".join(default)
+    return f"a value like {default!r}"
 
 
 def merged(base: Any, given: Any) -> Any:
@@ -94,6 +174,7 @@ def field_docs(kind: str) -> Dict[str, str]:
         for name, prop in resolve(node).get("properties", {}).items():
             target = resolve(prop)
             doc = " ".join((prop.get("description") or target.get("description", "")).split())
+            doc = without_doc_links(doc)
             values = [v["const"] for v in target.get("oneOf", []) if "const" in v]
             if values:
                 doc += f" One of: {' | '.join(values)}."
@@ -103,6 +184,25 @@ def field_docs(kind: str) -> Dict[str, str]:
 
     walk(schema, "")
     return out
+
+
+def without_doc_links(doc: str) -> str:
+    """A Rust doc comment's intra-doc links as plain text: ``[`crate::Error::OutOfBounds`]``
+    names the Python class of that error (``OutOfBoundsError``), ``[`crate::x::Name`]`` is
+    ``Name``, ``[text](target)`` is ``text``.
+
+    >>> without_doc_links("is an [`crate::Error::OutOfBounds`], see [`grid::Grid`]")
+    'is an `OutOfBoundsError`, see `Grid`'
+    """
+
+    def name(m: re.Match) -> str:
+        path = m.group(1).split("::")
+        if len(path) >= 2 and path[-2] == "Error":
+            return f"`{path[-1]}Error`"
+        return f"`{path[-1]}`"
+
+    doc = re.sub(r"\[(`?[^\]]*`?)\]\([^)]*\)", lambda m: m.group(1), doc)
+    return re.sub(r"\[`([^`\]]+)`\]", name, doc)
 
 
 def plain(value: Any) -> Any:

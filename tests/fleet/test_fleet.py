@@ -97,6 +97,19 @@ def test_in_process_gives_the_same_result_and_groups_by_start_pose(recs, serial_
     assert np.array_equal(evidence(tmp_path / "merged").values, total)
 
 
+def test_fleet_command_names_the_merged_map_and_keeps_an_existing_folder(recs, tmp_path, capsys):
+    out = tmp_path / "out"
+    argv = ["fleet", str(recs / "a"), str(recs / "b"), "--table", str(recs / "table.json")]
+    assert main(argv + ["-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    # a and b share their start pose: one merged map, named by its file
+    assert f"merged map: {out / 'merged' / 'map.yaml'}" in printed
+    assert "merged: merged" not in printed and (out / "merged" / "map.yaml").is_file()
+    assert main(argv + ["-o", str(out)]) == 1  # nothing overwritten without --force
+    assert "pass --force" in capsys.readouterr().err
+    assert main(argv + ["-o", str(out), "--force"]) == 0
+
+
 def test_failing_recordings_are_reported_and_the_others_written(ray_local, recs, tmp_path, capsys):
     (tmp_path / "bad.json").write_text("{ not json")
     argv = [

@@ -6,6 +6,7 @@ import floorscan
 import numpy as np
 import pytest
 from floorscan.formats.rosbag import (
+    ROSBAGS_MISSING,
     Ros2BagWriter,
     bag_topics,
     iter_bag_images,
@@ -13,6 +14,8 @@ from floorscan.formats.rosbag import (
     write_image_odometry_bag,
 )
 from floorscan.formats.trajectory import Trajectory
+
+pytest.importorskip("rosbags", reason=ROSBAGS_MISSING)
 
 
 def frames(n=3, h=24, w=32):

@@ -117,4 +117,11 @@ def test_map_log_without_lasers(tmp_path):
 
         from floorscan.commands.map_log import run
 
-        run(argparse.Namespace(log=str(tmp_path / "empty.log"), lenient=False))
+        run(
+            argparse.Namespace(
+                log=str(tmp_path / "empty.log"),
+                lenient=False,
+                output=str(tmp_path / "m.yaml"),
+                force=False,
+            )
+        )

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from floorscan import GroundTable
 from floorscan.formats.image_io import read_grey
+from floorscan.formats.rosbag import ROSBAGS_MISSING
 from floorscan.node import NodeRun
 from floorscan.node.messages import Codec
 from floorscan.pipeline.config import Config
@@ -94,6 +95,7 @@ def run_node(room, tmp_path, ros_version, node_toml, messages, n):
 
 @pytest.mark.parametrize("ros_version", [1, 2])
 def test_every_encoding_gives_floorscan_scans_ranges(room, tmp_path, ros_version):
+    pytest.importorskip("rosbags", reason=ROSBAGS_MISSING)  # the node's messages
     grey = read_grey(room / "room" / "images" / "000000.png")
     rgb = np.repeat(grey[..., None], 3, axis=2)
     codec = Codec(ros_version)
@@ -176,6 +178,7 @@ def tf(codec, t, x, y, yaw, parent="odom", child="base_link"):
 
 @pytest.mark.parametrize("ros_version", [1, 2])
 def test_poses_from_tf_build_the_map_odometry_builds(room, tmp_path, ros_version):
+    pytest.importorskip("rosbags", reason=ROSBAGS_MISSING)  # the node's messages
     from floorscan.formats.trajectory import read_tum
 
     codec = Codec(ros_version)

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from floorscan import GroundTable, read_scans_csv
 from floorscan.cli import main
+from floorscan.formats.rosbag import ROSBAGS_MISSING
 from floorscan.node import NodeRun
 from floorscan.node.messages import Codec
 from floorscan.pipeline.config import Config
@@ -26,6 +27,7 @@ from synthetic_dataset import camera_table, make_dataset
 pytest.importorskip("foxglove", reason="foxglove-sdk is not installed (pip install foxglove-sdk)")
 ws_client = pytest.importorskip("websockets.sync.client", reason="websockets is not installed")
 pytest.importorskip("google.protobuf", reason="protobuf is not installed")
+pytest.importorskip("rosbags", reason=ROSBAGS_MISSING)  # the node's messages
 
 
 def decoder(channel):

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from floorscan import GroundTable, read_scans_csv
 from floorscan.cli import main
+from floorscan.formats.rosbag import ROSBAGS_MISSING
 from floorscan.pipeline.config import Config
 from ros1_fixtures import free_port
 from synthetic_dataset import camera_table, make_dataset
@@ -21,6 +22,7 @@ from synthetic_dataset import camera_table, make_dataset
 zenoh = pytest.importorskip(
     "zenoh", reason="eclipse-zenoh is not installed (pip install eclipse-zenoh)"
 )
+pytest.importorskip("rosbags", reason=ROSBAGS_MISSING)  # the node's messages
 
 from floorscan.node import NodeRun  # noqa: E402
 from floorscan.node import rmw_zenoh_keys as K  # noqa: E402

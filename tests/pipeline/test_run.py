@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from floorscan import OccupancyGrid, read_scans_csv
 from floorscan.cli import main
+from floorscan.formats.rosbag import ROSBAGS_MISSING
 from floorscan.pipeline.config import Config
 from floorscan.pipeline.mapper import Mapper, run
 from floorscan.pipeline.outputs import RunOutputs
@@ -29,6 +30,7 @@ def dataset(tmp_path_factory):
 
 
 def test_run_writes_every_output_and_the_map_matches_the_room(dataset, tmp_path):
+    pytest.importorskip("rosbags", reason=ROSBAGS_MISSING)  # the bag among the outputs
     out = tmp_path / "out"
     rc = main(
         [
@@ -175,6 +177,7 @@ def test_unreadable_and_wrong_size_frames_are_counted(dataset, tmp_path):
 
 @pytest.mark.parametrize("ros_version", [1, 2])
 def test_bags_are_read_and_mapped(dataset, tmp_path, ros_version):
+    pytest.importorskip("rosbags", reason=ROSBAGS_MISSING)
     from floorscan.formats.rosbag import write_image_odometry_bag
 
     src = DatasetSource(dataset / "room")
@@ -287,6 +290,7 @@ def test_rust_png_decoding_gives_the_outputs_of_pillow_decoding_byte_for_byte(
     """The decoder changed (Rust instead of Pillow): every output is byte-identical to the old
     path's (scans CSV, the bag's messages, the maps), and the streamed overlay GIF holds the
     palette-indexed overlays of the kept frames."""
+    pytest.importorskip("rosbags", reason=ROSBAGS_MISSING)
     from floorscan.formats import image_io
     from floorscan.pipeline import sources
     from floorscan.pipeline.outputs import OVERLAY_MAX_WIDTH

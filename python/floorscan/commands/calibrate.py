@@ -11,15 +11,16 @@ from pathlib import Path
 
 from .._atomic import write_atomic
 from ..calibration import calibrate, check_table, draw_calibration_overlay
-from ..calibration.options import CalibrationOptions, Coverage
+from ..calibration.options import Coverage
 from ..errors import OptionError
 from ..formats.image_io import read_grey, write_png
 from ..pipeline.config import Config
 from ..ranging.ground_table import GroundTable
+from ._help import config_default
+from ._output import FILE, add_output, also_writes
 
 
 def register(sub) -> None:
-    d = CalibrationOptions()
     p = sub.add_parser(
         "calibrate",
         help="build a ground table from images of a floor pattern, or --check a table",
@@ -33,8 +34,8 @@ def register(sub) -> None:
     p.add_argument(
         "--pattern",
         action="append",
-        help="pattern TOML (docs/calibration.md), once or once per image; default: "
-        "pattern.toml beside each IMAGE",
+        help="pattern TOML (docs/calibration.md), once or once per image (default: "
+        "pattern.toml beside each IMAGE)",
     )
     p.add_argument(
         "--offset",
@@ -42,9 +43,9 @@ def register(sub) -> None:
         action="append",
         metavar="M",
         help="per image: the pattern lay this much further away (+x) than its file says, "
-        "e.g. the robot backed up by M metres (default 0)",
+        "e.g. the robot backed up by M metres (default: none, each pattern where its file says)",
     )
-    p.add_argument("-o", "--output", help="ground table JSON to write")
+    add_output(p, FILE, "ground table JSON to write", required=False)
     p.add_argument(
         "--intrinsics",
         help="known intrinsics: OpenCV FileStorage YAML/XML or ROS "
@@ -55,23 +56,25 @@ def register(sub) -> None:
     )
     p.add_argument("--overlay", help="PNG to write: the pattern as the table sees it, over IMAGE")
     p.add_argument("--report", help="JSON to write: every point's errors, the model, the view")
+    also_writes(p, "overlay")
+    also_writes(p, "report")
     p.add_argument(
         "--spacing",
         type=int,
-        help=f"table node spacing [px] (default: the config's, {d.spacing_px})",
+        help=f"table node spacing [px] {config_default('calibration.spacing_px')}",
     )
     p.add_argument(
         "--coverage",
         choices=[c.value for c in Coverage],
         help="nodes with ground: trusted = predicted error within --max-error of the range "
-        f"(default: the config's, {d.coverage.value}); pattern = around the pattern only; "
+        f"{config_default('calibration.coverage')}; pattern = around the pattern only; "
         "all = wherever the model sees floor",
     )
     p.add_argument(
         "--max-error",
         type=float,
         help="largest predicted error kept, fraction of the range "
-        f"(default: the config's, {d.max_error_fraction})",
+        f"{config_default('calibration.max_error_fraction')}",
     )
     p.add_argument("--extrapolate", action="store_true", help="same as --coverage all")
     p.add_argument(
@@ -88,7 +91,7 @@ def register(sub) -> None:
     p.add_argument(
         "--max-range",
         type=float,
-        help=f"no ground beyond this range [m] (default: the config's, {d.max_range_m})",
+        help=f"no ground beyond this range [m] {config_default('calibration.max_range_m')}",
     )
     p.add_argument(
         "--config",

@@ -6,16 +6,24 @@ import argparse
 from pathlib import Path
 
 from ..evaluation.demo import run_demo
+from ..sim import World
+from ._output import FOLDER, add_output
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "demo", help="simulate the office corridor, calibrate, map, score; write pictures"
     )
-    p.add_argument("-o", "--output", default="demo-out", help="output folder (default demo-out)")
-    p.add_argument("--world", default="corridor", help="built-in world (default corridor)")
-    p.add_argument("--seconds", type=float, default=60.0, help="simulated seconds (default 60)")
-    p.add_argument("--seed", type=int, default=0)
+    add_output(p, FOLDER, "output folder", default="demo-out")
+    p.add_argument(
+        "--world",
+        default="corridor",
+        help=f"built-in world ({', '.join(World.builtin_names())}) (default %(default)s)",
+    )
+    p.add_argument(
+        "--seconds", type=float, default=60.0, help="simulated seconds (default %(default)s)"
+    )
+    p.add_argument("--seed", type=int, default=0, help="random seed (default %(default)s)")
     p.set_defaults(run=run)
 
 

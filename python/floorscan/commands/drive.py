@@ -13,6 +13,14 @@ from ..drive.obstacles import with_obstacles
 from ..drive.suite import run_suite
 from ..pipeline.config import Config
 from ..sim import World
+from ._output import FOLDER, add_output
+
+DEFAULT_WORLD = "room"
+"""The world driven without --world."""
+SECONDS = 600.0
+"""Longest drive [s] without --seconds."""
+SUITE_SECONDS = 150.0
+"""Longest drive of each suite case [s] without --seconds."""
 
 
 def register(sub) -> None:
@@ -27,23 +35,29 @@ def register(sub) -> None:
         "--world",
         action="append",
         default=None,
-        help="built-in world or world file (default room; with --suite: repeatable, default "
-        "the built-in carpet worlds)",
+        help=f"built-in world or world file (default: {DEFAULT_WORLD}; with --suite: "
+        "repeatable, the built-in carpet worlds if none)",
     )
-    p.add_argument("--speed", type=float, default=0.3, help="top speed [m/s] (default 0.3)")
+    p.add_argument("--speed", type=float, default=0.3, help="top speed [m/s] (default %(default)s)")
     p.add_argument(
         "--seconds",
         type=float,
-        default=600.0,
-        help="longest run [s] (default 600; ends when the tour is done)",
+        default=SECONDS,
+        help="longest run [s]; ends when the tour is done (default %(default)s; with --suite "
+        f"and no --seconds: {SUITE_SECONDS})",
     )
-    p.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
-    p.add_argument("--sensor", choices=["camera", "laser"], default="camera")
+    p.add_argument("--seed", type=int, default=0, help="noise seed (default %(default)s)")
+    p.add_argument(
+        "--sensor",
+        choices=["camera", "laser"],
+        default="camera",
+        help="range sensor: the camera or an ideal laser (default %(default)s)",
+    )
     p.add_argument(
         "--table",
         choices=["calibrated", "exact"],
         default="calibrated",
-        help="ground table: calibrated from the simulated pattern (default) or exact",
+        help="ground table: calibrated from the simulated pattern or exact (default %(default)s)",
     )
     p.add_argument(
         "--obstacles", action="store_true", help="place boxes, chairs, tables and bins on the route"
@@ -55,8 +69,8 @@ def register(sub) -> None:
     p.add_argument(
         "--ranger",
         choices=["edge", "appearance", "fused"],
-        help="range sensor kind (default edge: DriveOptions.ranger; a --config gives the "
-        "rangers' options, not their kind)",
+        help=f"range sensor kind (default: {DriveOptions().ranger}, DriveOptions.ranger; a "
+        "--config gives the rangers' options, not their kind)",
     )
     p.add_argument("--no-gif", action="store_true", help="leave out drive.gif")
     p.add_argument(
@@ -70,8 +84,10 @@ def register(sub) -> None:
         action="store_true",
         help="run the suite (carpet worlds x 0.3/0.5/0.8 m/s x seeds, camera and laser)",
     )
-    p.add_argument("--seeds", type=int, default=2, help="suite: seeds per case (default 2)")
-    p.add_argument("-o", "--out", required=True, help="output folder")
+    p.add_argument(
+        "--seeds", type=int, default=2, help="suite: seeds per case (default %(default)s)"
+    )
+    add_output(p, FOLDER, "output folder", aliases=("--out",))
     p.set_defaults(run=run)
 
 
@@ -82,12 +98,12 @@ def run(args: argparse.Namespace) -> int:
     # outputs are still written; a second one while writing abandons what is not written yet
     stop = StopRequest()
     if args.suite:
-        seconds = args.seconds if args.seconds != 600.0 else 150.0
+        seconds = args.seconds if args.seconds != SECONDS else SUITE_SECONDS
         kw = {"worlds": args.world} if args.world else {}
         with stop.installed():
             with stop.loop():
                 run_suite(
-                    args.out,
+                    args.output,
                     seeds=range(args.seeds),
                     seconds=seconds,
                     table=args.table,
@@ -97,12 +113,12 @@ def run(args: argparse.Namespace) -> int:
                     **ranger,
                     **kw,
                 )
-        print(open(f"{args.out}/suite.md").read())
+        print(open(f"{args.output}/suite.md").read())
         return 128 + stop.signum if stop.requested else 0
     if args.world and len(args.world) > 1:
         print("error: one --world without --suite", file=sys.stderr)
         return 2
-    world = World.resolve(args.world[0] if args.world else "room")
+    world = World.resolve(args.world[0] if args.world else DEFAULT_WORLD)
     if args.obstacles:
         world, placed = with_obstacles(world)
         print(f"obstacles: {placed}", file=sys.stderr)
@@ -125,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
                 flush=True,
             )
             result = drive(world, options, config=config, stop=stop)
-        result.write(args.out, gif=not args.no_gif)
+        result.write(args.output, gif=not args.no_gif)
     s = result.summary()
     s.pop("waypoints")
     print(json.dumps(s, indent=1))

@@ -19,6 +19,7 @@ from ..evaluation.report import write_report
 from ..evaluation.runner import evaluate_case, run_suite
 from ..evaluation.scenarios import full_suite, quick_suite
 from ..pipeline.config import Config
+from ._output import FOLDER, add_output
 
 
 def register(sub) -> None:
@@ -31,14 +32,14 @@ def register(sub) -> None:
     )
     p.add_argument("dataset", nargs="?", help="dataset folder to score (default: the suite)")
     p.add_argument(
-        "--truth", help="truth folder (columns.csv and/or map.yaml); default DATASET/truth"
+        "--truth", help="truth folder (columns.csv and/or map.yaml) (default: DATASET/truth)"
     )
     p.add_argument("--table", help="ground table JSON to range DATASET with (default: calibrate)")
     p.add_argument("--quick", action="store_true", help="a small suite (seconds, not minutes)")
     p.add_argument("--seconds", type=float, help="simulated seconds per scenario")
     p.add_argument("--only", help="run only scenarios whose name contains this text")
     p.add_argument("--config", help="configuration TOML (ranger and map settings)")
-    p.add_argument("--threads", type=int, default=2, help="render threads (default 2)")
+    p.add_argument("--threads", type=int, default=2, help="render threads (default %(default)s)")
     p.add_argument(
         "--floors",
         help="a folder of real frames with floor masks (images/, masks/; the format of "
@@ -49,7 +50,7 @@ def register(sub) -> None:
         nargs="?",
         const="../shared/data",
         metavar="DIR",
-        help="score every real set with truth under DIR (default ../shared/data; floor-mask "
+        help="score every real set with truth under DIR (without DIR: %(const)s; floor-mask "
         "folders found by their layout) for each ranger kind on grey and colour frames, in one "
         "table; exits 3 when the configured kind loses to the edge ranger on any set",
     )
@@ -67,10 +68,10 @@ def register(sub) -> None:
         "--trim-mask-bottom",
         type=int,
         default=0,
-        help="--floors diagnostic: replace the masks' bottom N rows by the row above (default 0: "
-        "the exact rule)",
+        help="--floors diagnostic: replace the masks' bottom N rows by the row above (default "
+        "%(default)s, the exact rule)",
     )
-    p.add_argument("-o", "--output", default="eval-out", help="output folder (default eval-out)")
+    add_output(p, FOLDER, "output folder", default="eval-out")
     p.set_defaults(run=run)
 
 

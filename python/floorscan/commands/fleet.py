@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from ..errors import OptionError
 from ..fleet.jobs import map_fleet
 from ..fleet.spec import parse_recording, read_fleet_toml
+from ._output import FOLDER, add_output
 
 
 def register(sub) -> None:
@@ -25,14 +27,14 @@ def register(sub) -> None:
         help="recording (what `floorscan run` accepts), or REC::TABLE for its own calibration",
     )
     p.add_argument("--fleet", metavar="TOML", help="fleet file listing recordings and their tables")
-    p.add_argument("-o", "--output", required=True, help="output folder DIR")
+    add_output(p, FOLDER, "output folder DIR")
     p.add_argument(
         "--ray",
         nargs="?",
         const="local",
         metavar="ADDRESS",
-        help="run on Ray: `local` (default) starts it here, an address joins a cluster; "
-        "absent: map in this process, one after the other",
+        help="run on Ray: `local` (also --ray alone) starts it here, an address joins a "
+        "cluster; without --ray: map in this process, one after the other",
     )
     p.add_argument("--workers", type=int, help="CPUs of a --ray local instance (default: all)")
     p.add_argument("--table", help="ground table for recordings that give none")
@@ -43,7 +45,10 @@ def register(sub) -> None:
         help="all recordings are in one map frame (default: only those with the same start pose)",
     )
     p.add_argument(
-        "--max-retries", type=int, default=3, help="re-runs of a recording whose worker died (3)"
+        "--max-retries",
+        type=int,
+        default=3,
+        help="re-runs of a recording whose worker died (default %(default)s)",
     )
     p.set_defaults(run=run)
 
@@ -79,9 +84,11 @@ def run(args: argparse.Namespace) -> int:
     ok = len(result.recordings) - len(result.failed)
     print(
         f"{ok}/{len(result.recordings)} recordings mapped in {result.wall_s:.1f} s ({result.mode})"
-        + (f"; merged: {', '.join(result.merged)}" if result.merged else "")
         + f" -> {args.output}/"
     )
+    out = Path(args.output)
+    for folder in result.merged:
+        print(f"merged map: {out / folder / 'map.yaml'}")
     if result.interrupted:
         return 130
     return 1 if result.failed or result.merge_error else 0

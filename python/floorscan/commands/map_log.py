@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from pathlib import Path
 from typing import List
 
 import numpy as np
@@ -12,8 +13,10 @@ import numpy as np
 from ..errors import DatasetError
 from ..formats.carmen import LaserReading, read_carmen
 from ..mapping.grid import OccupancyGrid
-from ..pipeline.config import Config, default_value
+from ..pipeline.config import Config
 from ..pipeline.mapper import grid_kwargs
+from ._help import config_default
+from ._output import FILE, add_output, also_writes, refuse_existing
 
 
 def register(sub) -> None:
@@ -23,71 +26,70 @@ def register(sub) -> None:
         "write map_server YAML + PGM",
     )
     p.add_argument("log", help="CARMEN log file (plain or .gz)")
-    p.add_argument(
-        "-o", "--output", required=True, help="map YAML to write (the PGM goes beside it)"
-    )
+    add_output(p, FILE, "map YAML to write (the PGM goes beside it)")
     p.add_argument(
         "--png", default=None, help="also write a picture of the map (paper look) to this PNG"
     )
+    also_writes(p, "png")
     p.add_argument(
-        "--png-scale", type=int, default=1, help="pixels per cell in the PNG (default 1)"
+        "--png-scale", type=int, default=1, help="pixels per cell in the PNG (default %(default)s)"
     )
     p.add_argument(
         "--cell-size",
         type=float,
-        help=f"cell size [m] (default grid.cell_size_m of --config, {default_value('grid.cell_size_m')})",
+        help=f"cell size [m] {config_default('grid.cell_size_m')}",
     )
     p.add_argument(
         "--max-range",
         type=float,
         default=40.0,
         help="ranges at or beyond this [m] are 'no return': they clear up to it and mark "
-        "nothing (default 40)",
+        "nothing (default %(default)s)",
     )
     p.add_argument(
         "--no-return",
         choices=["ignore", "clear"],
         default="ignore",
-        help="what a no-return reading does: 'ignore' (default; in real buildings most come "
-        "from glass and open doors, and clearing them paints the outdoors free) or 'clear' "
-        "(free space up to --max-range)",
+        help="what a no-return reading does: 'ignore' (in real buildings most come from glass "
+        "and open doors, and clearing them paints the outdoors free) or 'clear' (free space up "
+        "to --max-range) (default %(default)s)",
     )
     p.add_argument(
         "--min-range",
         type=float,
         default=0.05,
-        help="shorter ranges are ignored [m] (default 0.05)",
+        help="shorter ranges are ignored [m] (default %(default)s)",
     )
     p.add_argument(
         "--hit",
         type=float,
-        help="log-odds added to a cell seen occupied [nats] (default sensors.laser.hit_nats, "
-        f"{default_value('sensors.laser.hit_nats')})",
+        help="log-odds added to a cell seen occupied [nats] "
+        + config_default("sensors.laser.hit_nats"),
     )
     p.add_argument(
         "--miss",
         type=float,
-        help="log-odds added to a cell seen free [nats] (default sensors.laser.miss_nats, "
-        f"{default_value('sensors.laser.miss_nats')})",
+        help="log-odds added to a cell seen free [nats] "
+        + config_default("sensors.laser.miss_nats"),
     )
     p.add_argument(
         "--mode",
         choices=["trinary", "scale"],
         default="trinary",
-        help="map_server image mode (default trinary)",
+        help="map_server image mode (default %(default)s)",
     )
     p.add_argument(
         "--max-cells",
         type=int,
-        help="most cells the map may span (default grid.max_cells, "
-        f"{default_value('grid.max_cells')}; a pose farther out is an error)",
+        help="most cells the map may span; a pose farther out is an error "
+        + config_default("grid.max_cells"),
     )
     p.add_argument(
         "--ray-walk",
         metavar="WALK",
         help="which cells a beam clears: exact (every cell it crosses, as OctoMap) or thin (one "
-        "per step along its major axis, as costmap_2d and Bonxai: faster) (default "
-        f"grid.ray_walk, {default_value('grid.ray_walk')})",
+        "per step along its major axis, as costmap_2d and Bonxai: faster) "
+        + config_default("grid.ray_walk"),
     )
     p.add_argument(
         "--lenient",
@@ -157,6 +159,7 @@ def peak_rss_mb() -> float:
 
 
 def run(args: argparse.Namespace) -> int:
+    refuse_existing([(Path(args.output).with_suffix(".pgm"), FILE)], force=args.force)
     log = read_carmen(args.log, strict=not args.lenient)
     for lineno, message in log.bad_lines:
         print(f"floorscan map-log: skipped bad line {lineno}: {message}", file=sys.stderr)

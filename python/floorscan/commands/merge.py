@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 
 from ..mapping.merge import cell_counts, merge_maps
+from ._output import FOLDER, add_output
 
 
 def register(sub) -> None:
@@ -18,7 +19,7 @@ def register(sub) -> None:
     p.add_argument(
         "maps", nargs="+", metavar="MAP", help="map YAML, its .evidence.npz, or a run output folder"
     )
-    p.add_argument("-o", "--output", required=True, help="output folder")
+    add_output(p, FOLDER, "output folder")
     p.set_defaults(run=run)
 
 

@@ -10,6 +10,8 @@ from ..formats.image_io import set_max_image_pixels
 from ..node import NodeRun
 from ..pipeline.config import Config
 from ..ranging.ground_table import GroundTable
+from ._help import config_default
+from ._output import FOLDER, add_output
 
 
 def register(sub) -> None:
@@ -17,20 +19,28 @@ def register(sub) -> None:
         "node", help="live ROS 1 / ROS 2 node: camera + odometry in, /scan and /map out"
     )
     p.add_argument("--table", required=True, help="ground table JSON (from `floorscan calibrate`)")
-    p.add_argument("-o", "--output", required=True, help="folder for the outputs saved on stop")
+    add_output(p, FOLDER, "folder for the outputs saved on stop")
     p.add_argument(
         "--config", help="configuration TOML (its [node] table: topics, frames, transport)"
     )
-    p.add_argument("--transport", choices=["ros1", "zenoh"], help="override node.transport")
-    p.add_argument("--image-topic", help="override node.image_topic")
-    p.add_argument("--odom-topic", help='override node.odom_topic ("" for none)')
+    p.add_argument(
+        "--transport",
+        choices=["ros1", "zenoh"],
+        help="middleware " + config_default("node.transport"),
+    )
+    p.add_argument("--image-topic", help="camera topic " + config_default("node.image_topic"))
+    p.add_argument(
+        "--odom-topic",
+        help='odometry topic, "" for none ' + config_default("node.odom_topic"),
+    )
     p.add_argument("--compressed", action="store_true", help="the image topic is CompressedImage")
     p.add_argument("--max-frames", type=int, help="stop after this many frames")
     p.add_argument(
         "--foxglove",
         type=int,
         metavar="PORT",
-        help="live view: a Foxglove WebSocket server on 127.0.0.1:PORT (node.foxglove_port)",
+        help="live view: a Foxglove WebSocket server on 127.0.0.1:PORT, 0 for none "
+        + config_default("node.foxglove_port"),
     )
     p.set_defaults(run=main)
 

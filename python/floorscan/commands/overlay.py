@@ -7,13 +7,14 @@ import sys
 
 from ..formats.image_io import read_grey, write_png
 from ..ranging.overlay import draw_scan_overlay
+from ._output import FILE, add_output
 from .scan import add_ranger_arguments, ranger_from_args
 
 
 def register(sub) -> None:
     p = sub.add_parser("overlay", help="draw the found boundary points on an image")
     p.add_argument("image", help="image file")
-    p.add_argument("-o", "--output", required=True, help="PNG to write")
+    add_output(p, FILE, "PNG to write")
     add_ranger_arguments(p)
     p.set_defaults(run=run)
 

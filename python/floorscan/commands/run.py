@@ -11,23 +11,26 @@ from ..calibration import calibrate
 from ..errors import DatasetError, OptionError
 from ..formats.image_io import read_grey, set_max_image_pixels
 from ..formats.rig import Rig
-from ..pipeline.config import Config
+from ..pipeline.config import Config, default_value
 from ..pipeline.config_check import check_config
-from ..pipeline.mapper import Mapper, run
+from ..pipeline.mapper import RANGER_KINDS, Mapper, run
 from ..pipeline.outputs import RunOutputs
 from ..pipeline.progress import Progress
 from ..pipeline.sources import BagSource, CameraSource, DatasetSource, FrameSource, VideoSource
 from ..ranging.ground_table import GroundTable
+from ._help import config_default
+from ._output import FOLDER, add_output
 
 VIDEO_SUFFIXES = {".mp4", ".avi", ".mkv", ".mov", ".webm", ".m4v", ".mpg", ".mpeg"}
 
 
 def register(sub) -> None:
+    columns = default_value("ranger.columns")
     p = sub.add_parser("run", help="images + odometry in, scans and occupancy maps out")
     p.add_argument(
         "input", nargs="?", help="dataset folder, video file, ROS 1 .bag or ROS 2 bag folder"
     )
-    p.add_argument("-o", "--output", required=True, help="output folder")
+    add_output(p, FOLDER, "output folder")
     p.add_argument("--table", help="ground table JSON (from `floorscan calibrate`)")
     p.add_argument(
         "--calibrate",
@@ -47,9 +50,13 @@ def register(sub) -> None:
     p.add_argument(
         "--image-topic",
         default="/camera/image_raw",
-        help="bag image topic (Image or CompressedImage)",
+        help="bag image topic (Image or CompressedImage) (default %(default)s)",
     )
-    p.add_argument("--odom-topic", default="/odom", help="bag odometry topic (nav_msgs/Odometry)")
+    p.add_argument(
+        "--odom-topic",
+        default="/odom",
+        help="bag odometry topic (nav_msgs/Odometry) (default %(default)s)",
+    )
     p.add_argument(
         "--strict",
         action="store_true",
@@ -58,21 +65,26 @@ def register(sub) -> None:
     p.add_argument(
         "--rerun", action="store_true", help="also log to a Rerun recording (needs rerun-sdk)"
     )
-    p.add_argument("--threshold", type=float, help="override ranger.threshold")
+    p.add_argument(
+        "--threshold", type=float, help="least edge threshold " + config_default("ranger.threshold")
+    )
     p.add_argument(
         "--half-width-px",
         "--half-width",
         dest="half_width_px",
         type=int,
-        help="override ranger.half_width_px",
+        help="box filter half-width d [px] " + config_default("ranger.half_width_px"),
     )
     p.add_argument(
         "--columns",
         type=int,
-        help="evenly spaced columns, overrides ranger.columns (default: placed so that no 3 cm "
-        "obstacle at 1 m stands between two)",
+        help="number of evenly spaced columns (default: placed so that no obstacle "
+        f"{columns['obstacle_width_m']} m wide at {columns['range_m']} m stands between two, "
+        "the config's ranger.columns)",
     )
-    p.add_argument("--ranger", choices=["edge", "appearance", "fused"], help="override ranger.kind")
+    p.add_argument(
+        "--ranger", choices=RANGER_KINDS, help="range sensor " + config_default("ranger.kind")
+    )
     p.set_defaults(run=main)
 
 

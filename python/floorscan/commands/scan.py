@@ -12,6 +12,8 @@ from ..pipeline.mapper import RANGER_KINDS, ranger_from_config
 from ..ranging.ground_table import GroundTable
 from ..ranging.ranger import VisualRanger
 from ..ranging.scan import write_scans_csv
+from ._help import config_default
+from ._output import FILE, add_output
 
 
 def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
@@ -19,14 +21,16 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
     default) value. ``--half-width`` and ``--refine`` are the older spellings."""
 
     def default(key: str) -> str:
-        return f"(default {default_value('ranger.' + key)})"
+        return config_default("ranger." + key)
 
+    columns = default_value("ranger.columns")
     p.add_argument("--table", required=True, help="ground table JSON (from `floorscan calibrate`)")
     p.add_argument(
         "--columns",
         type=int,
-        help="number of evenly spaced columns (default: ranger.columns, placed so that no 3 cm "
-        "obstacle at 1 m stands between two)",
+        help="number of evenly spaced columns (default: placed so that no obstacle "
+        f"{columns['obstacle_width_m']} m wide at {columns['range_m']} m stands between two, "
+        "the config's ranger.columns)",
     )
     p.add_argument(
         "--half-width-px",
@@ -51,7 +55,7 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--bottom-margin",
         type=int,
-        help=f"rows skipped at the bottom [px] {default('start')}",
+        help=f"rows skipped at the bottom [px] {default('start.bottom_margin')}",
     )
     p.add_argument(
         "--max-range",
@@ -61,8 +65,8 @@ def add_ranger_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--ranger",
         choices=RANGER_KINDS,
-        help="range sensor (default: the config's ranger.kind, edge); appearance and fused "
-        "read colour and use the [appearance] table of --config",
+        help=f"range sensor {default('kind')}; appearance and fused read colour and use the "
+        "[appearance] table of --config",
     )
     p.add_argument("--config", help="configuration TOML (its [ranger] and [appearance] tables)")
 
@@ -91,7 +95,7 @@ def ranger_from_args(args: argparse.Namespace):
 def register(sub) -> None:
     p = sub.add_parser("scan", help="scan images for the floor boundary, write the scans CSV")
     p.add_argument("inputs", nargs="+", help="image files and/or dataset folders")
-    p.add_argument("-o", "--output", required=True, help="scans CSV to write")
+    add_output(p, FILE, "scans CSV to write")
     add_ranger_arguments(p)
     p.set_defaults(run=run)
 

@@ -9,6 +9,7 @@ import time
 
 from ..errors import OptionError
 from ..sim import PATTERN_KINDS, Camera, Imaging, Robot, World, simulate_run, write_dataset
+from ._output import FOLDER, add_output
 
 
 def register(sub) -> None:
@@ -21,35 +22,37 @@ def register(sub) -> None:
     p.add_argument(
         "--world",
         default="corridor",
-        help=f"built-in world ({', '.join(World.builtin_names())}) or world file",
+        help=f"built-in world ({', '.join(World.builtin_names())}) or world file (default "
+        "%(default)s)",
     )
     p.add_argument(
-        "--seconds", type=float, default=60.0, help="simulated robot time [s] (default 60)"
+        "--seconds", type=float, default=60.0, help="simulated robot time [s] (default %(default)s)"
+    )
+    add_output(p, FOLDER, "dataset folder to write", aliases=("--out",))
+    p.add_argument("--seed", type=int, default=0, help="random seed (default %(default)s)")
+    p.add_argument("--width", type=int, default=320, help="image width [px] (default %(default)s)")
+    p.add_argument(
+        "--height", type=int, default=240, help="image height [px] (default %(default)s)"
     )
     p.add_argument(
-        "--out", required=True, help="dataset folder to write (must not exist or be empty)"
+        "--speed", type=float, default=0.3, help="cruise speed [m/s] (default %(default)s)"
     )
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--width", type=int, default=320, help="image width [px] (default 320)")
-    p.add_argument("--height", type=int, default=240, help="image height [px] (default 240)")
-    p.add_argument("--speed", type=float, default=0.3, help="cruise speed [m/s] (default 0.3)")
-    p.add_argument("--rate", type=float, default=10.0, help="frame rate [Hz] (default 10)")
+    p.add_argument("--rate", type=float, default=10.0, help="frame rate [Hz] (default %(default)s)")
     p.add_argument(
         "--calibration",
         choices=[*PATTERN_KINDS, "none"],
         default="checkerboard",
-        help="calibration scene to render (default checkerboard)",
+        help="calibration scene to render (default %(default)s)",
     )
     p.add_argument("--ideal", action="store_true", help="no sensor noise, blur or vignetting")
     p.add_argument("--no-truth", action="store_true", help="leave out the truth/ folder")
     p.add_argument("--no-labels", action="store_true", help="leave out the per-pixel label images")
-    p.add_argument("--threads", type=int, default=2, help="render threads (default 2)")
-    p.add_argument("--force", action="store_true", help="replace an existing dataset folder")
+    p.add_argument("--threads", type=int, default=2, help="render threads (default %(default)s)")
     p.add_argument(
         "--max-memory-mb",
         type=int,
         default=768,
-        help="most memory the rendered frames may take (default 768 MB; docs/limits.md)",
+        help="most memory the rendered frames may take [MB] (default %(default)s; docs/limits.md)",
     )
     p.set_defaults(run=run)
 
@@ -95,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
     t1 = time.perf_counter()
     folder = write_dataset(
         sim,
-        args.out,
+        args.output,
         calibration=None if args.calibration == "none" else args.calibration,
         truth=not args.no_truth,
         labels=not args.no_labels,

@@ -27,6 +27,7 @@ from ..formats.dataset import read_images_txt
 from ..formats.image_io import read_grey
 from ..pipeline.config import LEGACY_KEYS, Config
 from ..ranging.ranger import VisualRanger
+from ._output import FILE, add_output, also_writes, refuse_existing
 
 REFINE_SPELLING = LEGACY_KEYS["ranger.refine"][1]
 """Reads ``--refine`` in either spelling (``subpixel`` or ``sub_pixel``, ``none`` or
@@ -77,22 +78,36 @@ def register(sub) -> None:
         "label-free threshold's error.",
     )
     p.add_argument("dataset", help="dataset folder (images.txt)")
-    p.add_argument("--truth", help="truth folder with columns.csv (default DATASET/truth)")
+    p.add_argument("--truth", help="truth folder with columns.csv (default: DATASET/truth)")
     p.add_argument("--labels", help="hand-labelled boundary rows, CSV image,column,row")
     p.add_argument("--table", help="ground table JSON (default: calibrate, or truth/camera.json)")
     p.add_argument("--config", help="base configuration TOML (default: the defaults)")
-    p.add_argument("-o", "--output", default="tuned.toml", help="config file to write")
+    add_output(
+        p, FILE, "config file to write (tune.json is written beside it)", default="tuned.toml"
+    )
     p.add_argument("--plot", help="plot PNG (default: beside the output, tune.png)")
-    p.add_argument("--frames", type=int, default=60, help="frames used, evenly spread (default 60)")
+    also_writes(p, "plot")
     p.add_argument(
-        "--half-widths", default="1,2,3,4,6,8", help="half-widths [px] (default 1,2,3,4,6,8)"
-    )
-    p.add_argument("--thresholds", default="2:40:1", help="thresholds, list or start:stop:step")
-    p.add_argument(
-        "--refine", default=",".join(REFINEMENTS), help="refinements to try (ranger.refinement)"
+        "--frames", type=int, default=60, help="frames used, evenly spread (default %(default)s)"
     )
     p.add_argument(
-        "--auto-k", type=float, default=None, help="multiple of the texture noise (default 5)"
+        "--half-widths", default="1,2,3,4,6,8", help="half-widths [px] (default %(default)s)"
+    )
+    p.add_argument(
+        "--thresholds",
+        default="2:40:1",
+        help="thresholds, list or start:stop:step (default %(default)s)",
+    )
+    p.add_argument(
+        "--refine",
+        default=",".join(REFINEMENTS),
+        help="refinements to try (ranger.refinement) (default %(default)s)",
+    )
+    p.add_argument(
+        "--auto-k",
+        type=float,
+        default=AUTO_K,
+        help="multiple of the texture noise for the automatic threshold (default %(default)s)",
     )
     p.set_defaults(run=run)
 
@@ -104,6 +119,9 @@ def run(args: argparse.Namespace) -> int:
         raise OptionError(f"invalid option `--frames`: must be >= 1, got {args.frames}")
     _numbers(args.thresholds, "thresholds")  # refuse bad specs before any work
     _numbers(args.half_widths, "half-widths")
+    out = Path(args.output)
+    plot = Path(args.plot) if args.plot else out.with_name("tune.png")
+    refuse_existing([(plot, FILE), (out.with_name("tune.json"), FILE)], force=args.force)
     cfg = Config.load(args.config) if args.config else Config()
     dataset = Path(args.dataset)
     truth = Path(args.truth) if args.truth else dataset / "truth"
@@ -139,7 +157,7 @@ def run(args: argparse.Namespace) -> int:
         refinements=[REFINE_SPELLING(r.strip()) for r in args.refine.split(",")],
         base=base,
     )
-    k = AUTO_K if args.auto_k is None else args.auto_k
+    k = args.auto_k
     auto_t, noise = auto_threshold(
         images,
         half_width=result.half_width,
@@ -155,7 +173,6 @@ def run(args: argparse.Namespace) -> int:
         refinement=result.refine,
     )
     result.auto = {"k": k, "texture_noise": noise, "threshold": auto_t, "error_rate": auto_err}
-    out = Path(args.output)
     tuned = cfg.with_overrides(
         {
             "ranger.half_width_px": result.half_width,
@@ -166,7 +183,6 @@ def run(args: argparse.Namespace) -> int:
         }
     )
     tuned.save(out)
-    plot = Path(args.plot) if args.plot else out.with_name("tune.png")
     from ..evaluation.plot import plot_curves  # matplotlib: 0.4 s, only for this plot
 
     plot_curves(

@@ -9,6 +9,7 @@ bags (ROS 1 or 2) for converting datasets.
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 import math
 import os
 import shutil
@@ -27,14 +28,24 @@ IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
 ODOMETRY_TYPE = "nav_msgs/msg/Odometry"
 
 
+ROSBAGS_MISSING = "the `rosbags` package is not installed (pip install rosbags)"
+
+
+def rosbags_installed() -> bool:
+    """True when rosbags can be imported (a dependency of floorscan, yet a missing one costs
+    only the bags: ``floorscan run`` then writes everything else)."""
+    try:
+        return importlib.util.find_spec("rosbags") is not None
+    except ImportError:
+        return False
+
+
 def _rosbags():
     try:
         from rosbags.highlevel import AnyReader
         from rosbags.typesys import Stores, get_typestore
-    except ImportError:  # pragma: no cover
-        raise DatasetError(
-            "reading ROS bags needs the `rosbags` package: pip install 'floorscan[ros]'"
-        ) from None
+    except ImportError:
+        raise DatasetError(f"reading ROS bags needs {ROSBAGS_MISSING}") from None
     return AnyReader, Stores, get_typestore
 
 

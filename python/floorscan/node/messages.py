@@ -11,8 +11,8 @@ from typing import Dict, List, Tuple
 
 import numpy as np
 
-from ..errors import ImageError
-from ..formats.rosbag import _header, _time, decode_image
+from ..errors import ImageError, MiddlewareError
+from ..formats.rosbag import ROSBAGS_MISSING, _header, _time, decode_image
 from ..formats.trajectory import quaternion_from_yaw, yaw_from_quaternion
 
 IMAGE = "sensor_msgs/msg/Image"
@@ -32,7 +32,12 @@ class Codec:
     """Encodes and decodes the node's messages for one ROS version (1 or 2)."""
 
     def __init__(self, ros_version: int) -> None:
-        from rosbags.typesys import Stores, get_typestore
+        try:
+            from rosbags.typesys import Stores, get_typestore
+        except ImportError:
+            raise MiddlewareError(
+                f"the node's messages are encoded with rosbags: {ROSBAGS_MISSING}"
+            ) from None
 
         if ros_version not in (1, 2):
             raise ValueError(f"ros_version must be 1 or 2, got {ros_version}")

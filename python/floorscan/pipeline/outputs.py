@@ -20,6 +20,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 import tempfile
 from pathlib import Path
 from typing import List, Optional
@@ -29,7 +30,7 @@ import numpy as np
 from .._atomic import _make_readable, deferred_signals, write_atomic
 from ..errors import OptionError, OutputError
 from ..formats.gif import GifWriter
-from ..formats.rosbag import Ros2BagWriter
+from ..formats.rosbag import ROSBAGS_MISSING, Ros2BagWriter, rosbags_installed
 from ..formats.trajectory import write_tum
 from ..ranging.overlay import OVERLAY_PALETTE, draw_scan_overlay, draw_scan_overlay_indexed
 from ..ranging.scan import SCAN_CSV_HEADER, Scan
@@ -134,7 +135,11 @@ class RunOutputs:
         self._laser_range: Optional[tuple] = None
         self.extra_summary: dict = {}
         self.memory_samples: List[tuple] = []
-        if o.bag:
+        if o.bag and not rosbags_installed():
+            # a missing optional part costs only its feature: the run goes on without the bag
+            print(f"floorscan: no ROS 2 bag written: {ROSBAGS_MISSING}", file=sys.stderr)
+            self.extra_summary["bag"] = f"not written: {ROSBAGS_MISSING}"
+        elif o.bag:
             with deferred_signals():
                 self._bag = Ros2BagWriter(self.out / "bag", storage=o.bag_storage)
 

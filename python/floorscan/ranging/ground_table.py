@@ -15,7 +15,7 @@ import numpy as np
 
 from .._atomic import PathLike, write_atomic
 from .._native import ranging as _native
-from ..errors import FileFormatError, TableError
+from ..errors import FileFormatError, FloorscanError, TableError
 from .lens import CameraMount, Lens
 
 
@@ -224,7 +224,11 @@ class GroundTable:
             text = Path(path).read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as e:
             raise FileFormatError(f"cannot read ground table {path}: {e}") from None
-        return cls.from_json(text)
+        try:
+            return cls.from_json(text)
+        except FloorscanError as e:
+            # the same class (FileFormatError, UnsupportedVersionError, TableError), the file named
+            raise type(e)(f"{path}: {e}") from None
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, GroundTable) and self._native == other._native

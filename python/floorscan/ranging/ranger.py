@@ -16,7 +16,7 @@ import numpy as np
 from .._native import ranging as _native
 from ..errors import ArgumentTypeError, ImageError, OptionError
 from ..formats.image_io import as_grey
-from ..options import plain
+from ..options import in_user_words, plain
 from .ground_table import GroundTable
 from .scan import Scan
 
@@ -88,7 +88,10 @@ class VisualRanger:
             options["start"] = {
                 "per_column": start_rows_from_mask(mask, table.image_width, table.image_height)
             }
-        self._native = _native.VisualRanger(table._native, options)
+        try:
+            self._native = _native.VisualRanger(table._native, options)
+        except OptionError as e:
+            raise in_user_words("ranger", options, e) from None
         self._native16: Optional[object] = None
 
     @property

@@ -56,9 +56,16 @@ class World:
 
     @classmethod
     def resolve(cls, name_or_path: PathLike) -> World:
-        """A built-in world if ``name_or_path`` names one, else the world file at that path."""
-        if str(name_or_path) in cls.builtin_names():
+        """A built-in world if ``name_or_path`` names one, else the world file at that path; a
+        name that is neither is a WorldError listing the built-in worlds."""
+        names = cls.builtin_names()
+        if str(name_or_path) in names:
             return cls.builtin(str(name_or_path))
+        if not Path(name_or_path).exists():
+            raise WorldError(
+                f"unknown world {str(name_or_path)!r}: not a built-in world "
+                f"({', '.join(names)}) nor a world file"
+            )
         return cls.load(name_or_path)
 
     @property
