@@ -22,6 +22,9 @@ from floorscan.drive import (
     drive,
     make_table,
 )
+from floorscan.errors import ConfigError
+from floorscan.pipeline.config import Config
+from floorscan.ranging.parallax import ParallaxRanger
 from floorscan.ranging.ranger import VisualRanger
 from floorscan.sim import Camera, World, render
 
@@ -261,7 +264,6 @@ def test_the_drive_ranges_with_its_own_kind_and_the_configs_options(monkeypatch)
     """DriveOptions.ranger picks the range sensor (edge by default, whatever the
     configuration's default kind); a configuration gives its options."""
     import floorscan.drive.loop as loop
-    from floorscan.pipeline.config import Config
     from floorscan.ranging.fused import FusedRanger
 
     built = []
@@ -283,6 +285,27 @@ def test_the_drive_ranges_with_its_own_kind_and_the_configs_options(monkeypatch)
     )
     assert isinstance(built[-1], FusedRanger)
     assert built[-1].edge.options["threshold"] == 13.0
+
+
+def test_the_configs_parallax_checks_the_drives_edge_boundaries(monkeypatch):
+    seen = []
+    real = ParallaxRanger.scan
+
+    def spy(self, image, *, timestamp=0.0, world_from_camera=None):
+        scan = real(self, image, timestamp=timestamp, world_from_camera=world_from_camera)
+        seen.append((world_from_camera, self.last_report["baseline_m"]))
+        return scan
+
+    monkeypatch.setattr(ParallaxRanger, "scan", spy)
+    world = World.from_toml(HALL + BOX)
+    cfg = Config().with_overrides({"parallax.enabled": True})
+    drive(world, DriveOptions(seconds=3.0, table="exact", keep_frames=0), config=cfg)
+    # every frame ranged through the cue with the camera's odometry pose; once the robot has
+    # driven the least baseline, frames are compared
+    assert len(seen) > 20 and all(p is not None for p, _ in seen)
+    assert any(b >= cfg.parallax.min_baseline_m for _, b in seen)
+    with pytest.raises(ConfigError, match="edge ranger"):
+        drive(world, DriveOptions(seconds=0.2, table="exact", ranger="fused"), config=cfg)
 
 
 def test_cli_drive_end_to_end(tmp_path):
@@ -431,7 +454,6 @@ def test_the_drives_ranger_sees_a_low_contrast_step_only_inside_its_band():
     finds it at 0.9 m (inside its 0.6-1.2 m band), not at 2 m; without the band, nowhere. A
     configuration's own band wins over the drive's."""
     from floorscan.drive.loop import drive_ranger
-    from floorscan.pipeline.config import Config
 
     camera = Camera()
     table = make_table(camera, "exact")

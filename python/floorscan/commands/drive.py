@@ -64,7 +64,7 @@ def register(sub) -> None:
     )
     p.add_argument(
         "--config",
-        help="configuration TOML: its [ranger] and [appearance] tables make the range sensor",
+        help="configuration TOML: its [ranger] and [appearance] tables make the range sensor, its [parallax] turns the floor-parallax cue on",
     )
     p.add_argument(
         "--ranger",

@@ -25,7 +25,7 @@ from ..mapping.scan_matcher import ScanMatcher, ScanMatcherOptions, boundary_poi
 from ..options import check, defaults
 from ..pipeline.config import Config
 from ..pipeline.driven_floor import driven_floor_for
-from ..pipeline.mapper import RANGER_KINDS, ranger_from_config
+from ..pipeline.mapper import RANGER_KINDS, parallax_for, ranger_from_config
 from ..sim import Camera, Robot, render_calibration, render_image
 from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
 from .costmap import CostmapOptions, inflate, navigation_function
@@ -300,12 +300,15 @@ def drive(
     current = world
     solids = Solids.of_world(current)
     mount = tuple(camera.robot_from_camera)
-    ranger = driven = None
+    ranger = driven = cue = None
     if o.sensor == "camera":
         table = table if table is not None else make_table(camera, o.table)
         ranger = drive_ranger(table, o, config)
         # appearance / fused rangers: refreshed from the floor the robot drives over
         driven = driven_floor_for(ranger)
+        # the configuration's [parallax]: the edge ranger's boundaries checked against the
+        # motion since an earlier frame (odometry), floor's own edges scanned past
+        cue = parallax_for(ranger, (config or Config()).with_overrides({"ranger.kind": o.ranger}))
     angles = np.linspace(-o.laser_fov_rad / 2, o.laser_fov_rad / 2, int(o.laser_beams))
     true_pose = tuple(world.start)
     # odometry (its frame starts at the true start pose) and the correction into the world
@@ -353,7 +356,10 @@ def drive(
         amap.decay(dt)
         amap.recenter(*odo_pose[:2])
         if ranger is not None:
-            scan = ranger.scan(image, timestamp=t)
+            if cue is not None:
+                scan = cue.scan(image, timestamp=t, world_from_camera=_compose(odo_pose, mount))
+            else:
+                scan = ranger.scan(image, timestamp=t)
             if driven is not None:
                 driven.update(odo_pose, mount, t)
             if matcher is not None:
