@@ -27,9 +27,8 @@ use crate::pose::{Point2, Pose2};
 use crate::ranger::VisualRanger;
 use crate::scan::{ColumnOutcome, Scan};
 
-/// Pixels of the near floor used to refine the motion: every `BAND_STRIDE`-th pixel in each
-/// direction, at most `MAX_BAND_PIXELS`.
-const BAND_STRIDE: usize = 3;
+/// Most pixels of the near floor used to refine the motion (every s-th pixel in each
+/// direction, s the least that keeps within this).
 const MAX_BAND_PIXELS: usize = 4096;
 /// Lucas-Kanade iterations, and the least gradient [grey levels/px] of a pixel that takes part.
 const REFINE_ITERATIONS: usize = 5;
@@ -82,13 +81,21 @@ impl FloorParallax {
     pub fn new(table: GroundTable, options: ParallaxOptions) -> Result<Self> {
         options.validate()?;
         let (width, height) = (table.image_width(), table.image_height());
-        let mut band = Vec::new();
-        for v in (0..height).step_by(BAND_STRIDE) {
-            for u in (0..width).step_by(BAND_STRIDE) {
-                if let Some(g) = table.lookup(u as f64, v as f64) {
-                    if g.norm() <= options.refine_range_m && band.len() < MAX_BAND_PIXELS {
-                        band.push((u as f64, v as f64, g));
-                    }
+        let near = |u: usize, v: usize| {
+            table
+                .lookup(u as f64, v as f64)
+                .filter(|g| g.norm() <= options.refine_range_m)
+        };
+        let all = (0..height)
+            .flat_map(|v| (0..width).map(move |u| (u, v)))
+            .filter(|&(u, v)| near(u, v).is_some())
+            .count();
+        let stride = ((all as f64 / MAX_BAND_PIXELS as f64).sqrt().ceil() as usize).max(1);
+        let mut band = Vec::with_capacity(MAX_BAND_PIXELS);
+        for v in (0..height).step_by(stride) {
+            for u in (0..width).step_by(stride) {
+                if let Some(g) = near(u, v) {
+                    band.push((u as f64, v as f64, g));
                 }
             }
         }
@@ -235,6 +242,11 @@ impl FloorParallax {
         for _ in 0..REFINE_ITERATIONS {
             let (mut a, mut b, mut n) = ([[0.0f64; 3]; 3], [0.0f64; 3], 0usize);
             for (i, &(u, v, g)) in self.band.iter().enumerate() {
+                // the floor's texture moves with it: a pixel flat in this frame is flat there
+                let (cu, cv) = gradient(&self.current, self.width, self.height, u, v);
+                if cu.hypot(cv) < REFINE_MIN_GRADIENT {
+                    continue;
+                }
                 let gp = m.transform_point(g);
                 let Some((pu, pv)) = self.table.pixel_of(gp, self.band_guess[i]) else {
                     continue;
