@@ -8,7 +8,15 @@ import json
 
 import pytest
 from floorscan.cli import main
-from floorscan.evaluation.scenarios import Scenario, quick_suite, with_lighting
+from floorscan.errors import OptionError
+from floorscan.evaluation.scenarios import (
+    FAST_SPEED_MPS,
+    TEXTURED_WORLDS,
+    Scenario,
+    full_suite,
+    quick_suite,
+    with_lighting,
+)
 
 
 def _table_rows(md: str, section: str):
@@ -163,3 +171,12 @@ def test_covered_range_stops_at_the_first_row_without_ground():
     # next to and on the column without ground
     assert got[4] == 0.0
     assert 0.0 <= got[3] <= 1.0 + 0.01 * (h - 1)
+
+
+def test_the_suite_drives_the_textured_floors_faster_too():
+    fast = [s for s in full_suite(seconds=1.0) if s.speed_mps == FAST_SPEED_MPS]
+    assert sorted(s.world for s in fast) == sorted(TEXTURED_WORLDS)
+    assert all(s.odometry == "default" and s.name.endswith("-0.5mps-s0") for s in fast)
+    assert Scenario("tiles", speed_mps=0.5).build_robot().speed_mps == 0.5
+    with pytest.raises(OptionError, match="speed_mps"):
+        Scenario("tiles", speed_mps=0.0)
