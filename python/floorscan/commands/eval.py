@@ -52,7 +52,8 @@ def register(sub) -> None:
         metavar="DIR",
         help="score every real set with truth under DIR (without DIR: %(const)s; floor-mask "
         "folders found by their layout) for each ranger kind on grey and colour frames, in one "
-        "table; exits 3 when the configured kind loses to the edge ranger on any set",
+        "table with the paper's own filter beside them; exits 3 when the configured kind loses to "
+        "the edge ranger or the paper's filter on any set",
     )
     p.add_argument(
         "--ranger",
@@ -175,7 +176,7 @@ def _real(args: argparse.Namespace, cfg, out: Path, command: str, t0: float) -> 
         kinds = ("edge", *kinds)
     if cfg.ranger.kind not in kinds:
         kinds = (*kinds, cfg.ranger.kind)
-    res = score_real_sets(args.real, cfg, kinds=kinds)
+    res = score_real_sets(args.real, cfg, kinds=kinds, paper=True)
     out.mkdir(parents=True, exist_ok=True)
     md = f"# Real sets: {args.real}\n\n" + format_real_table(res, command=command)
     write_atomic(out / "real.md", md)
