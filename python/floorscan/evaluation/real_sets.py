@@ -162,14 +162,15 @@ def score_real_set(
 
 PAPER_EDGE = {
     "ranger.kind": "edge",
-    "ranger.half_width_px": 4,
     "ranger.threshold": 10.0,
     "ranger.noise_multiple": 0.0,
     "ranger.contrast": 0.0,
     "ranger.refinement": "first_crossing",
 }
-"""The paper's own edge filter (a fixed threshold of 10 on the half-difference of two 4-pixel
-windows, the first crossing): the baseline no default may lose to, whatever its options."""
+"""The paper's own edge filter: a fixed threshold on |R| (10, floorscan's fixed default before
+the threshold followed each frame; the paper leaves the threshold and the filter's size to
+experiment, and the size here is the configured one), the first crossing taken as the
+boundary. The baseline no default may lose to, whatever its options."""
 
 
 PAPER = "edge, the paper's options"
