@@ -7,7 +7,7 @@ PY      := $(VENV)/bin/python
 STAMP   := $(VENV)/.deps-stamp
 CARGO   ?= cargo
 
-.PHONY: test demo dev deps lint fmt bench bench-py clean rust-toolchain fuzz stubs
+.PHONY: test demo dev deps lint fmt bench bench-py clean rust-toolchain fuzz stubs wheels test-aarch64
 
 FUZZ_CASES   ?= 20000
 FUZZ_SECONDS ?= 600
@@ -51,6 +51,33 @@ fuzz: dev
 	    $(CARGO) test --release -q -p floorscan-core -p floorscan-sim -p floorscan-codec --test fuzz
 	FLOORSCAN_HYPOTHESIS_PROFILE=fuzz timeout $(FUZZ_SECONDS) \
 	    $(PY) -m pytest -q -p no:cacheprovider tests/test_fuzz_readers.py
+
+# abi3 manylinux2014 wheels (CPython >= 3.9) for x86_64 and aarch64 into dist/, cross-compiled
+# with zig (PyPI's ziglang) as the linker: no aarch64 toolchain, no container.
+WHEEL_TARGETS ?= x86_64-unknown-linux-gnu aarch64-unknown-linux-gnu
+wheels: rust-toolchain deps
+	$(PY) -m pip install -q "ziglang>=0.11"
+	@for t in $(WHEEL_TARGETS); do \
+	  rustup target list --installed 2>/dev/null | grep -qx $$t || rustup target add $$t || \
+	    { echo "error: the $$t standard library is missing: install rustup (https://rustup.rs)"; exit 1; }; \
+	  PATH=$(abspath $(VENV))/bin:$$PATH $(VENV)/bin/maturin build --release -q --zig \
+	    --target $$t --compatibility manylinux2014 -o dist || exit 1; \
+	done
+
+# The Rust crates' tests compiled for aarch64 and run under qemu-user (Debian's qemu-user and
+# gcc-aarch64-linux-gnu as the linker): the NEON kernels against the portable ones, bit for bit.
+AARCH64_ENV := CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER=aarch64-linux-gnu-gcc \
+	CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER="qemu-aarch64 -L /usr/aarch64-linux-gnu"
+test-aarch64: rust-toolchain
+	@command -v qemu-aarch64 >/dev/null 2>&1 && command -v aarch64-linux-gnu-gcc >/dev/null 2>&1 || \
+	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+	     qemu-user gcc-aarch64-linux-gnu libc6-arm64-cross)
+	rustup target list --installed 2>/dev/null | grep -qx aarch64-unknown-linux-gnu || \
+	  rustup target add aarch64-unknown-linux-gnu || \
+	  { echo "error: the aarch64 standard library is missing: install rustup (https://rustup.rs)"; exit 1; }
+	$(AARCH64_ENV) $(CARGO) clippy -q --target aarch64-unknown-linux-gnu --all-targets \
+	  -p floorscan-core -p floorscan-sim -p floorscan-py -- -D warnings
+	$(AARCH64_ENV) $(CARGO) test -q --target aarch64-unknown-linux-gnu -p floorscan-core -p floorscan-sim
 
 demo: dev
 	$(VENV)/bin/floorscan demo -o demo-out --force

@@ -57,7 +57,7 @@ fn ranging(c: &mut Criterion) {
             b.iter(|| ranger.scan_into(black_box(&view), 0.0, &mut scan).unwrap())
         });
         if n == 640 {
-            for kernel in [Kernel::Portable, Kernel::Sse2, Kernel::Avx2] {
+            for kernel in [Kernel::Portable, Kernel::Sse2, Kernel::Avx2, Kernel::Neon] {
                 if ranger.set_kernel(kernel).is_ok() {
                     let id = format!("incremental_{}", kernel.name());
                     group.bench_with_input(BenchmarkId::new(id, n), &n, |b, _| {

@@ -8,9 +8,11 @@
 //! writes, per chunk of [`LANES`] columns, a bit mask of the columns that crossed (bits 2i and
 //! 2i + 1 for lane i, the layout of `pmovmskb` on 16-bit lanes).
 //!
-//! Three implementations give identical results (integer arithmetic, checked against each
-//! other below): AVX2 (chosen at run time where the CPU has it), SSE2 (every x86-64 CPU) and a
-//! portable one (other targets, and the tail of a row shorter than a chunk).
+//! Four implementations give identical results (integer arithmetic, checked against each
+//! other below): AVX2 (chosen at run time where the CPU has it), SSE2 (every x86-64 CPU), NEON
+//! (every aarch64 CPU: the Raspberry Pi 3 and later, Jetson boards) and a portable one (other
+//! targets, and the tail of a row shorter than a chunk). The prefilter is plain Rust that the
+//! compiler vectorises for the target (compiled once more with AVX2 enabled, chosen at run time).
 
 /// Columns per chunk (one mask word).
 pub const LANES: usize = 16;
@@ -27,12 +29,14 @@ pub enum Kernel {
     Sse2,
     /// 256-bit AVX2 (x86-64 CPUs that have it).
     Avx2,
+    /// 128-bit NEON (every aarch64 CPU).
+    Neon,
 }
 
 impl Kernel {
     /// The fastest kernel this CPU runs.
     pub fn detect() -> Self {
-        [Self::Avx2, Self::Sse2]
+        [Self::Avx2, Self::Sse2, Self::Neon]
             .into_iter()
             .find(|k| k.is_supported())
             .unwrap_or(Self::Portable)
@@ -46,7 +50,9 @@ impl Kernel {
             Self::Sse2 => true,
             #[cfg(target_arch = "x86_64")]
             Self::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
-            #[cfg(not(target_arch = "x86_64"))]
+            #[cfg(target_arch = "aarch64")]
+            Self::Neon => std::arch::is_aarch64_feature_detected!("neon"),
+            #[allow(unreachable_patterns)]
             _ => false,
         }
     }
@@ -56,6 +62,7 @@ impl Kernel {
             Self::Portable => "portable",
             Self::Sse2 => "sse2",
             Self::Avx2 => "avx2",
+            Self::Neon => "neon",
         }
     }
 }
@@ -102,6 +109,12 @@ pub fn advance_u8(
         Kernel::Sse2 | Kernel::Avx2 => {
             // SAFETY: SSE2 is part of x86-64; bounds as above.
             any = unsafe { x86::advance_sse2(sums, thresholds, rows, masks, chunks) };
+            chunks * LANES
+        }
+        #[cfg(target_arch = "aarch64")]
+        Kernel::Neon if std::arch::is_aarch64_feature_detected!("neon") => {
+            // SAFETY: NEON is present (checked above); bounds as above.
+            any = unsafe { arm::advance_neon(sums, thresholds, rows, masks, chunks) };
             chunks * LANES
         }
         _ => 0,
@@ -429,12 +442,87 @@ mod x86 {
     }
 }
 
+#[cfg(target_arch = "aarch64")]
+mod arm {
+    use std::arch::aarch64::*;
+
+    use super::LANES;
+
+    /// Lane i's weight in a half-chunk's mask: bits 2i and 2i + 1 (the x86 kernels' layout).
+    const WEIGHTS: [u16; 8] = [
+        0x3,
+        0x3 << 2,
+        0x3 << 4,
+        0x3 << 6,
+        0x3 << 8,
+        0x3 << 10,
+        0x3 << 12,
+        0x3 << 14,
+    ];
+
+    /// # Safety
+    /// The CPU has NEON; `chunks * LANES` is at most the length of `sums`, `thresholds` and
+    /// every row, and `chunks` at most the length of `masks`.
+    #[target_feature(enable = "neon")]
+    pub(super) unsafe fn advance_neon(
+        sums: &mut [i16],
+        thresholds: &[i16],
+        rows: [&[u8]; 4],
+        masks: &mut [u32],
+        chunks: usize,
+    ) -> bool {
+        let [a, b, c, e] = rows.map(|r| r.as_ptr());
+        let s_ptr = sums.as_mut_ptr();
+        let t_ptr = thresholds.as_ptr();
+        let m_ptr = masks.as_mut_ptr();
+        let weights = vld1q_u16(WEIGHTS.as_ptr());
+        let mut any = 0u32;
+        for ch in 0..chunks {
+            let o = ch * LANES;
+            macro_rules! load {
+                ($p:expr) => {{
+                    let x = vld1q_u8($p.add(o));
+                    (
+                        vreinterpretq_s16_u16(vmovl_u8(vget_low_u8(x))),
+                        vreinterpretq_s16_u16(vmovl_high_u8(x)),
+                    )
+                }};
+            }
+            let (a0, a1) = load!(a);
+            let (b0, b1) = load!(b);
+            let (c0, c1) = load!(c);
+            let (e0, e1) = load!(e);
+            // Wrapping i16 arithmetic, as the other kernels.
+            let s0 = vaddq_s16(
+                vld1q_s16(s_ptr.add(o)),
+                vaddq_s16(vsubq_s16(e0, c0), vsubq_s16(a0, b0)),
+            );
+            let s1 = vaddq_s16(
+                vld1q_s16(s_ptr.add(o + 8)),
+                vaddq_s16(vsubq_s16(e1, c1), vsubq_s16(a1, b1)),
+            );
+            vst1q_s16(s_ptr.add(o), s0);
+            vst1q_s16(s_ptr.add(o + 8), s1);
+            // vabsq_s16 wraps at i16::MIN as `wrapping_abs` and `_mm256_abs_epi16` do.
+            let hit0 = vcgtq_s16(vabsq_s16(s0), vld1q_s16(t_ptr.add(o)));
+            let hit1 = vcgtq_s16(vabsq_s16(s1), vld1q_s16(t_ptr.add(o + 8)));
+            // Distinct bits per lane: their sum is their OR.
+            let m0 = vaddvq_u16(vandq_u16(hit0, weights)) as u32;
+            let m1 = vaddvq_u16(vandq_u16(hit1, weights)) as u32;
+            let m = m0 | (m1 << 16);
+            *m_ptr.add(ch) = m;
+            any |= m;
+        }
+        any != 0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn kernels() -> Vec<Kernel> {
-        [Kernel::Portable, Kernel::Sse2, Kernel::Avx2]
+        [Kernel::Portable, Kernel::Sse2, Kernel::Avx2, Kernel::Neon]
             .into_iter()
             .filter(|k| k.is_supported())
             .collect()
@@ -574,6 +662,13 @@ mod tests {
         assert_eq!(prefilter_threshold(4, 0), None);
         assert_eq!(prefilter_threshold(1, 255), None);
         assert_eq!(prefilter_threshold(1, 254), Some(254));
+    }
+
+    /// Every aarch64 CPU has NEON: the vector kernel runs there, not the portable one.
+    #[cfg(target_arch = "aarch64")]
+    #[test]
+    fn neon_is_detected_on_aarch64() {
+        assert_eq!(Kernel::detect(), Kernel::Neon);
     }
 
     #[test]

@@ -848,7 +848,7 @@ fn blocky_image(width: usize, height: usize, seed: u64, noise: u64) -> Vec<u8> {
 
 fn all_kernels() -> Vec<crate::lanes::Kernel> {
     use crate::lanes::Kernel;
-    [Kernel::Portable, Kernel::Sse2, Kernel::Avx2]
+    [Kernel::Portable, Kernel::Sse2, Kernel::Avx2, Kernel::Neon]
         .into_iter()
         .filter(|k| k.is_supported())
         .collect()
