@@ -6,7 +6,7 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
 use crate::errors::{error, IntoPyResult};
-use crate::options::{from_py, to_py};
+use crate::options::{from_py, from_py_as_given, to_py};
 
 /// Two numpy arrays (x and y).
 type ArrayPair<'py, A> = (Bound<'py, A>, Bound<'py, A>);
@@ -62,8 +62,8 @@ impl PyGroundTable {
         max_range_m: f64,
     ) -> PyResult<Self> {
         crate::errors::guard(|| {
-            let lens: Lens = from_py(lens)?;
-            let mount: CameraMount = from_py(mount)?;
+            let lens: Lens = from_py_as_given(lens)?;
+            let mount: CameraMount = from_py_as_given(mount)?;
             let inner = py
                 .detach(|| {
                     ground_table_from_camera(

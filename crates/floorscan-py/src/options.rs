@@ -11,13 +11,122 @@ use serde::Serialize;
 use crate::errors::error;
 
 /// Reads a Python object (a dict, or a dataclass) into `T`; the error names the key.
-pub fn from_py<T: DeserializeOwned>(obj: &Bound<'_, PyAny>) -> PyResult<T> {
+/// Booleans are strict both ways (a field whose default is `true` or `false` takes only
+/// `True` or `False`, not the truthiness of `"no"`; a number field refuses `True`), which the
+/// conversion alone does not check.
+pub fn from_py<T: DeserializeOwned + Serialize + Default>(obj: &Bound<'_, PyAny>) -> PyResult<T> {
+    let template = to_py(obj.py(), &T::default())?;
+    check_bools(obj, &template, "")?;
+    from_py_as_given(obj)
+}
+
+/// As [`from_py`], for types without defaults (a lens, a mount: every field is given).
+pub fn from_py_as_given<T: DeserializeOwned>(obj: &Bound<'_, PyAny>) -> PyResult<T> {
     let mut de = pythonize::Depythonizer::from_object(obj);
     serde_path_to_error::deserialize(&mut de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner().to_string();
+        let inner = in_users_words(&inner, value_at(obj, &path).as_deref());
         error("OptionError", describe(&path, &inner))
     })
+}
+
+/// Walks `given` (a dict, possibly nested) beside `template` (the defaults' serde form): a key
+/// whose default is a bool must be given a bool, one whose default is a number must not be.
+fn check_bools(
+    given: &Bound<'_, PyAny>,
+    template: &Bound<'_, PyAny>,
+    prefix: &str,
+) -> PyResult<()> {
+    use pyo3::types::{PyBool, PyDict, PyFloat, PyInt};
+    let (Ok(given), Ok(template)) = (given.cast::<PyDict>(), template.cast::<PyDict>()) else {
+        return Ok(());
+    };
+    for (key, value) in given.iter() {
+        let Ok(Some(default)) = template.get_item(&key) else {
+            continue;
+        };
+        let path = format!("{prefix}{key}");
+        let is_bool = value.is_instance_of::<PyBool>();
+        let wrong = if default.is_instance_of::<PyBool>() {
+            (!is_bool).then_some("true or false")
+        } else if default.is_instance_of::<PyInt>() {
+            is_bool.then_some("a whole number")
+        } else if default.is_instance_of::<PyFloat>() {
+            is_bool.then_some("a number")
+        } else {
+            None
+        };
+        if let Some(expected) = wrong {
+            let shown = value.repr().map(|r| r.to_string()).unwrap_or_default();
+            return Err(error(
+                "OptionError",
+                format!("invalid option `{path}`: expected {expected}, got {shown}"),
+            ));
+        }
+        check_bools(&value, &default, &format!("{path}."))?;
+    }
+    Ok(())
+}
+
+/// The `repr` of the value at a serde path (`a.b`, `a[0]`) in a dict or list, if there is one.
+fn value_at(obj: &Bound<'_, PyAny>, path: &str) -> Option<String> {
+    if path == "." {
+        return None;
+    }
+    let mut cur = obj.clone();
+    for part in path.split('.') {
+        let (key, indices) = match part.find('[') {
+            Some(i) => (&part[..i], &part[i..]),
+            None => (part, ""),
+        };
+        if !key.is_empty() {
+            cur = cur.get_item(key).ok()?;
+        }
+        for index in indices.split(['[', ']']).filter(|s| !s.is_empty()) {
+            cur = cur.get_item(index.parse::<usize>().ok()?).ok()?;
+        }
+    }
+    Some(cur.repr().ok()?.to_string())
+}
+
+/// What the Python-to-Rust conversion says, in a user's words: `expected a number, got 'x'`
+/// rather than `TypeError: must be real number, not str`.
+fn in_users_words(inner: &str, value: Option<&str>) -> String {
+    let got = |expected: &str| match value {
+        Some(v) => format!("expected {expected}, got {v}"),
+        None => format!("expected {expected}"),
+    };
+    let msg = inner
+        .strip_prefix("TypeError: ")
+        .or_else(|| inner.strip_prefix("ValueError: "))
+        .unwrap_or(inner);
+    if msg.starts_with("must be real number") {
+        got("a number")
+    } else if msg.contains("cannot be interpreted as an integer") {
+        got("a whole number")
+    } else if msg.starts_with("OverflowError: can't convert negative int to unsigned") {
+        got("a whole number >= 0")
+    } else if msg.starts_with("OverflowError") {
+        got("a smaller whole number")
+    } else if msg.contains("is not an instance of 'Sequence'") {
+        got("a list")
+    } else if msg.contains("is not an instance of 'Mapping'") {
+        got("a table (a dict)")
+    } else if msg.contains("cannot be converted to 'PyString'") {
+        got("a string")
+    } else if msg.contains("cannot be converted to 'PyBool'") {
+        got("true or false")
+    } else if msg.starts_with("expected either a str or dict for enum") {
+        got("one of the option's names (a string)")
+    } else if msg.starts_with("data did not match any variant") {
+        match value {
+            Some(v) => format!("{v} is none of the forms this option takes (`floorscan config --default` shows them)"),
+            None => "none of the forms this option takes (`floorscan config --default` shows them)".into(),
+        }
+    } else {
+        msg.to_string()
+    }
 }
 
 /// One line naming the key: `invalid option `a.b`: why`. (The path of an unknown field
