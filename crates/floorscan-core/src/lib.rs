@@ -12,55 +12,35 @@
 //! by [`polygon_fill`]), a planner's [`navigation`] function, and the search and hit map of a
 //! correlative [`scan_matcher`] and its match's information matrix ([`match_information`]).
 //!
+//! The modules are grouped by stage: [`ranging`] (images to scans), [`geometry`] (lens, mount,
+//! pose, ground table), [`mapping`] (scans and poses to maps, scan matching) and [`navigation`]
+//! (driving on the maps), as the bindings' submodules and the Python packages are.
+//!
 //! Conventions: SI units; REP 103 frames (x forward, y left, z up, angles counter-clockwise in
 //! radians); image rows count from the top (v = 0 is the top row); REP 117 ranges.
 
-pub mod appearance;
-pub mod appearance_options;
-pub mod avoidance_map;
-pub mod branchless;
-pub mod colour_image;
-pub mod column_spacing;
-pub mod dark_rim;
-pub mod dynamic_window;
-pub mod edge;
 pub mod error;
-pub mod evidence;
-pub mod floor_model;
-pub mod floor_parallax;
-pub mod fusion;
-pub mod grid;
-pub mod grid_options;
-pub mod ground_table;
-pub mod ground_table_inverse;
-pub mod hit_map;
+pub mod geometry;
 pub mod image;
-pub mod inserter;
-pub mod lanes;
-pub mod laser;
-pub mod lens;
-pub mod local_map;
-pub mod log_odds;
-pub mod match_information;
-pub mod mount;
+pub mod mapping;
 pub mod navigation;
-pub mod noise_threshold;
-pub mod parallax_options;
-pub mod polygon_fill;
-pub mod pose;
-pub mod queries;
-pub mod ranger;
-pub mod ranger_options;
-pub mod ray_update;
-pub mod raycast;
-pub mod scan;
-pub mod scan_matcher;
-pub mod scan_matcher_options;
-pub mod slam_options;
-pub mod sonar;
+pub mod ranging;
 #[cfg(test)]
 mod test_rng;
-pub mod thin_walk;
+
+// Each stage's modules also at the crate root, the paths the bindings, the simulator and the
+// tests have used since before the stages were grouped (`floorscan_core::ranger`).
+pub use geometry::{ground_table, ground_table_inverse, lens, mount, pose};
+pub use mapping::{
+    branchless, evidence, grid, grid_options, hit_map, inserter, laser, local_map, log_odds,
+    match_information, queries, ray_update, raycast, scan_matcher, scan_matcher_options,
+    slam_options, sonar, thin_walk,
+};
+pub use navigation::{avoidance_map, dynamic_window, polygon_fill};
+pub use ranging::{
+    appearance, appearance_options, colour_image, column_spacing, dark_rim, edge, floor_model,
+    floor_parallax, fusion, lanes, noise_threshold, parallax_options, ranger, ranger_options, scan,
+};
 
 pub use appearance::AppearanceRanger;
 pub use appearance_options::{AppearanceFeatures, AppearanceOptions};

@@ -2,7 +2,7 @@
 of several of them (several robots, several days) into one map.
 
 A global map keeps, beside its clamped log-odds, the plain sum of every increment each cell
-received (int32, 1/1000 nat; see ``crates/floorscan-core/src/evidence.rs``). ``floorscan run``
+received (int32, 1/1000 nat; see ``crates/floorscan-core/src/mapping/evidence.rs``). ``floorscan run``
 saves it as ``map.evidence.npz`` beside ``map.yaml`` (format in docs/formats.md). Summing
 evidence is exact and commutative: ``merge([a, b]) == merge([b, a]) == a + b`` cell for cell,
 and equal to the evidence of one grid fed both recordings. The merged occupancy map clamps the

@@ -13,10 +13,10 @@ from ..errors import ArgumentTypeError, LengthMismatchError, OptionError
 from ..options import defaults, plain
 
 GRID_KEYS = frozenset(defaults("grid"))
-"""Fields of the core's ``GridOptions`` (crates/floorscan-core/src/grid_options.rs)."""
+"""Fields of the core's ``GridOptions`` (crates/floorscan-core/src/mapping/grid_options.rs)."""
 
 INSERTER_KEYS = frozenset(defaults("inserter"))
-"""Fields of the core's ``InserterOptions`` (crates/floorscan-core/src/inserter.rs)."""
+"""Fields of the core's ``InserterOptions`` (crates/floorscan-core/src/mapping/inserter.rs)."""
 
 
 @dataclass(frozen=True)

@@ -93,7 +93,7 @@ def _inverse3(a):
 
 class ScanMatcherOptions:
     """The matcher's options: the Rust ``ScanMatcherOptions`` (defaults, docs and rules live
-    there, ``crates/floorscan-core/src/scan_matcher_options.rs``; ``floorscan.options.
+    there, ``crates/floorscan-core/src/mapping/scan_matcher_options.rs``; ``floorscan.options.
     field_docs("scan_matcher")`` reads the docs). Keyword arguments are any of its fields;
     the others take their defaults; a bad one is an :class:`~floorscan.OptionError` naming
     it. Read-only, attribute access; ``replace(**changes)`` makes a changed copy.

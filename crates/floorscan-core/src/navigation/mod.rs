@@ -1,0 +1,9 @@
+//! Driving on the maps: the avoidance map's updates (its floor quadrilaterals filled by
+//! polygon_fill), the planner's navigation function and the dynamic window.
+
+pub mod avoidance_map;
+pub mod dynamic_window;
+pub mod navigation_function;
+pub mod polygon_fill;
+
+pub use navigation_function::{coarse_grid, geodesic_distances, MAX_CELLS};
