@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
@@ -14,6 +15,7 @@ from ..errors import DatasetError
 from ..formats.carmen import LaserReading, read_carmen
 from ..mapping.grid import OccupancyGrid
 from ..pipeline.config import Config
+from ..pipeline.laser_odometry import lasers_at_odometry
 from ..pipeline.mapper import grid_kwargs
 from ._help import config_default
 from ._output import FILE, add_output, also_writes, refuse_existing
@@ -96,7 +98,20 @@ def register(sub) -> None:
         action="store_true",
         help="skip malformed lines (reported with their line numbers) instead of failing",
     )
-    p.add_argument("--config", help="configuration TOML (its [grid] and [sensors.laser] tables)")
+    p.add_argument(
+        "--poses",
+        choices=["log", "odometry"],
+        default="log",
+        help="where each scan is inserted: 'log' (the pose its line carries: a corrected log's "
+        "SLAM poses, a raw log's odometry) or 'odometry' (the robot's raw odometry, rebuilt from "
+        "a corrected log's ODOM lines, then each scan matched against those before it as "
+        "[slam] says: docs/slam.md) (default %(default)s)",
+    )
+    p.add_argument(
+        "--config",
+        help="configuration TOML (its [grid], [sensors.laser] and, with --poses odometry, [slam] "
+        "tables)",
+    )
     p.set_defaults(run=run)
 
 
@@ -151,6 +166,20 @@ def map_lasers(
     return rays, cells, seconds
 
 
+def _describe(summary) -> str:
+    text = f"odometry {summary['odometry']}"
+    if summary["slam"] == "local":
+        text += (
+            f"; scan matching: {summary['frames_matched']} of "
+            f"{summary['frames_matched'] + summary['frames_not_matched']} scans matched, "
+            f"final correction {summary['final_correction_m']:.2f} m / "
+            f"{math.degrees(summary['final_correction_rad']):.1f} deg"
+        )
+    else:
+        text += "; no scan matching ([slam] mode off)"
+    return text
+
+
 def peak_rss_mb() -> float:
     """Peak resident memory of this process [MB] (Linux reports KiB)."""
     import resource
@@ -176,9 +205,15 @@ def run(args: argparse.Namespace) -> int:
         }
     )
     grid = OccupancyGrid(**grid_kwargs(cfg))
+    lasers = log.lasers
+    if args.poses == "odometry":
+        lasers, summary = lasers_at_odometry(
+            log, cfg, range_max_m=args.max_range, range_min_m=args.min_range
+        )
+        print(f"floorscan map-log: poses by odometry: {_describe(summary)}", file=sys.stderr)
     rays, cells, seconds = map_lasers(
         grid,
-        log.lasers,
+        lasers,
         max_range_m=args.max_range,
         min_range_m=args.min_range,
         clear_no_return=args.no_return == "clear",

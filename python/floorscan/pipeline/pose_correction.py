@@ -85,12 +85,18 @@ class PoseCorrection:
     def correct(self, scan: Scan, odometry_pose, *, timestamp: float) -> PoseTuple:
         """The corrected ``world_from_robot`` of the frame whose scan is ``scan`` and whose
         odometry pose is ``odometry_pose``; stores the scan's new points at it."""
+        points = boundary_points_robot(scan, self.robot_from_camera)
+        return self.correct_points(points, odometry_pose, timestamp=timestamp)
+
+    def correct_points(self, points_robot, odometry_pose, *, timestamp: float) -> PoseTuple:
+        """As :meth:`correct`, for any range sensor's points: ``points_robot`` (N, 2) [m] in
+        the robot frame (a laser's beam ends)."""
         odo = tuple(float(v) for v in odometry_pose[:3])
         if self.matcher is None:
             # the matcher's map is centred on the first pose (its size_m square)
             self.matcher = ScanMatcher(self.options, center=odo[:2])
         prior = compose(self.map_from_odom, odo)
-        result = self.matcher.correct(boundary_points_robot(scan, self.robot_from_camera), prior)
+        result = self.matcher.correct(np.asarray(points_robot, np.float64).reshape(-1, 2), prior)
         pose = tuple(float(v) for v in result.pose)
         if result.accepted:
             self.counts.matched += 1
