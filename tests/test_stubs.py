@@ -46,11 +46,11 @@ def test_a_changed_signature_is_drift(tmp_path):
     shutil.copytree(STUBS, copy)
     ranging = copy / "ranging.pyi"
     text = ranging.read_text()
-    assert "snap_rows" in text
-    ranging.write_text(text.replace("snap_rows", "snap_px", 1))
+    assert "image_height" in text
+    ranging.write_text(text.replace("image_height", "height_px", 1))
     done = stubgen(str(copy), "--check")
     assert done.returncode == 1
-    assert "ranging.pyi differs from the bindings" in done.stderr and "snap_px" in done.stderr
+    assert "ranging.pyi differs from the bindings" in done.stderr and "height_px" in done.stderr
 
 
 def test_stubs_name_every_member_of_every_submodule():

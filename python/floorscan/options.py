@@ -29,6 +29,7 @@ KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "scan_matcher": drive.default_scan_matcher_options,
     "slam": mapping.default_slam_options,
     "parallax": ranging.default_parallax_options,
+    "fusion": ranging.default_fusion_options,
 }
 """Each options type by its name, with its defaults function."""
 
@@ -41,6 +42,7 @@ CHECKS: Dict[str, Callable[[Dict[str, Any]], Dict[str, Any]]] = {
     "scan_matcher": drive.check_scan_matcher_options,
     "slam": mapping.check_slam_options,
     "parallax": ranging.check_parallax_options,
+    "fusion": ranging.check_fusion_options,
 }
 """Each options type's check: a dict of any of its fields in, every field out (validated)."""
 
@@ -53,6 +55,7 @@ SCHEMAS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "scan_matcher": drive.scan_matcher_options_schema,
     "slam": mapping.slam_options_schema,
     "parallax": ranging.parallax_options_schema,
+    "fusion": ranging.fusion_options_schema,
 }
 
 

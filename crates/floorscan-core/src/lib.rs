@@ -39,7 +39,8 @@ pub use mapping::{
 pub use navigation::{avoidance_map, dynamic_window, polygon_fill};
 pub use ranging::{
     appearance, appearance_options, colour_image, column_spacing, dark_rim, edge, floor_model,
-    floor_parallax, fusion, lanes, noise_threshold, parallax_options, ranger, ranger_options, scan,
+    floor_parallax, fusion, fusion_options, lanes, noise_threshold, parallax_options, ranger,
+    ranger_options, scan,
 };
 
 pub use appearance::AppearanceRanger;
@@ -54,6 +55,7 @@ pub use fusion::{
     fuse_scans, fuse_scans_after, fuse_scans_driven, TextureState, MIN_TEXTURE_EVIDENCE,
     TEXTURE_MEMORY_FRAMES,
 };
+pub use fusion_options::FusionOptions;
 pub use grid::{CellRect, Grid};
 pub use grid_options::{Bounds, GridOptions, Occupancy};
 pub use ground_table::GroundTable;

@@ -2,7 +2,8 @@
 //! fields (its serde form; the others take their defaults), read and validated here.
 
 use floorscan_core::{
-    fuse_scans_driven, AppearanceOptions, AppearanceRanger, ColourView, Pixel, Scan, TextureState,
+    fuse_scans_driven, AppearanceOptions, AppearanceRanger, ColourView, FusionOptions, Pixel, Scan,
+    TextureState,
 };
 use numpy::{
     Element, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods,
@@ -154,22 +155,26 @@ impl PyAppearanceRanger {
 }
 
 /// Fuses an edge scan and an appearance scan of the same frame and columns
-/// (`floorscan_core::fusion`), after frames whose floor was judged textured or not
-/// (`previous_textured`, inherited `frames_inherited` frames in a row); returns the fused
-/// scan and the judgement after this frame, `(scan, textured, frames_inherited)`.
-/// `driven_floor`: the appearance ranger's `driven_floor_borders` (an edge on such a border is
-/// the border of floor driven over, not an obstacle).
+/// (`floorscan_core::fusion`) of an image `image_height` rows tall, with `options` (a dict
+/// of `FusionOptions` fields, the others at their defaults), after frames whose floor was
+/// judged textured or not (`previous_textured`, inherited `frames_inherited` frames in a row);
+/// returns the fused scan and the judgement after this frame, `(scan, textured,
+/// frames_inherited)`. `driven_floor`: the appearance ranger's `driven_floor_borders` (an edge
+/// on such a border is the border of floor driven over, not an obstacle).
 #[pyfunction]
-#[pyo3(signature = (edge, appearance, snap_rows, texture_share, previous_textured = false, frames_inherited = 0, driven_floor = None))]
+#[pyo3(signature = (edge, appearance, options, image_height, previous_textured = false, frames_inherited = 0, driven_floor = None))]
+#[allow(clippy::too_many_arguments)]
 pub fn fuse(
     edge: &PyScan,
     appearance: &PyScan,
-    snap_rows: f64,
-    texture_share: f64,
+    options: &Bound<'_, PyAny>,
+    image_height: usize,
     previous_textured: bool,
     frames_inherited: u32,
     driven_floor: Option<PyReadonlyArray1<'_, f64>>,
 ) -> PyResult<(PyScan, bool, u32)> {
+    let options: FusionOptions = from_py(options)?;
+    options.validate().py()?;
     let mut out = Scan::default();
     let previous = TextureState {
         textured: previous_textured,
@@ -184,8 +189,8 @@ pub fn fuse(
     let state = fuse_scans_driven(
         &edge.inner,
         &appearance.inner,
-        snap_rows,
-        texture_share,
+        options.snap_distance_rows(image_height),
+        options.texture_share,
         previous,
         driven,
         &mut out,

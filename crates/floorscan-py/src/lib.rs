@@ -18,6 +18,7 @@ mod dynamic_window;
 mod errors;
 mod evidence;
 mod floor_parallax;
+mod fusion_options;
 mod gif;
 mod grid;
 mod grid_options;
@@ -85,6 +86,10 @@ mod _native {
         };
         #[pymodule_export]
         use crate::floor_parallax::PyFloorParallax;
+        #[pymodule_export]
+        use crate::fusion_options::{
+            check_fusion_options, default_fusion_options, fusion_options_schema,
+        };
         #[pymodule_export]
         use crate::ground_table::PyGroundTable;
         #[pymodule_export]

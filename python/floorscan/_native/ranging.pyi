@@ -202,6 +202,11 @@ def check_appearance_options(options: Any) -> Any:
     Reads `AppearanceOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
+def check_fusion_options(options: Any) -> Any:
+    """
+    Reads `FusionOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def check_parallax_options(options: Any) -> Any:
     """
     Reads `ParallaxOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
@@ -223,6 +228,11 @@ def default_appearance_options() -> Any:
     The default `AppearanceOptions` (its serde form, a dict).
     """
 
+def default_fusion_options() -> Any:
+    """
+    The default `FusionOptions` (its serde form, a dict).
+    """
+
 def default_parallax_options() -> Any:
     """
     The default `ParallaxOptions` (its serde form, a dict).
@@ -233,14 +243,20 @@ def default_ranger_options() -> Any:
     The default `RangerOptions` (its serde form, a dict).
     """
 
-def fuse(edge: Scan, appearance: Scan, snap_rows: SupportsFloat | SupportsIndex, texture_share: SupportsFloat | SupportsIndex, previous_textured: bool = False, frames_inherited: SupportsIndex = 0, driven_floor: Incomplete | None = None) -> tuple[Scan, bool, int]:
+def fuse(edge: Scan, appearance: Scan, options: Any, image_height: SupportsIndex, previous_textured: bool = False, frames_inherited: SupportsIndex = 0, driven_floor: Incomplete | None = None) -> tuple[Scan, bool, int]:
     """
     Fuses an edge scan and an appearance scan of the same frame and columns
-    (`floorscan_core::fusion`), after frames whose floor was judged textured or not
-    (`previous_textured`, inherited `frames_inherited` frames in a row); returns the fused
-    scan and the judgement after this frame, `(scan, textured, frames_inherited)`.
-    `driven_floor`: the appearance ranger's `driven_floor_borders` (an edge on such a border is
-    the border of floor driven over, not an obstacle).
+    (`floorscan_core::fusion`) of an image `image_height` rows tall, with `options` (a dict
+    of `FusionOptions` fields, the others at their defaults), after frames whose floor was
+    judged textured or not (`previous_textured`, inherited `frames_inherited` frames in a row);
+    returns the fused scan and the judgement after this frame, `(scan, textured,
+    frames_inherited)`. `driven_floor`: the appearance ranger's `driven_floor_borders` (an edge
+    on such a border is the border of floor driven over, not an obstacle).
+    """
+
+def fusion_options_schema() -> Any:
+    """
+    The JSON schema of `FusionOptions`: field docs, types, defaults.
     """
 
 def parallax_options_schema() -> Any:

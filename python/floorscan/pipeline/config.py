@@ -30,8 +30,7 @@ from .._atomic import PathLike, write_atomic
 from ..calibration.options import CalibrationOptions
 from ..errors import ConfigError, OptionError
 from ..formats.toml_file import dumps_toml, load_toml, loads_toml
-from ..options import check, field_docs
-from ..ranging.fused import SNAP_FRACTION, SNAP_ROWS, TEXTURE_SHARE
+from ..options import check, defaults, field_docs
 
 _CAL = CalibrationOptions()
 
@@ -55,21 +54,25 @@ class RangerExtras:
     auto_threshold_k: float = doc("multiple of the texture noise for the automatic threshold", 5.0)
 
 
+_FUSION = defaults("fusion")
+"""The fused ranger's defaults, from the core's ``FusionOptions``."""
+
+
 @dataclass
 class AppearanceExtras:
     """The pipeline's own keys of ``[appearance]`` (beside the Rust ``AppearanceOptions``)."""
 
     snap_rows: float = doc(
         "fused ranger: largest distance [rows] at which an edge replaces the appearance boundary",
-        SNAP_ROWS,
+        _FUSION["snap_rows"],
     )
     snap_fraction: float = doc(
         "fused ranger: the same distance as a share of the image height, in [0, 1]; the larger of the two applies",
-        SNAP_FRACTION,
+        _FUSION["snap_fraction"],
     )
     texture_share: float = doc(
         "fused ranger: a frame where more than this share of the edge boundaries lie below appearance boundaries breaks the texture assumption, and its columns the appearance ranger saw as floor stay floor; in [0, 1], 1: never",
-        TEXTURE_SHARE,
+        _FUSION["texture_share"],
     )
 
 

@@ -11,6 +11,7 @@ pub mod edge;
 pub mod floor_model;
 pub mod floor_parallax;
 pub mod fusion;
+pub mod fusion_options;
 pub mod lanes;
 pub mod noise_threshold;
 pub mod parallax_options;
