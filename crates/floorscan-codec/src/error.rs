@@ -1,5 +1,5 @@
 //! The one error type of the codec crate; every variant maps to a Python exception class
-//! (`class_name` in `crates/floorscan-py/src/png.rs`). Messages are one line.
+//! (`class_name` in `crates/floorscan-py/src/formats/png.rs`). Messages are one line.
 
 /// Errors returned by floorscan-codec. Never panics on the bytes it is given.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

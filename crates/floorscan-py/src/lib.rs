@@ -10,38 +10,30 @@
 
 use pyo3::prelude::*;
 
-mod appearance;
-mod appearance_options;
 mod arrays;
-mod avoidance_map;
-mod dynamic_window;
+mod drive;
 mod errors;
-mod evidence;
-mod floor_parallax;
-mod fusion_options;
-mod gif;
-mod grid;
-mod grid_options;
-mod grid_views;
-mod ground_table;
-mod hit_map;
+mod formats;
 mod image;
-mod inserter;
-mod local_map;
-mod log_odds;
-mod match_information;
-mod navigation;
+mod mapping;
 mod options;
-mod parallax_options;
-mod png;
-mod ranger;
-mod ranger_options;
-mod read_ahead;
-mod scan;
-mod scan_matcher;
-mod scan_matcher_options;
+mod ranging;
 mod sim;
-mod slam_options;
+
+// Each binding file also at the crate root (`crate::ranger`), as before the files were grouped
+// by the package's submodules.
+use drive::{
+    avoidance_map, dynamic_window, hit_map, match_information, navigation, scan_matcher,
+    scan_matcher_options,
+};
+use formats::{gif, png, read_ahead};
+use mapping::{
+    evidence, grid, grid_options, grid_views, inserter, local_map, log_odds, slam_options,
+};
+use ranging::{
+    appearance, appearance_options, floor_parallax, fusion_options, ground_table, parallax_options,
+    ranger, ranger_options, scan,
+};
 
 /// Panics inside [`errors::guard`], for the test that a panic reaches Python as
 /// `floorscan.errors.InternalError` (never `PanicException`).
