@@ -124,10 +124,9 @@ def frames_to_reliable_view(run, table, model, starts, max_frames=10, cell=0.05,
     out = []
     for k0 in starts:
         pose0 = tuple(run.poses[k0])
-        from dataclasses import replace
 
         m = AvoidanceMap(
-            replace(map_options, size_m=3.84, cell_size_m=cell, half_life_s=None),
+            map_options.replace(size_m=3.84, cell_size_m=cell, half_life_s=None),
             center=pose0[:2],
         )
         (x0, y0), (x1, y1) = m.extent.bounds_m

@@ -30,6 +30,8 @@ KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "slam": mapping.default_slam_options,
     "parallax": ranging.default_parallax_options,
     "fusion": ranging.default_fusion_options,
+    "avoidance_map": drive.default_avoidance_map_options,
+    "visual_sensor_model": drive.default_visual_sensor_model,
 }
 """Each options type by its name, with its defaults function."""
 
@@ -43,6 +45,8 @@ CHECKS: Dict[str, Callable[[Dict[str, Any]], Dict[str, Any]]] = {
     "slam": mapping.check_slam_options,
     "parallax": ranging.check_parallax_options,
     "fusion": ranging.check_fusion_options,
+    "avoidance_map": drive.check_avoidance_map_options,
+    "visual_sensor_model": drive.check_visual_sensor_model,
 }
 """Each options type's check: a dict of any of its fields in, every field out (validated)."""
 
@@ -56,6 +60,8 @@ SCHEMAS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "slam": mapping.slam_options_schema,
     "parallax": ranging.parallax_options_schema,
     "fusion": ranging.fusion_options_schema,
+    "avoidance_map": drive.avoidance_map_options_schema,
+    "visual_sensor_model": drive.visual_sensor_model_schema,
 }
 
 
@@ -219,3 +225,48 @@ def plain(value: Any) -> Any:
     if isinstance(value, np.generic):
         return value.item()
     return value
+
+
+class OptionsObject:
+    """A Rust options type as a read-only Python object: keyword arguments are any of its
+    fields, the others take the Rust defaults, a bad one is an :class:`OptionError` naming
+    it; attribute access; ``replace(**changes)`` makes a changed copy; ``to_dict()`` gives
+    every field. A subclass names its type: ``class X(OptionsObject, kind="avoidance_map")``.
+    """
+
+    __slots__ = ("_values",)
+    _kind = ""
+
+    def __init_subclass__(cls, *, kind: str = "", **kw: Any) -> None:
+        super().__init_subclass__(**kw)
+        if kind:
+            cls._kind = kind
+
+    def __init__(self, **options: Any) -> None:
+        object.__setattr__(self, "_values", check(self._kind, options))
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return object.__getattribute__(self, "_values")[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError(f"{type(self).__name__} is read-only: use replace(...)")
+
+    def __eq__(self, other: object) -> bool:
+        return type(other) is type(self) and self._values == other._values
+
+    def __hash__(self) -> int:
+        return hash(repr(sorted(self._values.items())))
+
+    def __repr__(self) -> str:
+        fields = ", ".join(f"{k}={v!r}" for k, v in self._values.items())
+        return f"{type(self).__name__}({fields})"
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Every field (the serde form)."""
+        return dict(self._values)
+
+    def replace(self, **changes: Any):
+        return type(self)(**{**self._values, **changes})

@@ -421,7 +421,7 @@ def test_the_bumper_gets_a_blind_robot_past_a_box_its_sensor_cannot_see(monkeypa
     runs = {}
     for hl in (120.0, 0.5):
         o = DriveOptions(seconds=60, sensor="laser", keep_frames=0)
-        o = replace(o, map=replace(o.map, bump_half_life_s=hl))
+        o = replace(o, map=o.map.replace(bump_half_life_s=hl))
         runs[hl] = drive(world, o)
     s = runs[120.0].summary()
     assert 1 <= s["collisions"] <= 2

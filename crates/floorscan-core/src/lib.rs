@@ -36,7 +36,9 @@ pub use mapping::{
     match_information, queries, ray_update, raycast, scan_matcher, scan_matcher_options,
     slam_options, sonar, thin_walk,
 };
-pub use navigation::{avoidance_map, dynamic_window, polygon_fill};
+pub use navigation::{
+    avoidance_map, avoidance_map_options, dynamic_window, polygon_fill, visual_sensor_model,
+};
 pub use ranging::{
     appearance, appearance_options, colour_image, column_spacing, dark_rim, edge, floor_model,
     floor_parallax, fusion, fusion_options, lanes, noise_threshold, parallax_options, ranger,

@@ -23,8 +23,8 @@ mod sim;
 // Each binding file also at the crate root (`crate::ranger`), as before the files were grouped
 // by the package's submodules.
 use drive::{
-    avoidance_map, dynamic_window, hit_map, match_information, navigation, scan_matcher,
-    scan_matcher_options,
+    avoidance_map, avoidance_map_options, dynamic_window, hit_map, match_information, navigation,
+    scan_matcher, scan_matcher_options, visual_sensor_model,
 };
 use formats::{gif, png, read_ahead};
 use mapping::{
@@ -166,7 +166,16 @@ mod _native {
         #[pymodule_export]
         use crate::avoidance_map::{decay, PyAvoidanceMap};
         #[pymodule_export]
+        use crate::avoidance_map_options::{
+            avoidance_map_options_schema, check_avoidance_map_options,
+            default_avoidance_map_options,
+        };
+        #[pymodule_export]
         use crate::hit_map::PyHitMap;
+        #[pymodule_export]
+        use crate::visual_sensor_model::{
+            check_visual_sensor_model, default_visual_sensor_model, visual_sensor_model_schema,
+        };
 
         #[pymodule_export]
         use crate::dynamic_window::best_velocity_sample;

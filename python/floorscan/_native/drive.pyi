@@ -51,6 +51,11 @@ class HitMap:
         `field_origin`) to the new hits' stamps. Returns how many were stored.
         """
 
+def avoidance_map_options_schema() -> Any:
+    """
+    The JSON schema of `AvoidanceMapOptions`: field docs, types, defaults.
+    """
+
 def best_velocity_sample(pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], vs: Incomplete, omegas: Incomplete, times_s: Incomplete, cost: Incomplete, origin_m: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], cell_m: SupportsFloat | SupportsIndex, unknown: Incomplete | None, nav: Incomplete, nav_origin_m: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], nav_cell_m: SupportsFloat | SupportsIndex, goal: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], scoring: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], inscribed: SupportsIndex) -> int | None:
     """
     The index `k = iw * len(vs) + iv` of the dynamic window's chosen sample of `vs` (float64
@@ -62,9 +67,19 @@ def best_velocity_sample(pose: SupportsLenAndGetItem[SupportsFloat | SupportsInd
     `inscribed` up are not admissible.
     """
 
+def check_avoidance_map_options(options: Any) -> Any:
+    """
+    Reads `AvoidanceMapOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def check_scan_matcher_options(options: Any) -> Any:
     """
     Reads `ScanMatcherOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
+def check_visual_sensor_model(options: Any) -> Any:
+    """
+    Reads `VisualModel` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
 def coarse_grid(cost: Incomplete, factor: SupportsIndex, blocked_from: SupportsIndex, unknown_cost: SupportsFloat | SupportsIndex, known: Incomplete | None = None) -> tuple[Incomplete, Incomplete]:
@@ -90,9 +105,19 @@ def decay(values: Incomplete, factor: SupportsFloat | SupportsIndex) -> None:
     Forgetting: every value of `values` (float32, in place) times `factor`.
     """
 
+def default_avoidance_map_options() -> Any:
+    """
+    The default `AvoidanceMapOptions` (its serde form, a dict).
+    """
+
 def default_scan_matcher_options() -> Any:
     """
     The default `ScanMatcherOptions` (its serde form, a dict).
+    """
+
+def default_visual_sensor_model() -> Any:
+    """
+    The default `VisualModel` (its serde form, a dict).
     """
 
 def geodesic_distances(blocked: Incomplete, weight: Incomplete, seed_cells: Incomplete, seed_costs: Incomplete, step_m: SupportsFloat | SupportsIndex) -> Incomplete:
@@ -116,6 +141,11 @@ def match_information(field: Incomplete, origin_m: tuple[SupportsFloat | Support
 def scan_matcher_options_schema() -> Any:
     """
     The JSON schema of `ScanMatcherOptions`: field docs, types, defaults.
+    """
+
+def visual_sensor_model_schema() -> Any:
+    """
+    The JSON schema of `VisualModel`: field docs, types, defaults.
     """
 
 def __getattr__(name: str) -> Incomplete: ...

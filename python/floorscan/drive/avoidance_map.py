@@ -22,128 +22,38 @@ replaced, which they equal cell for cell.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from typing import Optional, Tuple
 
 import numpy as np
 
 from .._native.drive import AvoidanceMap as _NativeAvoidanceMap
 from .._native.drive import decay as _decay
-from ..errors import OptionError
 from ..formats.trajectory import compose as _compose
 from ..mapping.grid_views import GridExtent
-from ..options import defaults
+from ..options import OptionsObject
 from ..ranging.scan import ColumnStatus
 from .sensor_model import VisualSensorModel
 
 _NO_EVIDENCE = 0.05  # |log odds| below this: no evidence (unknown), whatever the calibration
 
 
-@dataclass(frozen=True)
-class AvoidanceMapOptions:
-    """- ``size_m``: side of the window [m], in [1, 100]. Default 8 (room for a plan around
-      an obstacle ahead of the paper's 3 m camera range in every direction).
-    - ``cell_size_m``: [m/cell], in [0.01, 0.5]. Default 0.05 (the ROS navigation stack's
-      local costmap resolution).
-    - ``clamp_nats``: (min, max) log odds, min < 0 < max. Default (-2.0, 3.5), the local
-      map's clamps (OctoMap's 0.12 / 0.97): a cell seen free a few times still turns
-      occupied within two frames when an obstacle appears (wider clamps made the closed
-      loop hesitate). The output calibration maps the clamped values to probabilities.
-    - ``half_life_s``: evidence halves every this many seconds without new readings
-      (forgetting), > 0 or None (never). Default 3 s: long enough to remember an obstacle
-      that left the camera's view while the robot turns past it, short enough that a moved
-      obstacle the camera no longer sees fades within a corridor's length.
-    - ``bump_half_life_s``: the bumper layer's marks (:meth:`AvoidanceMap.mark_bump`) halve
-      every this many seconds, > 0 or None (never); a mark is an obstacle until it has
-      halved. Default 300 s: what the bumper felt is
-      often what the camera cannot see (a face the colour of the floor), so the mark must
-      outlast the robot's tries around it (a 30 s memory let the robot bump the same unseen
-      box 11 times in the lab world); a costmap's obstacle layer without clearing does the
-      same for a ROS robot's bumper.
-    - ``bump_face_half_length_m``: a bump marks a straight face this far [m] to either side
-      of the touched bearing, in [0, 1]. Default 0.15 (a 0.3 m face: a box's or a desk's
-      side is rarely narrower; `bench/drive_bumper.py` measures the choice).
-    - ``occupied_threshold``, ``free_threshold``: class thresholds on the probability.
-      Defaults: the occupancy grid's (``GridOptions``, map_server's thresholds).
-    - ``probability_scale``, ``probability_offset``: with ``probability_knots`` None, the
-      map's probability of a cell is
-      logistic(scale * log_odds + offset), a Platt calibration of the fused evidence
-      (successive frames are correlated, so summed evidence overstates certainty). Defaults
-      0.807 / -1.111 (used when ``probability_knots`` is None), fitted by ``bench/drive_sensor_model.py`` on the corridor and room
-      with today's sensor model and ranger (its ``shipped`` row shows whether they still
-      fit: EVALUATION.md, "Sensor model and reliability"); (1, 0) reads the log odds as they
-      are (the laser robot).
-    - ``probability_knots``: instead of the Platt curve, a monotone calibration: knots
-      ((log_odds, probability), ...) with increasing log odds and non-decreasing
-      probabilities in [0, 1], interpolated linearly (constant beyond the ends); fitted by
-      isotonic regression (:func:`~floorscan.drive.sensor_fit.fit_probability_knots`);
-      None uses the Platt curve. Default ((-1.9392, 0.0583), (3.0816, 0.7633)), fitted by
-      ``bench/drive_sensor_model.py`` (row ``default_isotonic``) on the corridor and room
-      with the default sensor model; on six held-out worlds pooled, every decile's observed
-      frequency lies within 5 points of the prediction up to its 95 % interval, 1.3 points
-      off weighted by cells (Platt's 0.807 / -1.111: three deciles off); with a seventh,
-      1.5 points, the 0.4-0.5 decile 10.9 points off (EVALUATION.md, "Sensor model and
-      reliability").
+class AvoidanceMapOptions(OptionsObject, kind="avoidance_map"):
+    """The avoidance map's options: the core's ``AvoidanceMapOptions`` (defaults, the reasons
+    for each and every rule live there,
+    ``crates/floorscan-core/src/navigation/avoidance_map_options.rs``;
+    ``floorscan.options.field_docs("avoidance_map")`` reads them): ``size_m``,
+    ``cell_size_m``, ``clamp_nats``, ``half_life_s`` and ``bump_half_life_s`` (None: never
+    forget), ``bump_face_half_length_m``, ``occupied_threshold`` and ``free_threshold`` (the
+    occupancy grid's by default), ``probability_scale`` / ``probability_offset`` (a Platt
+    calibration of the fused evidence) or ``probability_knots`` (a monotone calibration,
+    used when set). Keyword arguments are any of them (a bad one is an OptionError naming
+    it); read-only, ``replace(**changes)`` makes a changed copy.
+
+    >>> AvoidanceMapOptions(size_m=4.0).size_m, AvoidanceMapOptions().clamp_nats
+    (4.0, (-2.0, 3.5))
     """
 
-    size_m: float = 8.0
-    cell_size_m: float = 0.05
-    clamp_nats: Tuple[float, float] = (-2.0, 3.5)
-    half_life_s: Optional[float] = 3.0
-    bump_half_life_s: Optional[float] = 300.0
-    bump_face_half_length_m: float = 0.15
-    occupied_threshold: float = field(
-        default_factory=lambda: defaults("grid")["occupied_threshold"]
-    )
-    free_threshold: float = field(default_factory=lambda: defaults("grid")["free_threshold"])
-    probability_scale: float = 0.807
-    probability_offset: float = -1.111
-    probability_knots: Optional[Tuple[Tuple[float, float], ...]] = (
-        (-1.9392, 0.0583),
-        (3.0816, 0.7633),
-    )
-
-    def __post_init__(self) -> None:
-        if not 1.0 <= self.size_m <= 100.0:
-            raise OptionError(f"invalid option `size_m`: must be in [1, 100], got {self.size_m}")
-        if not 0.01 <= self.cell_size_m <= 0.5:
-            raise OptionError(
-                f"invalid option `cell_size_m`: must be in [0.01, 0.5], got {self.cell_size_m}"
-            )
-        lo, hi = self.clamp_nats
-        if not lo < 0 < hi:
-            raise OptionError(f"invalid option `clamp_nats`: need min < 0 < max, got {lo, hi}")
-        if self.half_life_s is not None and not self.half_life_s > 0:
-            raise OptionError(f"invalid option `half_life_s`: must be > 0, got {self.half_life_s}")
-        if not 0.0 <= self.bump_face_half_length_m <= 1.0:
-            raise OptionError(
-                "invalid option `bump_face_half_length_m`: must be in [0, 1], got "
-                f"{self.bump_face_half_length_m}"
-            )
-        if self.bump_half_life_s is not None and not self.bump_half_life_s > 0:
-            raise OptionError(
-                f"invalid option `bump_half_life_s`: must be > 0, got {self.bump_half_life_s}"
-            )
-        if not (0 < self.probability_scale <= 10 and abs(self.probability_offset) <= 10):
-            raise OptionError(
-                "invalid probability calibration: need 0 < scale <= 10, |offset| <= 10"
-            )
-        if self.probability_knots is not None:
-            k = np.asarray(self.probability_knots, np.float64)
-            ok = k.ndim == 2 and k.shape[1] == 2 and 2 <= len(k) <= 1000
-            ok = ok and bool(np.all(np.isfinite(k))) and bool(np.all(np.diff(k[:, 0]) > 0))
-            ok = (
-                ok
-                and bool(np.all(np.diff(k[:, 1]) >= 0))
-                and bool(np.all((k[:, 1] >= 0) & (k[:, 1] <= 1)))
-            )
-            if not ok:
-                raise OptionError(
-                    "invalid option `probability_knots`: need 2-1000 (log_odds, probability) "
-                    "pairs, log odds increasing, probabilities non-decreasing in [0, 1]"
-                )
-        if not 0 < self.free_threshold < 0.5 < self.occupied_threshold < 1:
-            raise OptionError("invalid thresholds: need 0 < free < 0.5 < occupied < 1")
+    __slots__ = ()
 
 
 def _logit(p: float) -> float:
@@ -166,7 +76,8 @@ _BOUNDARY = int(ColumnStatus.BOUNDARY)  # a plain int compares faster than the e
 class AvoidanceMap:
     """A scrolling log-odds window (odometry frame, REP 103; row 0 = lowest y)."""
 
-    def __init__(self, options: AvoidanceMapOptions = AvoidanceMapOptions(), *, center=(0, 0)):
+    def __init__(self, options: Optional[AvoidanceMapOptions] = None, *, center=(0, 0)):
+        options = AvoidanceMapOptions() if options is None else options
         self.options = options
         self.cell = options.cell_size_m
         self.n = int(round(options.size_m / self.cell))

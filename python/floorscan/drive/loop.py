@@ -319,8 +319,8 @@ def drive(
     matcher = ScanMatcher(o.matcher, center=odo_pose[:2]) if o.scan_matching else None
     map_options = o.map
     if o.sensor == "laser":  # the laser's evidence is read as it is (no visual calibration)
-        map_options = replace(
-            o.map, probability_scale=1.0, probability_offset=0.0, probability_knots=None
+        map_options = o.map.replace(
+            probability_scale=1.0, probability_offset=0.0, probability_knots=None
         )
     amap = AvoidanceMap(map_options, center=odo_pose[:2])
     dwa = replace(o.dwa, max_speed_m_s=o.speed_m_s)

@@ -76,13 +76,14 @@ def fit_sensor_model(
     runs: Sequence,
     table,
     *,
-    cell_size_m: float = 0.05,
+    cell_size_m: Optional[float] = None,
     every: int = 3,
     base: Optional[VisualSensorModel] = None,
 ) -> Tuple[VisualSensorModel, Dict]:
     """Fits free_a/free_b and hit_a/hit_b on simulated runs (with truth) ranged with
     ``table``; returns the model and the sample counts."""
     base = VisualSensorModel() if base is None else base
+    cell_size_m = _cell(cell_size_m)
     ranger = VisualRanger(table, columns=160)
     fr, fy, hr, hy = [], [], [], []
     for run in runs:
@@ -105,16 +106,15 @@ def fit_sensor_model(
 
 
 def fused_map(
-    run, table, model, *, cell_size_m=0.05, frames=None, map_options=None
+    run, table, model, *, cell_size_m=None, frames=None, map_options=None
 ) -> AvoidanceMap:
     """The avoidance map (no forgetting) after ``frames`` of ``run`` with true poses."""
     ranger = VisualRanger(table, columns=160)
-    from dataclasses import replace
 
     base = map_options or AvoidanceMapOptions(
         probability_scale=1.0, probability_offset=0.0, probability_knots=None
     )
-    opts = replace(base, cell_size_m=cell_size_m, size_m=40.0, half_life_s=None)
+    opts = base.replace(cell_size_m=_cell(cell_size_m), size_m=40.0, half_life_s=None)
     m = AvoidanceMap(opts, center=tuple(run.poses[0])[:2])
     for k in range(len(run.timestamps)) if frames is None else frames:
         pose = tuple(run.poses[k])
@@ -185,7 +185,7 @@ def log_loss(amap: AvoidanceMap, raster) -> float:
     return float(-np.mean(np.where(y, np.log(p[sel]), np.log(1 - p[sel]))))
 
 
-def fit_probability_calibration(runs, table, model, *, cell_size_m=0.05):
+def fit_probability_calibration(runs, table, model, *, cell_size_m=None):
     """Platt scaling: (scale, offset) with P(occupied) = logistic(scale * L + offset) over
     the fused maps' cells with evidence, against the truth."""
     x, y = _cells_with_evidence(runs, table, model, cell_size_m)
@@ -193,7 +193,13 @@ def fit_probability_calibration(runs, table, model, *, cell_size_m=0.05):
     return a, b
 
 
+def _cell(cell_size_m: Optional[float]) -> float:
+    """The cell size given, or the avoidance map's default."""
+    return AvoidanceMapOptions().cell_size_m if cell_size_m is None else float(cell_size_m)
+
+
 def _cells_with_evidence(runs, table, model, cell_size_m):
+    cell_size_m = _cell(cell_size_m)
     xs, ys = [], []
     for run in runs:
         raster = run.world.occupancy(resolution_m=cell_size_m)
@@ -226,7 +232,7 @@ def isotonic(x: np.ndarray, y: np.ndarray, w: np.ndarray) -> np.ndarray:
     return out
 
 
-def fit_probability_knots(runs, table, model, *, bins: int = 24, cell_size_m=0.05):
+def fit_probability_knots(runs, table, model, *, bins: int = 24, cell_size_m=None):
     """Isotonic calibration of the fused maps' log odds against the truth: the cells with
     evidence are grouped into ``bins`` quantile bins of log odds, the bins' occupied
     frequencies made non-decreasing (pool-adjacent-violators, weighted by cell count); the
@@ -245,9 +251,10 @@ def fit_probability_knots(runs, table, model, *, bins: int = 24, cell_size_m=0.0
 
 
 def fit_fusion_weight(
-    runs, table, model, *, weights=(0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.85, 1.0), cell_size_m=0.05
+    runs, table, model, *, weights=(0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.85, 1.0), cell_size_m=None
 ):
     """The fusion weight with the lowest log loss of the fused maps."""
+    cell_size_m = _cell(cell_size_m)
     best = None
     for w in weights:
         m2 = model.with_(fusion_weight=w)

@@ -165,11 +165,9 @@ def frames_to_reliable(
     out: List[Optional[int]] = []
     mount = tuple(case.robot_from_camera)
     if local_map == "avoidance":
-        from dataclasses import replace
-
         from ..drive.avoidance_map import AvoidanceMap, AvoidanceMapOptions
 
-        options = replace(AvoidanceMapOptions(), size_m=local_size_m, half_life_s=None)
+        options = AvoidanceMapOptions(size_m=local_size_m, half_life_s=None)
         cell = options.cell_size_m
 
         def new_map(pose0):

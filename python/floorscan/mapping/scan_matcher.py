@@ -98,8 +98,8 @@ class ScanMatcherOptions:
     the others take their defaults; a bad one is an :class:`~floorscan.OptionError` naming
     it. Read-only, attribute access; ``replace(**changes)`` makes a changed copy.
 
-    >>> ScanMatcherOptions(size_m=8.0).size_m, ScanMatcherOptions().min_points
-    (8.0, 40)
+    >>> ScanMatcherOptions(size_m=12.0).size_m, ScanMatcherOptions().min_points
+    (12.0, 40)
     """
 
     __slots__ = ("_values",)

@@ -38,6 +38,7 @@
 use crate::error::{invalid_option, Error, Result};
 use crate::polygon_fill::{Canvas, PolygonFill};
 use crate::pose::Pose2;
+pub use crate::visual_sensor_model::VisualModel;
 
 /// The largest window side [cells]: 10^8 cells (the options' 100 m at 1 cm).
 pub const MAX_SIDE: usize = 10_000;
@@ -50,42 +51,6 @@ const SHIFT: u32 = 4;
 
 /// Most samples along one obstacle face between adjacent boundary points.
 const MAX_FACE_SAMPLES: usize = 1 << 16;
-
-/// The calibrated inverse sensor model (`floorscan.drive.VisualSensorModel`, documented
-/// there): logits of P(occupied), the free margin before a boundary, the default error.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct VisualModel {
-    pub free_a: f64,
-    pub free_b: f64,
-    pub hit_a: f64,
-    pub hit_b: f64,
-    pub too_close_logit: f64,
-    pub margin_sigmas: f64,
-    pub default_error_m: f64,
-    pub fusion_weight: f64,
-    /// The share in [0, 1] of its free evidence a quadrilateral beside a `no_boundary` column
-    /// adds to a confirmed obstacle's cell (log odds > `confirmed_nats`); 1 treats it as any
-    /// other.
-    pub no_boundary_clearing: f64,
-    /// Log odds (>= 0) above which a cell is a confirmed obstacle for `no_boundary_clearing`.
-    pub confirmed_nats: f64,
-    /// Least range [m] (>= 0) of a boundary whose hit makes its cells confirmed obstacles for
-    /// `no_boundary_clearing`: a cell only ever hit nearer (a fleck of carpet read as an edge
-    /// near the robot) is cleared in full. 0: every hit confirms.
-    pub confirm_range_m: f64,
-    /// The share in (0, 1] of its free evidence a quadrilateral between two boundaries adds
-    /// to a confirmed obstacle's cell (log odds > `confirmed_nats`, confirmed by a hit from
-    /// `confirm_range_m` or farther): such a cell clears over several frames, as OctoMap's
-    /// miss is smaller than its hit. 1 treats it as any other.
-    pub confirmed_clearing: f64,
-    /// Range [m] (>= 0) within which a hit (a boundary point, a `too_close` near edge) makes
-    /// a cell an obstacle of the planner's layers only when it persists: the previous
-    /// insertion hit its cell or a neighbour from as near, or the planner already believes
-    /// one of them occupied (a fleck of carpet magnified near the robot comes and goes between
-    /// frames, an obstacle stays); the map's own layers take every hit. 0: every hit enters
-    /// at once.
-    pub persist_range_m: f64,
-}
 
 /// The planner's layers (`floorscan.drive.AvoidanceMap`'s `plan_*`), updated with the map's
 /// own: its log odds, its confirmed obstacles (cleared by `confirmed_clearing`) and the cells

@@ -2,8 +2,10 @@
 //! polygon_fill), the planner's navigation function and the dynamic window.
 
 pub mod avoidance_map;
+pub mod avoidance_map_options;
 pub mod dynamic_window;
 pub mod navigation_function;
 pub mod polygon_fill;
+pub mod visual_sensor_model;
 
 pub use navigation_function::{coarse_grid, geodesic_distances, MAX_CELLS};

@@ -3,9 +3,11 @@
 //! information.
 
 pub mod avoidance_map;
+pub mod avoidance_map_options;
 pub mod dynamic_window;
 pub mod hit_map;
 pub mod match_information;
 pub mod navigation;
 pub mod scan_matcher;
 pub mod scan_matcher_options;
+pub mod visual_sensor_model;
