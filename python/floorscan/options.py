@@ -32,6 +32,7 @@ KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "fusion": ranging.default_fusion_options,
     "avoidance_map": drive.default_avoidance_map_options,
     "visual_sensor_model": drive.default_visual_sensor_model,
+    "drive": drive.default_drive_map_options,
 }
 """Each options type by its name, with its defaults function."""
 
@@ -47,6 +48,7 @@ CHECKS: Dict[str, Callable[[Dict[str, Any]], Dict[str, Any]]] = {
     "fusion": ranging.check_fusion_options,
     "avoidance_map": drive.check_avoidance_map_options,
     "visual_sensor_model": drive.check_visual_sensor_model,
+    "drive": drive.check_drive_map_options,
 }
 """Each options type's check: a dict of any of its fields in, every field out (validated)."""
 
@@ -62,6 +64,7 @@ SCHEMAS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "fusion": ranging.fusion_options_schema,
     "avoidance_map": drive.avoidance_map_options_schema,
     "visual_sensor_model": drive.visual_sensor_model_schema,
+    "drive": drive.drive_map_options_schema,
 }
 
 

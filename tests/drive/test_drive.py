@@ -22,6 +22,7 @@ from floorscan.drive import (
     drive,
     make_table,
 )
+from floorscan.drive.loop import with_drive_tables
 from floorscan.errors import ConfigError
 from floorscan.pipeline.config import Config
 from floorscan.ranging.parallax import ParallaxRanger
@@ -521,3 +522,20 @@ def test_a_box_seen_near_enters_the_planners_map_on_its_second_frame(persist_ran
     else:
         assert plan_first.all()
         assert not m.plan_near_hits.any()
+
+
+def test_the_drive_table_of_the_config_gives_the_map_and_the_sensor_model():
+    cfg = Config.from_toml(
+        "[drive.avoidance_map]\nsize_m = 6.0\n[drive.sensor_model]\nconfirm_range_m = 0.5\n"
+    )
+    o = with_drive_tables(DriveOptions(), cfg)
+    assert o.map.size_m == 6.0 and o.model.confirm_range_m == 0.5
+    # the other fields keep the Rust defaults, the same as the Python objects'
+    assert o.map.replace(size_m=8.0) == AvoidanceMapOptions()
+    assert (
+        o.model.replace(confirm_range_m=VisualSensorModel().confirm_range_m) == VisualSensorModel()
+    )
+    # a round trip through the written file keeps the table
+    assert Config.from_toml(cfg.to_toml()).drive.options() == cfg.drive.options()
+    with pytest.raises(ConfigError, match="fusion_weight"):
+        Config.from_toml("[drive.sensor_model]\nfusion_weight = 2.0\n")

@@ -72,6 +72,11 @@ def check_avoidance_map_options(options: Any) -> Any:
     Reads `AvoidanceMapOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
+def check_drive_map_options(options: Any) -> Any:
+    """
+    Reads `DriveMapOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def check_scan_matcher_options(options: Any) -> Any:
     """
     Reads `ScanMatcherOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
@@ -110,6 +115,11 @@ def default_avoidance_map_options() -> Any:
     The default `AvoidanceMapOptions` (its serde form, a dict).
     """
 
+def default_drive_map_options() -> Any:
+    """
+    The default `DriveMapOptions` (its serde form, a dict).
+    """
+
 def default_scan_matcher_options() -> Any:
     """
     The default `ScanMatcherOptions` (its serde form, a dict).
@@ -118,6 +128,11 @@ def default_scan_matcher_options() -> Any:
 def default_visual_sensor_model() -> Any:
     """
     The default `VisualModel` (its serde form, a dict).
+    """
+
+def drive_map_options_schema() -> Any:
+    """
+    The JSON schema of `DriveMapOptions`: field docs, types, defaults.
     """
 
 def geodesic_distances(blocked: Incomplete, weight: Incomplete, seed_cells: Incomplete, seed_costs: Incomplete, step_m: SupportsFloat | SupportsIndex) -> Incomplete:

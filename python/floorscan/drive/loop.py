@@ -263,6 +263,17 @@ class Stepper:
         return tr.poses, _between(tuple(odo[0]), tuple(odo[-1]))
 
 
+def with_drive_tables(options: DriveOptions, config: Config) -> DriveOptions:
+    """``options`` with the avoidance map and the sensor model of ``config``'s ``[drive]``
+    table (``[drive.avoidance_map]``, ``[drive.sensor_model]``)."""
+    tables = config.drive.options()
+    return replace(
+        options,
+        map=AvoidanceMapOptions(**tables["avoidance_map"]),
+        model=VisualSensorModel(**tables["sensor_model"]),
+    )
+
+
 def drive(
     world,
     options: DriveOptions = DriveOptions(),
@@ -281,13 +292,14 @@ def drive(
     ``table``: a ready ground table (skips calibration). ``config``: a
     :class:`~floorscan.pipeline.config.Config` whose ``[ranger]`` (and ``[appearance]``)
     tables make the range sensor, as for ``floorscan run`` (its ``columns`` give way to
-    ``options.columns``, its ``kind`` to ``options.ranger``). ``stop``: an object whose
+    ``options.columns``, its ``kind`` to ``options.ranger``), and whose ``[drive]`` table gives
+    the avoidance map and the sensor model (``options.map`` and ``options.model`` give way). ``stop``: an object whose
     ``requested`` turns true to end the drive after the current frame (a
     ``floorscan._signals.StopRequest``: ``floorscan drive`` stops on SIGINT, SIGTERM or
     SIGHUP and still writes its outputs); its ``signum`` is recorded. Returns a
     :class:`DriveResult`.
     """
-    o = options
+    o = options if config is None else with_drive_tables(options, config)
     camera = camera or Camera()
     tour = np.asarray(world.tour if waypoints is None else waypoints, np.float64).reshape(-1, 2)
     if len(tour) == 0:

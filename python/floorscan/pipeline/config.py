@@ -285,6 +285,7 @@ def _default_tables() -> Dict[str, OptionsTable]:
         "sensors": OptionsTable("inserter", check("inserter", {})),
         "slam": OptionsTable("slam", check("slam", {})),
         "parallax": OptionsTable("parallax", check("parallax", {})),
+        "drive": OptionsTable("drive", check("drive", {})),
     }
 
 
@@ -296,6 +297,7 @@ RUST_TABLES = {
     "sensors": ("inserter", None),
     "slam": ("slam", None),
     "parallax": ("parallax", None),
+    "drive": ("drive", None),
 }
 """Config table -> (its Rust options type in :mod:`floorscan.options`, its pipeline keys)."""
 
@@ -371,6 +373,7 @@ class Config:
     sensors: OptionsTable = field(default_factory=lambda: _default_tables()["sensors"])
     slam: OptionsTable = field(default_factory=lambda: _default_tables()["slam"])
     parallax: OptionsTable = field(default_factory=lambda: _default_tables()["parallax"])
+    drive: OptionsTable = field(default_factory=lambda: _default_tables()["drive"])
     outputs: OutputsConfig = field(default_factory=OutputsConfig)
     limits: LimitsConfig = field(default_factory=LimitsConfig)
     node: NodeConfig = field(default_factory=NodeConfig)
@@ -425,6 +428,8 @@ class Config:
             tables["slam"] = OptionsTable("slam", check("slam", split("slam")[0]))
         with _named(source, "parallax"):
             tables["parallax"] = OptionsTable("parallax", check("parallax", split("parallax")[0]))
+        with _named(source, "drive"):
+            tables["drive"] = OptionsTable("drive", check("drive", split("drive")[0]))
         rest = {k: v for k, v in d.items() if k not in RUST_TABLES}
         return _build(cls, rest, source, "", **tables)
 

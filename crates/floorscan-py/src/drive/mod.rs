@@ -4,6 +4,7 @@
 
 pub mod avoidance_map;
 pub mod avoidance_map_options;
+pub mod drive_map_options;
 pub mod dynamic_window;
 pub mod hit_map;
 pub mod match_information;
