@@ -211,3 +211,76 @@ def test_poses_from_tf_build_the_map_odometry_builds(room, tmp_path, ros_version
     assert a.mapper.frames == b.mapper.frames == len(frames)
     assert np.array_equal(a.mapper.global_map.raw(), b.mapper.global_map.raw())
     assert np.count_nonzero(a.mapper.global_map.raw()) > 100
+
+
+@pytest.mark.parametrize("ros_version", [1, 2])
+def test_the_node_publishes_map_to_odom_each_frame(room, tmp_path, ros_version):
+    """REP 105 / slam_toolbox: ``map -> odom`` on /tf is the scan matcher's correction (the
+    last frame's equals the mapper's), identity with [slam] off, absent when the maps are in
+    the odometry frame; the maps are published in the map frame."""
+    pytest.importorskip("rosbags", reason=ROSBAGS_MISSING)  # the node's messages
+    import math
+
+    from floorscan.formats.trajectory import read_tum, yaw_from_quaternion
+    from floorscan.node.messages import OCCUPANCY_GRID, TF_MESSAGE
+
+    codec = Codec(ros_version)
+    odo = read_tum(room / "room" / "odometry.txt")
+    lines = [ln.split() for ln in (room / "room" / "images.txt").read_text().split("\n")[1:] if ln]
+    frames = [(float(t), read_grey(room / "room" / p)) for t, p in lines]
+    messages = []
+    for t, x, y, yaw in zip(odo.timestamps, odo.x, odo.y, odo.yaw):
+        messages.append(("/odom", odometry(codec, float(t), float(x), float(y), float(yaw) + 0.05)))
+        messages += [
+            ("/camera/image_raw", image(codec, ft, g, "mono8")) for ft, g in frames if ft == t
+        ]
+
+    def published(node_toml, name):
+        cfg = Config.from_toml(
+            '[ranger]\nthreshold = 20.0\n[outputs]\noverlay = "none"\nbag = false\n' + node_toml
+        )
+        tr = LoopbackTransport(ros_version)
+        node = NodeRun(
+            GroundTable.load(room / "table.json"),
+            cfg,
+            tmp_path / name,
+            transport=tr,
+            max_frames=len(frames),
+        )
+        import threading
+
+        runner = threading.Thread(target=node.run)
+        runner.start()
+        for topic, data in messages:
+            tr.send(topic, data)
+            time.sleep(0.05)
+        runner.join(30)
+        assert not runner.is_alive()
+        tfs = [codec.deserialize(b, TF_MESSAGE).transforms for b in tr.published.get("/tf", [])]
+        maps = [codec.deserialize(b, OCCUPANCY_GRID) for b in tr.published["/map"]]
+        return node, tfs, maps
+
+    node, tfs, maps = published("[node]\n", "local")
+    assert node.mapper.slam is not None and len(tfs) == node.mapper.frames == len(frames)
+    assert all(
+        len(t) == 1 and t[0].header.frame_id == "map" and t[0].child_frame_id == "odom" for t in tfs
+    )
+    last = tfs[-1][0].transform
+    q = last.rotation
+    got = (last.translation.x, last.translation.y, yaw_from_quaternion(q.x, q.y, q.z, q.w))
+    want = node.mapper.slam.map_from_odom
+    assert got[:2] == pytest.approx(want[:2], abs=1e-9)
+    assert math.remainder(got[2] - want[2], 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+    assert maps and all(m.header.frame_id == "map" for m in maps)
+
+    node, tfs, _ = published('[slam]\nmode = "off"\n[node]\n', "off")
+    assert node.mapper.slam is None and len(tfs) == len(frames)
+    for (t,) in tfs:
+        assert (t.transform.translation.x, t.transform.translation.y, t.transform.rotation.w) == (
+            0.0,
+            0.0,
+            1.0,
+        )
+
+    _, tfs, maps = published('[node]\nmap_frame = "odom"\n', "odom")
+    assert tfs == [] and all(m.header.frame_id == "odom" for m in maps)

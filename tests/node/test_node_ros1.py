@@ -209,7 +209,7 @@ def test_scans_equal_floorscan_scan_and_the_map_matches_the_room(ros, room, tmp_
     assert (t0.header.frame_id, t0.child_frame_id) == ("base_link", "camera_ground")
     # The last /map against the room: occupied (>= 65) vs the true walls on known cells.
     m = maps.msgs[-1]
-    assert m.header.frame_id == "odom"
+    assert m.header.frame_id == "map"  # built from the corrected poses; map -> odom on /tf
     data = np.asarray(m.data, dtype=np.int8).reshape(m.info.height, m.info.width)
     cell = m.info.resolution
     ys, xs = np.mgrid[0 : m.info.height, 0 : m.info.width]

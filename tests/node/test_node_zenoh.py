@@ -266,6 +266,6 @@ zenoh_listen = "tcp/127.0.0.1:{port}"
     # Maps arrive (without odometry only the local map grows).
     assert maps
     grid = codec.deserialize(maps[-1][0], "nav_msgs/msg/OccupancyGrid")
-    assert grid.header.frame_id == "odom" and grid.info.resolution == pytest.approx(0.04)
+    assert grid.header.frame_id == "map" and grid.info.resolution == pytest.approx(0.04)
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["node"]["scans_published"] == len(frames)

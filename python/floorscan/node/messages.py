@@ -155,8 +155,9 @@ class Codec:
         )
         return self.serialize(msg, OCCUPANCY_GRID)
 
-    def static_transform(self, t: float, parent: str, child: str, xy_yaw) -> bytes:
-        """``tf2_msgs/TFMessage`` with one transform ``parent_from_child`` (x, y, yaw)."""
+    def transform(self, t: float, parent: str, child: str, xy_yaw) -> bytes:
+        """``tf2_msgs/TFMessage`` with one transform ``parent_from_child`` (x, y, yaw), as
+        ``/tf`` and ``/tf_static`` carry them."""
         T = self.types
         qx, qy, qz, qw = quaternion_from_yaw(float(xy_yaw[2]))
         tf = T["geometry_msgs/msg/TransformStamped"](

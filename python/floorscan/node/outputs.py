@@ -6,6 +6,9 @@ is saved on shutdown exactly as a run saves it):
   run's bag binning (``outputs.laser_angle_increment_rad``);
 - the global and the local map as ``nav_msgs/OccupancyGrid`` every ``node.map_period_s``;
 - the static transform base_frame -> scan_frame (latched) at start;
+- every frame, ``map_frame -> odom_frame`` on ``tf_topic``: the scan matcher's correction
+  (REP 105's ``map -> odom``, as slam_toolbox publishes it; identity with ``[slam]`` off), so
+  a planner sees maps that stay put while odometry drifts (none when the two frames are one);
 - optionally (``node.overlay_topic``) each frame with its boundary points drawn, rgb8.
 
 Latency is image received (transport callback) -> scan published, decode included.
@@ -43,8 +46,11 @@ class NodeOutputs:
             transport.advertise(n.overlay_topic, M.IMAGE) if n.overlay_topic else None
         )
         tf_pub = transport.advertise(n.tf_static_topic, M.TF_MESSAGE, latched=True)
-        tf_pub.publish(
-            codec.static_transform(time.time(), n.base_frame, n.scan_frame, robot_from_camera)
+        tf_pub.publish(codec.transform(time.time(), n.base_frame, n.scan_frame, robot_from_camera))
+        self.tf_pub = (
+            transport.advertise(n.tf_topic, M.TF_MESSAGE)
+            if n.tf_topic and n.map_frame != n.odom_frame
+            else None
         )
         self.map_listeners: List = []
         """Called as ``f(mapper, t)`` after each map publication (the live view)."""
@@ -70,6 +76,14 @@ class NodeOutputs:
             self.latencies_s.append(now - received)
         self.scans_published += 1
         self.inner.on_frame(frame, scan, pose, mapper)
+        if self.tf_pub is not None:
+            correction = mapper.slam.map_from_odom if mapper.slam is not None else (0.0, 0.0, 0.0)
+            self._publish(
+                self.tf_pub,
+                self.codec.transform(
+                    scan.timestamp, self.cfg.map_frame, self.cfg.odom_frame, correction
+                ),
+            )
         if now >= self._next_map:
             self.publish_maps(mapper, scan.timestamp)
             self._next_map = now + self.cfg.map_period_s

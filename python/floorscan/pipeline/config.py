@@ -227,8 +227,14 @@ class NodeConfig:
         "where poses come from: odometry (nav_msgs/Odometry on odom_topic) | tf (odom_frame -> base_frame on tf_topic)",
         "odometry",
     )
-    tf_topic: str = doc("transform topic read when odom_source = tf (tf2_msgs/TFMessage)", "/tf")
-    odom_frame: str = doc("parent frame of the robot's pose when odom_source = tf", "odom")
+    tf_topic: str = doc(
+        "transform topic (tf2_msgs/TFMessage): read when odom_source = tf, map_frame -> odom_frame published on it",
+        "/tf",
+    )
+    odom_frame: str = doc(
+        "the odometry frame: parent of the robot's pose when odom_source = tf, child of map_frame",
+        "odom",
+    )
     scan_topic: str = doc("LaserScan output topic (REP 117 ranges)", "/scan")
     map_topic: str = doc("global OccupancyGrid output topic", "/map")
     local_map_topic: str = doc("local (robot-centred) OccupancyGrid output topic", "/local_map")
@@ -238,7 +244,10 @@ class NodeConfig:
     tf_static_topic: str = doc("static transform topic (base_frame -> scan_frame)", "/tf_static")
     base_frame: str = doc("robot frame (REP 105 base_link)", "base_link")
     scan_frame: str = doc("frame of the scans: the camera ground frame", "camera_ground")
-    map_frame: str = doc("frame of both maps: the odometry frame they are built in", "odom")
+    map_frame: str = doc(
+        "frame of both maps, built from the corrected poses; the node publishes map_frame -> odom_frame on tf_topic each frame (the scan matcher's correction, identity with [slam] off), as slam_toolbox does; equal to odom_frame: the maps in the odometry frame and no transform",
+        "map",
+    )
     map_period_s: float = doc("seconds between map publications, > 0", 1.0)
     odom_timeout_s: float = doc(
         "a frame newer than the last odometry by more than this [s] is skipped and counted (odometry stopped)",
