@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 from floorscan.drive import AvoidanceMapOptions, VisualSensorModel, make_table
-from floorscan.drive.sensor_fit import (
+from floorscan.evaluation.sensor_fit import (
     fit_probability_calibration,
     fit_probability_knots,
     fit_sensor_model,

@@ -136,6 +136,47 @@ def test_no_import_circles():
     assert cycles(import_graph()) == []
 
 
+def stage_of(module: str) -> str:
+    """``floorscan.mapping.grid`` -> ``mapping``; a top-level module is its own stage."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else parts[0]
+
+
+def stage_graph(graph: dict[str, set[str]]) -> dict[str, set[str]]:
+    out: dict[str, set[str]] = {}
+    for a, targets in graph.items():
+        sa = stage_of(a)
+        out.setdefault(sa, set()).update(stage_of(b) for b in targets if stage_of(b) != sa)
+    return out
+
+
+def test_stage_graph_finds_a_knot_between_subpackages():
+    modules = {
+        "floorscan.a.x": {"floorscan.b.y"},
+        "floorscan.b.y": set(),
+        "floorscan.b.z": {"floorscan.a.w"},
+        "floorscan.a.w": set(),
+    }
+    assert cycles(modules) == []  # no module cycle ...
+    assert cycles(stage_graph(modules)) == [["a", "b"]]  # ... but a knot of subpackages
+
+
+def test_no_circles_between_subpackages():
+    """A stage may use the stages below it, never one that uses it (a knot: formats ->
+    mapping -> ranging -> formats made any of them impossible to understand alone). The
+    message names the modules that tie each knot."""
+    graph = import_graph()
+    knots = cycles(stage_graph(graph))
+    ties = [
+        f"{a} -> {b}"
+        for knot in knots
+        for a, targets in sorted(graph.items())
+        for b in sorted(targets)
+        if stage_of(a) in knot and stage_of(b) in knot and stage_of(a) != stage_of(b)
+    ]
+    assert knots == [], "\n".join(ties)
+
+
 def test_top_level_is_stages_and_few_modules():
     top_modules = sorted(p.name for p in PACKAGE.glob("*.py"))
     assert len(top_modules) <= MAX_TOP_LEVEL_MODULES, top_modules
@@ -165,7 +206,9 @@ def rust_module_graph(crate: Path) -> dict[str, set[str]]:
     graph: dict[str, set[str]] = {}
     for path in sorted(src.rglob("*.rs")):
         rel = path.relative_to(src).with_suffix("")
-        name = rel.parts[0]
+        # a stage folder's file is its module (re-exported at the crate root: `crate::ranger`),
+        # its mod.rs the folder's
+        name = rel.parts[-2] if rel.name == "mod" else rel.parts[-1]
         if name in ("lib", "main") or name.endswith("_tests"):
             continue
         text = path.read_text().split("#[cfg(test)]")[0]

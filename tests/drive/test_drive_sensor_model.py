@@ -7,7 +7,12 @@ import numpy as np
 import pytest
 from floorscan import OptionError
 from floorscan.drive import AvoidanceMap, AvoidanceMapOptions, VisualSensorModel
-from floorscan.drive.sensor_fit import _logistic_fit, reliability, reliability_of, wilson_interval
+from floorscan.evaluation.sensor_fit import (
+    _logistic_fit,
+    reliability,
+    reliability_of,
+    wilson_interval,
+)
 from floorscan.sim import OccupancyRaster
 
 

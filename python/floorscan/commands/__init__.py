@@ -1,4 +1,6 @@
-"""Command-line subcommands: one module per command, each with ``register(subparsers)``."""
+"""Command-line subcommands: one module per command, each with ``register(subparsers)``.
+``floorscan fleet`` is the fleet package's own (``floorscan.fleet.command``): the fleet runs
+``floorscan run`` per recording, so the command sits above both."""
 
 COMMAND_MODULES = [
     "floorscan.commands.scan",
@@ -12,7 +14,7 @@ COMMAND_MODULES = [
     "floorscan.commands.eval",
     "floorscan.commands.tune",
     "floorscan.commands.merge",
-    "floorscan.commands.fleet",
+    "floorscan.fleet.command",
     "floorscan.commands.node",
     "floorscan.commands.drive",
 ]

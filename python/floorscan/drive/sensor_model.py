@@ -23,7 +23,7 @@ summed evidence overstates certainty; the avoidance map corrects that on its out
 monotone calibration (``AvoidanceMapOptions.probability_knots``, fitted by isotonic
 regression; or a Platt curve, ``probability_scale`` / ``probability_offset``).
 
-Where the defaults come from: :func:`floorscan.drive.sensor_fit.fit_sensor_model` estimates
+Where the defaults come from: :func:`floorscan.evaluation.sensor_fit.fit_sensor_model` estimates
 the four logits from simulator truth (``bench/drive_sensor_model.py``: corridor and room,
 30 s each, seed 1, exact table), giving free -2.97 - 0.07 r and hit 2.0 - 0.99 r. Driven in
 closed loop, those fitted values make the robot hesitate (hits beyond 2 m add free evidence

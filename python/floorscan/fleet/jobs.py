@@ -10,6 +10,7 @@ merges) what finished. ``DIR/fleet.json`` records every recording's outcome.
 
 from __future__ import annotations
 
+import argparse
 import io
 import json
 import math
@@ -21,7 +22,6 @@ from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence
 
 from .._atomic import PathLike, write_atomic
-from ..cli import build_parser
 from ..commands import run as run_command
 from ..errors import FloorscanError, OptionError
 from ..mapping.evidence import EvidenceMap, merge_evidence
@@ -34,6 +34,13 @@ SAME_START_RAD = 1e-3
 """Recordings whose first poses agree this closely share a map frame."""
 
 
+def _run_parser() -> argparse.ArgumentParser:
+    """The command line of ``floorscan run`` alone (as the CLI's parser reads it)."""
+    parser = argparse.ArgumentParser(prog="floorscan")
+    run_command.register(parser.add_subparsers(dest="command"))
+    return parser
+
+
 def map_recording(recording: Recording, out_dir: str) -> Dict[str, Any]:
     """Maps one recording with ``floorscan run`` into ``out_dir`` (its output and a ``run.log``
     of what it printed); returns its outcome. Never raises for a bad recording: the error is
@@ -44,7 +51,7 @@ def map_recording(recording: Recording, out_dir: str) -> Dict[str, Any]:
     result: Dict[str, Any] = {"name": recording.name, "input": recording.input}
     try:
         with redirect_stdout(log), redirect_stderr(log):
-            args = build_parser().parse_args(recording.run_argv(out))
+            args = _run_parser().parse_args(recording.run_argv(out))
             rc = run_command.main(args)
         summary = json.loads((out / "summary.json").read_text())
         counts = summary.get("counts", {})

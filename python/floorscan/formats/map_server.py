@@ -24,8 +24,8 @@ import yaml
 from PIL import Image, UnidentifiedImageError
 
 from .._atomic import PathLike, write_atomic, write_atomic_with
+from .._native import mapping as _native_mapping
 from ..errors import FileFormatError, ImageError, OptionError
-from ..mapping.log_odds import units_from_probabilities
 from .image_io import _decoded, open_image
 
 MODES = ("trinary", "scale", "raw")
@@ -197,7 +197,7 @@ def pixels_to_units(
     out = np.zeros(grey.shape, np.int16)
     if mode == "raw":
         known = (grey >= 0) & (grey <= 100)
-        out[known] = units_from_probabilities(grey / 100.0, lo, hi)[known]
+        out[known] = _units(grey / 100.0, lo, hi)[known]
         return out
     p = grey / 255.0 if meta["negate"] else (255.0 - grey) / 255.0
     occupied = p > meta["occupied_thresh"]
@@ -206,7 +206,16 @@ def pixels_to_units(
         out[occupied] = hi
         out[free] = lo
     else:  # scale: keep the probability
-        out[:] = units_from_probabilities(p, lo, hi)
+        out[:] = _units(p, lo, hi)
     if alpha is not None:
         out[alpha == 0] = 0
     return out
+
+
+def _units(p: np.ndarray, lo: int, hi: int) -> np.ndarray:
+    """Stored log-odds units of probabilities (the core's conversion, as
+    ``floorscan.mapping.log_odds.units_from_probabilities``: a file format reads maps without
+    depending on the mapping stage)."""
+    return _native_mapping.units_from_probabilities(
+        np.asarray(p, dtype=np.float64), int(lo), int(hi)
+    )

@@ -15,10 +15,10 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..evaluation.scoring import sample_truth
+from ..drive.avoidance_map import AvoidanceMap, AvoidanceMapOptions, _compose
+from ..drive.sensor_model import VisualSensorModel
 from ..ranging.ranger import VisualRanger
-from .avoidance_map import AvoidanceMap, AvoidanceMapOptions, _compose
-from .sensor_model import VisualSensorModel
+from .scoring import sample_truth
 
 
 def _logistic_fit(x: np.ndarray, y: np.ndarray, iters: int = 30) -> Tuple[float, float]:

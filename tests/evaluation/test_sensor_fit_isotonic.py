@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from floorscan.drive.avoidance_map import AvoidanceMap, AvoidanceMapOptions
-from floorscan.drive.sensor_fit import isotonic
 from floorscan.errors import OptionError
+from floorscan.evaluation.sensor_fit import isotonic
 
 
 def _minmax(y, w):

@@ -7,10 +7,10 @@ import argparse
 import sys
 from pathlib import Path
 
+from ..commands._output import FOLDER, add_output
 from ..errors import OptionError
-from ..fleet.jobs import map_fleet
-from ..fleet.spec import parse_recording, read_fleet_toml
-from ._output import FOLDER, add_output
+from .jobs import map_fleet
+from .spec import parse_recording, read_fleet_toml
 
 
 def register(sub) -> None:
