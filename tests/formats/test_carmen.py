@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 from floorscan import DatasetError
+from floorscan.cli import main
 from floorscan.formats.carmen import parse_carmen_lines, read_carmen
 
 FLASER = "FLASER 4 1.0 2.0 3.0 81.91 0.5 -0.25 0.1 0.6 -0.2 0.15 12.5 host 12.6"
@@ -92,3 +93,15 @@ def test_reads_plain_and_gzip_files(tmp_path):
     (tmp_path / "bad.gz").write_bytes(b"\x1f\x8b" + b"garbage")
     with pytest.raises(DatasetError, match="bad.gz"):
         read_carmen(tmp_path / "bad.gz")
+
+
+def test_a_corrupt_gzip_log_is_a_dataset_error_naming_it(tmp_path):
+    """A gzip stream damaged in the middle (zlib's error, not OSError) is refused like any
+    unreadable log: one DatasetError, and `map-log` exits 1, not 5 (internal error)."""
+    data = gzip.compress(b"FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\n" * 200)
+    path = tmp_path / "bad.log.gz"
+    path.write_bytes(data[: len(data) // 2] + b"\x00garbage")
+    with pytest.raises(DatasetError, match="cannot read CARMEN log .*bad.log.gz"):
+        read_carmen(path)
+    assert main(["map-log", str(path), "-o", str(tmp_path / "m.yaml")]) == 1
+    assert not (tmp_path / "m.yaml").exists()

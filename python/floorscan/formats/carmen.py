@@ -22,6 +22,7 @@ from __future__ import annotations
 import gzip
 import io
 import math
+import zlib
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -227,5 +228,5 @@ def read_carmen(path: PathLike, *, strict: bool = True) -> CarmenLog:
         # Streamed line by line: a log is never held in memory as a whole.
         with io.TextIOWrapper(raw, encoding="utf-8", errors="replace") as text:
             return parse_carmen_lines(text, source=str(path), strict=strict)
-    except (OSError, EOFError, gzip.BadGzipFile) as e:
+    except (OSError, EOFError, gzip.BadGzipFile, zlib.error) as e:
         raise DatasetError(f"cannot read CARMEN log {path}: {e}") from None
