@@ -197,3 +197,42 @@ def test_the_local_map_takes_its_visual_evidence_from_its_own_table():
     world.insert_scan(view, (0.0, 0.0, 0.0))
     assert local.log_odds().max() == pytest.approx(2.0) and local.log_odds().min() == -1.0
     assert world.log_odds().max() == pytest.approx(1.0) and world.log_odds().min() == -0.3
+
+
+@pytest.mark.parametrize(
+    "toml, key",
+    [
+        ("[ranger]\ncolumns = 100000\n", "columns"),
+        ("[ranger.start]\nbottom_margin = 100000\n", "bottom_margin"),
+    ],
+)
+def test_config_check_with_a_table_refuses_what_run_refuses(tmp_path, capsys, toml, key):
+    """Options that depend on the image's size: `config --check` alone cannot judge them (it
+    says so), with `--table` it refuses them with the very message `run` gives."""
+    table = affine_table(width=320, height=240)
+    table.save(tmp_path / "table.json")
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(toml)
+    write_png(tmp_path / "frame.png", np.full((240, 320), 100, np.uint8))
+    # what `floorscan scan` (the same range sensor as `run`) says about this file
+    assert (
+        main(
+            [
+                "scan",
+                "--table",
+                str(tmp_path / "table.json"),
+                "--config",
+                str(cfg),
+                str(tmp_path / "frame.png"),
+                "-o",
+                str(tmp_path / "s.csv"),
+            ]
+        )
+        == 1
+    )
+    run_says = capsys.readouterr().err.strip().split(": error: ", 1)[1]
+    assert key in run_says
+    assert main(["config", "--check", str(cfg), "--table", str(tmp_path / "table.json")]) == 1
+    assert capsys.readouterr().err.strip().split(": error: ", 1)[1] == run_says
+    assert main(["config", "--check", str(cfg)]) == 0
+    assert "not checked against an image size" in capsys.readouterr().err

@@ -5,8 +5,9 @@ same constructors, so the two accept and refuse exactly the same files.
 The Rust options tables (``[ranger]``, ``[appearance]``, ``[grid]``, ``[local_map]``,
 ``[sensors]``) are read and validated by their Rust types when the file is loaded
 (:class:`~floorscan.pipeline.config.Config`); here the map builders are built with them too.
-What depends on the input is checked by ``run`` only: ``ranger.columns`` against the
-calibration's image width and ``ranger.start`` against its height.
+What depends on the input (``ranger.columns`` against the image's width, ``ranger.start``
+against its height) needs a ground table: :func:`check_config_for_table` builds the range
+sensor ``run`` would build with it.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from ..formats.image_io import check_max_image_pixels
 from ..mapping.grid import OccupancyGrid
 from ..mapping.local_map import LocalMap
 from .config import Config
-from .mapper import grid_kwargs, local_map_kwargs
+from .mapper import grid_kwargs, local_map_kwargs, ranger_from_config
 from .node_options import check_node
 from .outputs import check_outputs
 
@@ -53,4 +54,13 @@ def check_config(cfg: Config) -> Config:
     check_outputs(cfg.outputs)
     check_max_image_pixels(cfg.limits.max_image_pixels)
     check_node(cfg.node)
+    return cfg
+
+
+def check_config_for_table(cfg: Config, table) -> Config:
+    """:func:`check_config`, then the range sensor ``run`` builds from ``cfg`` and ``table``
+    (a :class:`~floorscan.GroundTable`): the options that depend on the image's size
+    (``ranger.columns``, ``ranger.start``) are refused as ``run`` refuses them."""
+    check_config(cfg)
+    ranger_from_config(table, cfg)
     return cfg
