@@ -351,3 +351,45 @@ def test_the_truth_map_reads_back_with_floorscans_map_server_reader(tmp_path):
         v = r.value_at(px, py)
         assert grid.is_occupied(px, py) == (v == OCCUPIED)
         assert grid.is_free(px, py) == (v == 0)
+
+
+ROOM_WITH_A_BOX = """name = "w"
+tour = [[1.0, 1.0], [3.0, 1.0]]
+[start]
+x = {x}
+y = {y}
+[[walls]]
+from = [0, 0]
+to = [4, 0]
+[[walls]]
+from = [4, 0]
+to = [4, 3]
+[[walls]]
+from = [4, 3]
+to = [0, 3]
+[[walls]]
+from = [0, 3]
+to = [0, 0]
+[[boxes]]
+rect = [1.7, 1.7, 2.3, 2.3]
+height_m = 0.7
+"""
+
+
+@pytest.mark.parametrize(
+    "x, y, where", [(2.0, 0.0, "on a wall"), (2.0, 2.0, "inside the box"), (1.71, 2.0, "its edge")]
+)
+def test_a_start_pose_that_is_not_on_free_floor_is_refused(tmp_path, x, y, where):
+    """A robot placed in a wall or an obstacle would be "simulated" stuck there."""
+    path = tmp_path / "w.toml"
+    path.write_text(ROOM_WITH_A_BOX.format(x=x, y=y))
+    with pytest.raises(WorldError, match=r"start pose .* lies inside a wall or an obstacle") as e:
+        World.load(path)
+    assert str(path) in str(e.value), where
+
+
+def test_a_start_pose_on_free_floor_loads():
+    world = World.from_toml(ROOM_WITH_A_BOX.format(x=1.0, y=1.0))
+    assert world.start[:2] == (1.0, 1.0)
+    # beside the box but clear of it, as a robot parked next to furniture
+    assert World.from_toml(ROOM_WITH_A_BOX.format(x=1.55, y=2.0)).start[0] == 1.55

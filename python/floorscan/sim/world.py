@@ -38,12 +38,30 @@ class World:
             text = Path(path).read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as e:
             raise WorldError(f"cannot read world file {path}: {e}") from None
-        return cls(_native.SimWorld.from_toml(text, str(path)))
+        return cls(_native.SimWorld.from_toml(text, str(path)))._start_in_free_space(str(path))
 
     @classmethod
     def from_toml(cls, text: str, *, source_name: str = "<string>") -> World:
         """Parses world file text; ``source_name`` prefixes error messages."""
-        return cls(_native.SimWorld.from_toml(text, source_name))
+        return cls(_native.SimWorld.from_toml(text, source_name))._start_in_free_space(source_name)
+
+    START_CHECK_RESOLUTION_M = 0.02
+    """Cell of the raster the start pose is checked on [m]."""
+
+    def _start_in_free_space(self, source: str) -> World:
+        """This world, if its start pose lies in free floor: a start inside a wall or an
+        obstacle would "simulate" a robot stuck in it (WorldError naming the file)."""
+        r = self.occupancy(resolution_m=self.START_CHECK_RESOLUTION_M)
+        x, y, _ = self.start
+        i = int(np.floor((x - r.origin[0]) / r.resolution_m))
+        j = int(np.floor((y - r.origin[1]) / r.resolution_m))
+        inside = 0 <= j < r.cells.shape[0] and 0 <= i < r.cells.shape[1]
+        if not inside or r.cells[j, i] != 0:
+            raise WorldError(
+                f"{source}: the start pose ({x:g}, {y:g}) lies inside a wall or an obstacle, "
+                "not on free floor: move [start]"
+            )
+        return self
 
     @classmethod
     def builtin(cls, name: str) -> World:
