@@ -336,3 +336,34 @@ def test_holding_a_signal_leaves_the_host_s_alarm_as_it_found_it(slow_import):
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, before)
     assert fired == []
+
+
+def test_a_killed_run_says_so_and_the_next_run_cleans_up_after_it(dataset, tmp_path):
+    """SIGKILL cannot be caught: the folder must say the run did not finish (summary.json
+    "complete": false from the start), and the next run into it removes the temporaries the
+    killed one left (only names a run writes, only there), then says "complete": true."""
+    out = tmp_path / "out"
+    proc = start_run(dataset, out)
+    assert wait_for_frames(out, proc, 5), "the run never got going"
+    proc.kill()
+    proc.communicate(timeout=60)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["complete"] is False
+    left = temp_files(out)
+    assert any(name.startswith(".scans.csv.") for name in left), left
+    # an earlier killed run's bag folder and atomic write, and files that are not ours
+    (out / ".bag.k3j9x0a1").mkdir()
+    (out / ".bag.k3j9x0a1" / "x.mcap").write_bytes(b"partial")
+    (out / ".map.yaml.ab12cd34.tmp").write_text("partial")
+    (out / ".notes.txt").write_text("mine")
+    (out / ".scans.csv.backup1").write_text("mine too")  # not a temporary's name
+    args = ["run", str(dataset / "room"), "--table", str(dataset / "table.json"), "-o", str(out)]
+    done = subprocess.run(
+        [FLOORSCAN, *args, "--force"], capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["complete"] is True
+    assert summary["stale_temporaries_removed"] == len(left) + 2
+    assert temp_files(out) == [".notes.txt", ".scans.csv.backup1"]
+    OccupancyGrid.load(out / "map.yaml")

@@ -46,7 +46,9 @@ fn check_bools(
         let Ok(Some(default)) = template.get_item(&key) else {
             continue;
         };
-        let path = format!("{prefix}{key}");
+        // Keys read as UTF-8, never through str()/repr(): those check for signals, and a stop
+        // signal raised here would be swallowed (written as "Exception ignored in ...").
+        let name = || key.extract::<String>().unwrap_or_default();
         let is_bool = value.is_instance_of::<PyBool>();
         let wrong = if default.is_instance_of::<PyBool>() {
             (!is_bool).then_some("true or false")
@@ -58,13 +60,18 @@ fn check_bools(
             None
         };
         if let Some(expected) = wrong {
-            let shown = value.repr().map(|r| r.to_string()).unwrap_or_default();
+            let shown = value.repr()?.extract::<String>()?;
             return Err(error(
                 "OptionError",
-                format!("invalid option `{path}`: expected {expected}, got {shown}"),
+                format!(
+                    "invalid option `{prefix}{}`: expected {expected}, got {shown}",
+                    name()
+                ),
             ));
         }
-        check_bools(&value, &default, &format!("{path}."))?;
+        if value.cast::<PyDict>().is_ok() {
+            check_bools(&value, &default, &format!("{prefix}{}.", name()))?;
+        }
     }
     Ok(())
 }

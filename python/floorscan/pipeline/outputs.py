@@ -20,8 +20,11 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
+import shutil
 import sys
 import tempfile
+import time
 from pathlib import Path
 from typing import List, Optional
 
@@ -87,6 +90,64 @@ def check_outputs(o) -> None:
         raise _bad("laser_angle_increment_rad", "must be in [1e-4, pi] rad", inc)
 
 
+RUN_OUTPUT_NAMES = (
+    "scans.csv",
+    "map.yaml",
+    "map.pgm",
+    "map.png",
+    "map.evidence.npz",
+    "summary.json",
+    "overlay.gif",
+    "overlay.mp4",
+    "bag",
+    "trajectory.tum",
+    "trajectory_odometry.tum",
+)
+"""The files (and the bag folder) a run writes at the top of its output folder."""
+
+_STALE = re.compile(
+    r"^\.("
+    + "|".join(re.escape(n) for n in RUN_OUTPUT_NAMES)
+    + r")\.[a-z0-9_]{8}(\.(tmp|gif|mp4|png|npz|csv|yaml|pgm|json|tum))?$"
+)
+
+
+def _write_marker(path: Path, text: str) -> None:
+    """The "not complete" summary, written whole (a temporary renamed over it) but without
+    holding signals back: it is written while a stop signal held through the start-up imports
+    may still be waiting, and a stop here leaves at most a temporary that the next run into
+    the folder removes (:func:`remove_stale_temporaries`)."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        _make_readable(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def remove_stale_temporaries(out: Path) -> int:
+    """Removes the temporary files (and bag folders) an earlier run into ``out`` left when it
+    was killed before it could clean up (SIGKILL, a power cut): only the names a run's atomic
+    writes use (``.scans.csv.x1y2z3ab``, ``.bag.x1y2z3ab/``, ``.map.yaml.x1y2z3ab.tmp``),
+    only in ``out`` itself. Returns how many."""
+    removed = 0
+    for p in out.iterdir():
+        if not _STALE.match(p.name):
+            continue
+        try:
+            if p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p)
+            else:
+                p.unlink()
+            removed += 1
+        except OSError:
+            pass  # another user's file, or gone already: not ours to insist on
+    return removed
+
+
 class RunOutputs:
     def __init__(self, out_dir, cfg: Config, *, expected_frames: Optional[int] = None) -> None:
         check_outputs(cfg.outputs)
@@ -99,19 +160,28 @@ class RunOutputs:
             raise OutputError(f"cannot create output folder {self.out}: {e.strerror}") from None
         if not os.access(self.out, os.W_OK | os.X_OK):
             raise OutputError(f"output folder {self.out} is not writable")
+        self.stale_removed = remove_stale_temporaries(self.out)
         self.cfg = cfg
         self.finishing = False
         self._bag = None
         self._gif: Optional[GifWriter] = None
         self._csv = None
         self._csv_tmp: Optional[str] = None
+        self._marker: Optional[str] = None
         try:
+            # The folder says what it holds: "complete": false until the run's last output is
+            # written (a run killed with SIGKILL leaves it so, and its outputs as they were).
+            self._marker = json.dumps(
+                {"complete": False, "started": time.time(), "pid": os.getpid()}, indent=2
+            )
+            _write_marker(self.out / "summary.json", self._marker)
             with deferred_signals():  # created and recorded together (see _discard_temporaries)
                 fd, self._csv_tmp = tempfile.mkstemp(prefix=".scans.csv.", dir=self.out)
                 self._csv = os.fdopen(fd, "w", encoding="utf-8")
             self._open(cfg, expected_frames)
         except BaseException:
             self._discard_temporaries()  # interrupted or failed while opening: leave nothing
+            self._remove_marker()
             raise
 
     def _open(self, cfg: Config, expected_frames: Optional[int]) -> None:
@@ -281,8 +351,19 @@ class RunOutputs:
                 raise
 
     def discard(self) -> None:
-        """Abandons a run that never started: removes the temporary files (see finish)."""
+        """Abandons a run that never started: removes the temporary files (see finish) and
+        the folder's "not complete" summary."""
         self._discard_temporaries()
+        self._remove_marker()
+
+    def _remove_marker(self) -> None:
+        """Removes the "complete": false summary this run wrote, if it is still that one."""
+        path = self.out / "summary.json"
+        try:
+            if self._marker is not None and path.read_text() == self._marker:
+                path.unlink()
+        except OSError:
+            pass
 
     def _discard_temporaries(self) -> None:
         """Removes what an interrupted or failed finish left: the scans' temporary file, an
@@ -356,6 +437,8 @@ class RunOutputs:
                 if p.is_file() and not p.name.startswith(".")
             ),
             "config": self.cfg.to_dict(),
+            "complete": True,
+            "stale_temporaries_removed": self.stale_removed,
             "ranger_threshold": {
                 "used": mapper.threshold,
                 "texture_noise": mapper.texture_noise,
