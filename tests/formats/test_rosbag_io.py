@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
+import cv2
 import floorscan
 import numpy as np
 import pytest
@@ -9,6 +12,7 @@ from floorscan.formats.rosbag import (
     ROSBAGS_MISSING,
     Ros2BagWriter,
     bag_topics,
+    decode_image,
     iter_bag_images,
     read_bag_odometry,
     write_image_odometry_bag,
@@ -90,3 +94,27 @@ def test_negative_times_are_refused_before_any_file_is_written(tmp_path):
             tmp_path / "neg", [(-1.0, np.zeros((4, 4), np.uint8))], ODOM, ros_version=2
         )
     assert not (tmp_path / "neg").exists()
+
+
+def test_a_compressed_image_whose_size_cannot_be_checked_is_refused_undecoded():
+    """A Radiance HDR (or EXR, PFM) message: OpenCV decodes it whole whatever its declared
+    size (3.5 GB from a 9 MB message), PIL cannot read its header; it is refused before any
+    decoding, in one line. A PNG or JPEG over the pixel limit is refused by its header."""
+    hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 30000 +X 30000\n" + b"\x02\x02\x75\x30" * 64
+    msg = SimpleNamespace(data=hdr, format="hdr")
+    with pytest.raises(floorscan.ImageError, match="size cannot be checked before decoding") as e:
+        decode_image(msg, "sensor_msgs/msg/CompressedImage")
+    assert "\n" not in str(e.value)
+    # a small HDR OpenCV would decode is refused all the same (its size is not known first)
+    ok, small = cv2.imencode(".hdr", np.ones((4, 4, 3), np.float32))
+    assert ok
+    with pytest.raises(floorscan.ImageError, match="cannot be checked"):
+        decode_image(
+            SimpleNamespace(data=small.tobytes(), format="hdr"), "sensor_msgs/msg/CompressedImage"
+        )
+    # PNG keeps working
+    ok, png = cv2.imencode(".png", np.full((6, 8), 7, np.uint8))
+    out = decode_image(
+        SimpleNamespace(data=png.tobytes(), format="png"), "sensor_msgs/msg/CompressedImage"
+    )
+    assert out.shape == (6, 8) and int(out[0, 0]) == 7

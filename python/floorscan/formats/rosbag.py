@@ -57,8 +57,10 @@ def _stamp_s(msg, bag_time_ns: int) -> float:
 
 
 def _check_compressed_size(data: bytes) -> None:
-    """Reads a compressed image's size from its header (PIL parses PNG / JPEG headers without
-    decoding) and refuses it before OpenCV allocates the pixels."""
+    """Reads a compressed image's size from its header (PIL parses the headers of PNG, JPEG,
+    TIFF, WebP, BMP, PNM ... without decoding) and refuses it before OpenCV allocates the
+    pixels. A format PIL cannot size (Radiance HDR, OpenEXR, PFM: OpenCV would decode them
+    whole, gigabytes from a small message) is refused too: its size cannot be checked."""
     import io
 
     try:
@@ -66,8 +68,16 @@ def _check_compressed_size(data: bytes) -> None:
     except ImageError as e:
         if "pixels, more than the limit" in str(e) or "decompression bomb" in str(e).lower():
             raise
-        return  # a format PIL does not know: OpenCV decides (and bounds nothing we know of)
+        raise ImageError(
+            "compressed image message in a format whose size cannot be checked before "
+            f"decoding ({_magic(data)}): use png or jpeg"
+        ) from None
     im.close()
+
+
+def _magic(data: bytes) -> str:
+    head = bytes(data[:8])
+    return "starts " + (head.hex(" ") if head else "empty")
 
 
 def decode_image(msg, msgtype: str) -> np.ndarray:
