@@ -367,3 +367,32 @@ def test_a_killed_run_says_so_and_the_next_run_cleans_up_after_it(dataset, tmp_p
     assert summary["stale_temporaries_removed"] == len(left) + 2
     assert temp_files(out) == [".notes.txt", ".scans.csv.backup1"]
     OccupancyGrid.load(out / "map.yaml")
+
+
+def test_runs_killed_at_random_times_leave_a_folder_the_next_run_repairs(dataset, tmp_path):
+    """A bounded soak: six runs into one folder, each stopped at a random moment by SIGKILL or
+    SIGTERM (seeded: the same moments every time). After each, every final-named output that
+    exists loads, and the summary says whether its run completed; a last run then leaves every
+    output whole and no temporary behind."""
+    rng = np.random.default_rng(11)
+    out = tmp_path / "out"
+    args = ["run", str(dataset / "room"), "--table", str(dataset / "table.json"), "-o", str(out)]
+    for k in range(6):
+        proc = subprocess.Popen(
+            [FLOORSCAN, *args, "--force"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+        )
+        time.sleep(float(rng.uniform(0.3, 2.5)))
+        sig = signal.SIGKILL if k % 2 == 0 else signal.SIGTERM
+        proc.send_signal(sig)
+        proc.communicate(timeout=120)
+        if (out / "summary.json").exists():
+            summary = json.loads((out / "summary.json").read_text())
+            assert summary["complete"] in (True, False)
+        if (out / "map.yaml").exists() and (out / "map.pgm").exists():
+            OccupancyGrid.load(out / "map.yaml")
+        if (out / "scans.csv").exists():
+            read_scans_csv(out / "scans.csv")
+    done = subprocess.run([FLOORSCAN, *args, "--force"], capture_output=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert_outputs_whole(out, interrupted=False)
+    assert json.loads((out / "summary.json").read_text())["complete"] is True
