@@ -493,6 +493,70 @@ def _cases() -> List[Case]:
 
     add(Case("images_txt_not_monotonic", images_not_monotonic, stderr_has="increasing"))
 
+    def corrupt_gzip_log(d, s):
+        import gzip
+
+        data = gzip.compress(b"FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\n" * 200)
+        (d / "l.log.gz").write_bytes(data[: len(data) // 2] + b"\x00garbage")
+        return ["map-log", str(d / "l.log.gz"), "-o", str(d / "m.yaml")]
+
+    add(Case("map_log_gzip_damaged_midway", corrupt_gzip_log, stderr_has="cannot read CARMEN log"))
+
+    def hdr_in_bag(d, s):
+        import cv2
+        import numpy as np
+        from floorscan.formats.dataset import read_images_txt
+        from floorscan.formats.image_io import read_grey
+        from floorscan.formats.rosbag import write_image_odometry_bag
+        from floorscan.formats.trajectory import read_tum
+
+        entries = read_images_txt(s / "room")
+        frames = [(e.timestamp, read_grey(e.path)) for e in entries]
+        frames[2] = (frames[2][0], np.zeros((1, 1), np.uint8))  # marks the HDR frame
+        real = cv2.imencode
+        hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 30000 +X 30000\n" + b"\x02\x02" * 64
+
+        def encode(ext, img, *a):
+            if img.shape == (1, 1):
+                return True, np.frombuffer(hdr, np.uint8)
+            return real(ext, img, *a)
+
+        cv2.imencode = encode
+        try:
+            write_image_odometry_bag(
+                d / "bag", frames, read_tum(s / "room" / "odometry.txt"), compressed=True
+            )
+        finally:
+            cv2.imencode = real
+        return run_args(s, d / "bag", d / "out")
+
+    add(
+        Case(
+            "run_bag_with_30000px_radiance_hdr",
+            hdr_in_bag,
+            (EXIT_OK,),
+            check=bomb_checked,
+            needs=("rosbags",),
+        )
+    )
+
+    def start_in_wall(d, s):
+        w = d / "w.toml"
+        w.write_text(
+            'name = "stuck"\ntour = [[1.0, 1.0], [2.0, 1.0]]\n'
+            "[start]\nx = 1.5\ny = 3.0\nyaw = 0.0\n"
+            "[[walls]]\nfrom = [0.0, 3.0]\nto = [3.0, 3.0]\n"
+        )
+        return ["sim", "--world", str(w), "--seconds", "1", "--out", str(d / "sim")]
+
+    add(Case("sim_start_inside_a_wall", start_in_wall, stderr_has="start pose"))
+
+    def columns_vs_table(d, s):
+        c = config_file(d, "[ranger]\ncolumns = 100000\n")
+        return ["config", "--check", str(c), "--table", str(s / "table.json")]
+
+    add(Case("config_check_columns_wider_than_the_table", columns_vs_table, stderr_has="columns"))
+
     for key, text in BAD_CONFIGS.items():
 
         def bad_run(d, s, text=text):
