@@ -33,6 +33,8 @@ KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "avoidance_map": drive.default_avoidance_map_options,
     "visual_sensor_model": drive.default_visual_sensor_model,
     "drive": drive.default_drive_map_options,
+    "costmap": drive.default_costmap_options,
+    "dwa": drive.default_dwa_options,
 }
 """Each options type by its name, with its defaults function."""
 
@@ -49,6 +51,8 @@ CHECKS: Dict[str, Callable[[Dict[str, Any]], Dict[str, Any]]] = {
     "avoidance_map": drive.check_avoidance_map_options,
     "visual_sensor_model": drive.check_visual_sensor_model,
     "drive": drive.check_drive_map_options,
+    "costmap": drive.check_costmap_options,
+    "dwa": drive.check_dwa_options,
 }
 """Each options type's check: a dict of any of its fields in, every field out (validated)."""
 
@@ -65,6 +69,8 @@ SCHEMAS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "avoidance_map": drive.avoidance_map_options_schema,
     "visual_sensor_model": drive.visual_sensor_model_schema,
     "drive": drive.drive_map_options_schema,
+    "costmap": drive.costmap_options_schema,
+    "dwa": drive.dwa_options_schema,
 }
 
 

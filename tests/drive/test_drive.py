@@ -527,9 +527,11 @@ def test_a_box_seen_near_enters_the_planners_map_on_its_second_frame(persist_ran
 def test_the_drive_table_of_the_config_gives_the_map_and_the_sensor_model():
     cfg = Config.from_toml(
         "[drive.avoidance_map]\nsize_m = 6.0\n[drive.sensor_model]\nconfirm_range_m = 0.5\n"
+        "[drive.costmap]\nrobot_radius_m = 0.2\n[drive.dwa]\nvth_samples = 11\n"
     )
     o = with_drive_tables(DriveOptions(), cfg)
     assert o.map.size_m == 6.0 and o.model.confirm_range_m == 0.5
+    assert o.costmap.robot_radius_m == 0.2 and o.dwa.vth_samples == 11
     # the other fields keep the Rust defaults, the same as the Python objects'
     assert o.map.replace(size_m=8.0) == AvoidanceMapOptions()
     assert (

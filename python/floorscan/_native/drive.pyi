@@ -72,9 +72,19 @@ def check_avoidance_map_options(options: Any) -> Any:
     Reads `AvoidanceMapOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
+def check_costmap_options(options: Any) -> Any:
+    """
+    Reads `CostmapOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def check_drive_map_options(options: Any) -> Any:
     """
     Reads `DriveMapOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
+def check_dwa_options(options: Any) -> Any:
+    """
+    Reads `DwaOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
 def check_scan_matcher_options(options: Any) -> Any:
@@ -105,6 +115,11 @@ def correlative_search(field: Incomplete, origin_m: tuple[SupportsFloat | Suppor
     refined below a cell on the field read bilinearly (`floorscan_core::scan_matcher::refine`).
     """
 
+def costmap_options_schema() -> Any:
+    """
+    The JSON schema of `CostmapOptions`: field docs, types, defaults.
+    """
+
 def decay(values: Incomplete, factor: SupportsFloat | SupportsIndex) -> None:
     """
     Forgetting: every value of `values` (float32, in place) times `factor`.
@@ -115,9 +130,19 @@ def default_avoidance_map_options() -> Any:
     The default `AvoidanceMapOptions` (its serde form, a dict).
     """
 
+def default_costmap_options() -> Any:
+    """
+    The default `CostmapOptions` (its serde form, a dict).
+    """
+
 def default_drive_map_options() -> Any:
     """
     The default `DriveMapOptions` (its serde form, a dict).
+    """
+
+def default_dwa_options() -> Any:
+    """
+    The default `DwaOptions` (its serde form, a dict).
     """
 
 def default_scan_matcher_options() -> Any:
@@ -133,6 +158,11 @@ def default_visual_sensor_model() -> Any:
 def drive_map_options_schema() -> Any:
     """
     The JSON schema of `DriveMapOptions`: field docs, types, defaults.
+    """
+
+def dwa_options_schema() -> Any:
+    """
+    The JSON schema of `DwaOptions`: field docs, types, defaults.
     """
 
 def geodesic_distances(blocked: Incomplete, weight: Incomplete, seed_cells: Incomplete, seed_costs: Incomplete, step_m: SupportsFloat | SupportsIndex) -> Incomplete:

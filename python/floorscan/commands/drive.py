@@ -64,7 +64,7 @@ def register(sub) -> None:
     )
     p.add_argument(
         "--config",
-        help="configuration TOML: its [ranger] and [appearance] tables make the range sensor, its [parallax] turns the floor-parallax cue on, its [drive] table gives the avoidance map and the sensor model",
+        help="configuration TOML: its [ranger] and [appearance] tables make the range sensor, its [parallax] turns the floor-parallax cue on, its [drive] table gives the avoidance map, the sensor model, the costmap and the planner",
     )
     p.add_argument(
         "--ranger",

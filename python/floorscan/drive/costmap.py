@@ -9,63 +9,28 @@ Unknown cells cost nothing (the local costmap's ``track_unknown_space: false``).
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-
 import numpy as np
 
 from .._native.drive import coarse_grid, geodesic_distances
-from ..errors import OptionError
+from ..options import OptionsObject
 
 LETHAL = 254
 INSCRIBED = 253
 
 
-@dataclass(frozen=True)
-class CostmapOptions:
-    """- ``robot_radius_m`` [m]: the circular footprint's radius. Default 0.18 (a TurtleBot 2 /
-      Kobuki base, 0.354 m across).
-    - ``footprint_padding_m`` [m]: added to the radius for the inscribed cost, >= 0. Default
-      0.07: one 5 cm cell of discretisation plus the camera map's few-centimetre placement
-      error near obstacles (costmap_2d's ``footprint_padding`` is 0.01 for a laser).
-    - ``inflation_radius_m`` [m]: default 0.55 (costmap_2d's default).
-    - ``cost_scaling_factor`` [1/m]: default 10 (costmap_2d's default).
-    - ``plan_cell_m`` [m]: cell of the navigation function, a multiple of the map's cell.
-      Default 0.1.
-    - ``goal_seed_radius_m`` [m]: when the map blocks the goal's cell, the plan leads to the
-      nearest free cell within this distance of it. Default 0.6.
-    - ``unknown_cost``: extra cost per metre of planning through cells without evidence, in
-      units of a metre of known floor. Default 2 (an unseen route must be three times
-      shorter to win).
+class CostmapOptions(OptionsObject, kind="costmap"):
+    """The costmap's options: the core's ``CostmapOptions`` (defaults, reasons and rules in
+    ``crates/floorscan-core/src/navigation/costmap_options.rs``; ``floorscan.options.
+    field_docs("costmap")``): ``robot_radius_m``, ``footprint_padding_m``,
+    ``inflation_radius_m``, ``cost_scaling_factor``, ``plan_cell_m``, ``goal_seed_radius_m``,
+    ``unknown_cost``. Keyword arguments are any of them (a bad one is an OptionError naming
+    it); read-only, ``replace(**changes)`` makes a changed copy.
+
+    >>> CostmapOptions().robot_radius_m
+    0.18
     """
 
-    robot_radius_m: float = 0.18
-    footprint_padding_m: float = 0.07
-    inflation_radius_m: float = 0.55
-    cost_scaling_factor: float = 10.0
-    plan_cell_m: float = 0.1
-    goal_seed_radius_m: float = 0.6
-    unknown_cost: float = 2.0
-
-    def __post_init__(self) -> None:
-        for name in (
-            "robot_radius_m",
-            "inflation_radius_m",
-            "cost_scaling_factor",
-            "plan_cell_m",
-            "goal_seed_radius_m",
-            "unknown_cost",
-        ):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise OptionError(f"invalid option `{name}`: must be a number > 0, got {v!r}")
-        if not (math.isfinite(self.footprint_padding_m) and 0 <= self.footprint_padding_m < 1):
-            raise OptionError(
-                f"invalid option `footprint_padding_m`: must be in [0, 1), got "
-                f"{self.footprint_padding_m}"
-            )
-        if self.inflation_radius_m < self.robot_radius_m:
-            raise OptionError("invalid option `inflation_radius_m`: must be >= robot_radius_m")
+    __slots__ = ()
 
 
 def inflate(occupied: np.ndarray, cell_size_m: float, options: CostmapOptions) -> np.ndarray:

@@ -22,59 +22,29 @@ the end point to the goal, so the robot settles on it instead of circling.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Optional, Tuple
 
 import numpy as np
 
 from .._native.drive import best_velocity_sample
-from ..errors import OptionError
+from ..options import OptionsObject
 from .costmap import INSCRIBED, LETHAL, NavigationFunction
 
 
-@dataclass(frozen=True)
-class DwaOptions:
-    """Defaults are dwa_local_planner's unless said otherwise.
+class DwaOptions(OptionsObject, kind="dwa"):
+    """The dynamic window's options: the core's ``DwaOptions`` (defaults, dwa_local_planner's
+    unless said, reasons and rules in ``crates/floorscan-core/src/navigation/dwa_options.rs``;
+    ``floorscan.options.field_docs("dwa")``): ``max_speed_m_s``, ``max_turn_rad_s``,
+    ``acc_lim_x``, ``acc_lim_theta``, ``sim_time_s``, ``sim_granularity_m``, ``vx_samples``,
+    ``vth_samples``, ``path_distance_bias``, ``goal_distance_bias``, ``occdist_scale``,
+    ``forward_point_distance_m``, ``blind_radius_m``. Keyword arguments are any of them (a bad
+    one is an OptionError naming it); read-only, ``replace(**changes)`` makes a changed copy.
 
-    - ``max_speed_m_s``: top speed [m/s] (the drive's ``--speed``). Default 0.3.
-    - ``max_turn_rad_s``: top turn rate [rad/s]. Default 1.0 (``max_vel_theta``).
-    - ``acc_lim_x``: [m/s^2], default 2.5; ``acc_lim_theta``: [rad/s^2], default 3.2.
-    - ``sim_time_s``: roll-out horizon [s], default 1.7; ``sim_granularity_m``: step along
-      it [m], default 0.025.
-    - ``vx_samples``: default 5 (dwa_local_planner's 3 gives too coarse a choice of speed
-      at 10 Hz control); ``vth_samples``: default 21 (20, made odd so omega = 0 is a sample).
-    - ``path_distance_bias``: 32; ``goal_distance_bias``: 24; ``occdist_scale``: 0.01;
-      ``forward_point_distance_m``: 0.325.
-    - ``blind_radius_m``: beyond this distance [m] from the robot a roll-out may not enter a
-      cell the map has no evidence for (given ``unknown``): a camera sees a 136-degree wedge,
-      so an arc into unseen floor may hide an obstacle beside the robot; the robot turns to
-      look first. Within it (the footprint and the floor just ahead that the camera cannot
-      see) unknown cells are allowed. Default 0.35 (0.18 m radius plus the strip before the
-      camera's nearest visible floor).
+    >>> DwaOptions(max_speed_m_s=0.5).max_speed_m_s, DwaOptions().vth_samples
+    (0.5, 21)
     """
 
-    max_speed_m_s: float = 0.3
-    max_turn_rad_s: float = 1.0
-    acc_lim_x: float = 2.5
-    acc_lim_theta: float = 3.2
-    sim_time_s: float = 1.7
-    sim_granularity_m: float = 0.025
-    vx_samples: int = 5
-    vth_samples: int = 21
-    path_distance_bias: float = 32.0
-    goal_distance_bias: float = 24.0
-    occdist_scale: float = 0.01
-    forward_point_distance_m: float = 0.325
-    blind_radius_m: float = 0.35
-
-    def __post_init__(self) -> None:
-        for name, v in self.__dict__.items():
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise OptionError(f"invalid option `{name}`: must be a number > 0, got {v!r}")
-        if self.max_speed_m_s > 3.0:
-            raise OptionError(
-                f"invalid option `max_speed_m_s`: must be <= 3, got {self.max_speed_m_s}"
-            )
+    __slots__ = ()
 
 
 def velocity_samples(velocity: Tuple[float, float], dt_s: float, options: DwaOptions):

@@ -264,13 +264,16 @@ class Stepper:
 
 
 def with_drive_tables(options: DriveOptions, config: Config) -> DriveOptions:
-    """``options`` with the avoidance map and the sensor model of ``config``'s ``[drive]``
-    table (``[drive.avoidance_map]``, ``[drive.sensor_model]``)."""
+    """``options`` with the avoidance map, the sensor model, the costmap and the planner of
+    ``config``'s ``[drive]`` table (``[drive.avoidance_map]``, ``[drive.sensor_model]``,
+    ``[drive.costmap]``, ``[drive.dwa]``; the planner's top speed stays ``--speed``)."""
     tables = config.drive.options()
     return replace(
         options,
         map=AvoidanceMapOptions(**tables["avoidance_map"]),
         model=VisualSensorModel(**tables["sensor_model"]),
+        costmap=CostmapOptions(**tables["costmap"]),
+        dwa=DwaOptions(**tables["dwa"]),
     )
 
 
@@ -335,7 +338,7 @@ def drive(
             probability_scale=1.0, probability_offset=0.0, probability_knots=None
         )
     amap = AvoidanceMap(map_options, center=odo_pose[:2])
-    dwa = replace(o.dwa, max_speed_m_s=o.speed_m_s)
+    dwa = o.dwa.replace(max_speed_m_s=o.speed_m_s)
     rec = DriveRecord()
     velocity = (0.0, 0.0)
     target, target_since = 0, 0.0

@@ -1,11 +1,14 @@
 //! The config file's `[drive]` table: the options of the closed loop's avoidance map
 //! (`[drive.avoidance_map]`, [`AvoidanceMapOptions`]) and of the inverse sensor model that feeds
-//! it visual scans (`[drive.sensor_model]`, [`VisualModel`]). (The loop's own settings, its
-//! speed, planner and costmap, are still the Python `floorscan.drive.DriveOptions`.)
+//! it visual scans (`[drive.sensor_model]`, [`VisualModel`]), of the costmap
+//! (`[drive.costmap]`) and of the dynamic-window planner (`[drive.dwa]`). (The loop's own
+//! settings, its speed, tour and outputs, are the Python `floorscan.drive.DriveOptions`.)
 
 use serde::{Deserialize, Serialize};
 
 use crate::avoidance_map_options::AvoidanceMapOptions;
+use crate::costmap_options::CostmapOptions;
+use crate::dwa_options::DwaOptions;
 use crate::error::Result;
 use crate::visual_sensor_model::VisualModel;
 
@@ -18,12 +21,18 @@ pub struct DriveMapOptions {
     pub avoidance_map: AvoidanceMapOptions,
     /// The visual inverse sensor model (`[drive.sensor_model]`).
     pub sensor_model: VisualModel,
+    /// The costmap and the navigation function (`[drive.costmap]`).
+    pub costmap: CostmapOptions,
+    /// The dynamic-window planner (`[drive.dwa]`; its top speed is the drive's `--speed`).
+    pub dwa: DwaOptions,
 }
 
 impl DriveMapOptions {
     /// Both tables' rules.
     pub fn validate(&self) -> Result<()> {
         self.avoidance_map.validate()?;
-        self.sensor_model.validate()
+        self.sensor_model.validate()?;
+        self.costmap.validate()?;
+        self.dwa.validate()
     }
 }
