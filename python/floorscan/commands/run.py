@@ -139,6 +139,26 @@ def rig_pose(source: FrameSource, cfg: Config):
     )
 
 
+def nothing_mapped(stats, out) -> str:
+    """Why a run that ended normally mapped no frame, in one line."""
+    if stats.frames_in == 0:
+        return f"the input holds no frames: nothing was mapped (outputs in {out}/)"
+    reasons = ", ".join(
+        f"{n} {why}"
+        for why, n in (
+            ("unreadable", stats.skipped_unreadable),
+            ("without odometry at their time", stats.skipped_no_odometry),
+            ("of another size than the table's", stats.skipped_wrong_size),
+            ("outside the map", stats.skipped_out_of_map),
+        )
+        if n
+    )
+    return (
+        f"none of the {stats.frames_in} frames could be mapped ({reasons or 'all skipped'}); "
+        f"outputs in {out}/"
+    )
+
+
 def main(args: argparse.Namespace) -> int:
     cfg = Config.load(args.config) if args.config else Config()
     cfg = cfg.with_overrides(
@@ -174,6 +194,11 @@ def main(args: argparse.Namespace) -> int:
             outputs.discard()  # stopped before the run began: nothing to save, nothing left
         raise
     skipped = stats.frames_in - stats.frames_mapped
+    if not stats.interrupted and stats.frames_mapped == 0:
+        # The outputs are written (they say what happened); the exit status says it too.
+        raise DatasetError(
+            nothing_mapped(stats, outputs.out if hasattr(outputs, "out") else args.output)
+        )
     print(
         f"{stats.frames_mapped} frames mapped, {skipped} skipped, {stats.boundary_points} boundary points"
         + (" (interrupted: map saved)" if stats.interrupted else "")

@@ -1,0 +1,152 @@
+"""Every command, every kind of file it reads, damaged three ways (empty, random bytes, cut in
+half): the command ends with a one-line error and exit status 1 (a FloorscanError), never an
+internal error (5), a traceback, or a silent success. A run's damaged frame is the one
+exception by design: the frame is skipped and counted (`skipped_unreadable`), the run goes on.
+"""
+
+from __future__ import annotations
+
+import gzip
+import json
+import shutil
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from floorscan import OccupancyGrid
+from floorscan.cli import main
+from floorscan.formats.image_io import write_png
+from synthetic_dataset import camera_table, make_dataset
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+DAMAGES = ("empty", "garbage", "truncated")
+
+
+def damage(path: Path, how: str) -> None:
+    data = path.read_bytes()
+    if how == "empty":
+        path.write_bytes(b"")
+    elif how == "garbage":
+        path.write_bytes(np.random.default_rng(len(data)).integers(0, 256, 777, np.uint8).tobytes())
+    else:
+        path.write_bytes(data[: len(data) // 2])
+
+
+@pytest.fixture(scope="module")
+def base(tmp_path_factory) -> Path:
+    """Valid files of every kind the commands read."""
+    d = tmp_path_factory.mktemp("valid")
+    make_dataset(d / "room", n=4)
+    camera_table().save(d / "table.json")
+    write_png(d / "frame.png", np.full((48, 64), 90, np.uint8))
+    (d / "config.toml").write_text('[ranger]\nthreshold = 12.0\n[outputs]\noverlay = "none"\n')
+    assert main(["sim", "--world", "room", "--seconds", "0.3", "-o", str(d / "sim")]) == 0
+    grid = OccupancyGrid(keep_evidence=True)
+    grid.insert_laser(np.array([1.0, 1.5, 2.0]), pose=(0.0, 0.0, 0.0), angle_min=-0.2,
+                      angle_increment=0.2, range_max_m=5.0)  # fmt: skip
+    grid.save(d / "map.yaml")
+    grid.evidence(name="m").save(d / "map.evidence.npz")
+    lines = "".join(
+        f"FLASER 3 1.0 1.5 2.0 {0.1 * k} 0 0 {0.1 * k} 0 0 {k}.0 h {k}.0\n" for k in range(20)
+    )
+    (d / "log.gz").write_bytes(gzip.compress(lines.encode()))
+    shutil.copy(Path(__file__).resolve().parents[1] / "bench/worlds/study.toml", d / "world.toml")
+    (d / "fleet.toml").write_text(
+        f'table = "{d / "table.json"}"\n[[recording]]\ninput = "{d / "room"}"\n'
+    )
+    return d
+
+
+def _valid_toml(path: Path) -> bool:
+    try:
+        tomllib.loads(path.read_text())
+        return True
+    except (ValueError, UnicodeDecodeError):
+        return False
+
+
+def case_room(d, f):
+    return ["run", str(d / "room"), "--table", str(d / "table.json"), "-o", str(d / "out")]
+
+
+# command line builder, the file (relative to the copy of `base`) to damage, what must happen
+CASES = {
+    "scan-table": (
+        lambda d: ["scan", "--table", str(d / "table.json"), str(d / "frame.png"), "-o", str(d / "s.csv")],
+        "table.json",
+    ),
+    "scan-image": (
+        lambda d: ["scan", "--table", str(d / "table.json"), str(d / "frame.png"), "-o", str(d / "s.csv")],
+        "frame.png",
+    ),
+    "scan-config": (
+        lambda d: ["scan", "--table", str(d / "table.json"), "--config", str(d / "config.toml"),
+                   str(d / "frame.png"), "-o", str(d / "s.csv")],
+        "config.toml",
+    ),
+    "overlay-image": (
+        lambda d: ["overlay", "--table", str(d / "table.json"), str(d / "frame.png"), "-o", str(d / "o.png")],
+        "frame.png",
+    ),
+    "run-table": (lambda d: case_room(d, None), "table.json"),
+    "run-config": (lambda d: case_room(d, None) + ["--config", str(d / "config.toml")], "config.toml"),
+    "run-images-txt": (lambda d: case_room(d, None), "room/images.txt"),
+    "run-odometry": (lambda d: case_room(d, None), "room/odometry.txt"),
+    "run-rig": (lambda d: case_room(d, None), "room/rig.toml"),
+    "run-frame": (lambda d: case_room(d, None), "room/images/000001.png"),
+    "calibrate-image": (
+        lambda d: ["calibrate", str(d / "sim/calibration/pattern.png"), "--pattern",
+                   str(d / "sim/calibration/pattern.toml"), "-o", str(d / "t.json")],
+        "sim/calibration/pattern.png",
+    ),
+    "calibrate-pattern": (
+        lambda d: ["calibrate", str(d / "sim/calibration/pattern.png"), "--pattern",
+                   str(d / "sim/calibration/pattern.toml"), "-o", str(d / "t.json")],
+        "sim/calibration/pattern.toml",
+    ),
+    "map-log": (lambda d: ["map-log", str(d / "log.gz"), "-o", str(d / "m/m.yaml")], "log.gz"),
+    "merge-evidence": (
+        lambda d: ["merge", str(d / "map.evidence.npz"), "-o", str(d / "merged")],
+        "map.evidence.npz",
+    ),
+    "sim-world": (lambda d: ["sim", "--world", str(d / "world.toml"), "--seconds", "0.2",
+                             "-o", str(d / "s2")], "world.toml"),
+    "config-check": (lambda d: ["config", "--check", str(d / "config.toml")], "config.toml"),
+    "fleet-spec": (lambda d: ["fleet", "--fleet", str(d / "fleet.toml"), "-o", str(d / "f")], "fleet.toml"),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("how", DAMAGES)
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_a_damaged_input_ends_in_one_line(base, tmp_path, capsys, name, how):
+    build, target = CASES[name]
+    d = tmp_path / "d"
+    shutil.copytree(base, d)
+    damage(d / target, how)
+    capsys.readouterr()
+    rc = main(build(d))
+    err = capsys.readouterr().err
+    lines = [ln for ln in err.splitlines() if ln.strip() and "warning" not in ln.lower()]
+    assert "Traceback" not in err and "internal error" not in err, err
+    if name == "run-frame" or (name == "run-images-txt" and rc == 0):
+        # a damaged frame (or a listing line cut in half, naming no file) is skipped and
+        # counted; the run goes on with the others
+        assert rc == 0, err
+        counts = json.loads((d / "out" / "summary.json").read_text())["counts"]
+        assert counts["skipped_unreadable"] == 1 and counts["frames_mapped"] >= 1, counts
+        return
+    if target.endswith(".toml") and _valid_toml(d / target):
+        # what is left of a TOML file may be a valid one (an empty file: every default)
+        assert rc in (0, 1), (rc, err)
+        return
+    if name == "fleet-spec" and how == "empty":
+        # an empty fleet file names no recording: the one-line error says so
+        assert rc == 1 and "recording" in err, err
+        return
+    assert rc == 1, (rc, err)
+    assert 1 <= len([ln for ln in lines if "error" in ln]) <= 1, err
