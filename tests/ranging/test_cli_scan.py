@@ -7,6 +7,7 @@ from conftest import affine_table
 from floorscan import read_scans_csv
 from floorscan.cli import main
 from floorscan.formats.image_io import read_grey, write_png
+from PIL import Image
 
 
 def make_inputs(tmp_path):
@@ -77,7 +78,6 @@ def test_overlay_command_draws_on_the_image(tmp_path):
         )
         == 0
     )
-    from PIL import Image
 
     rgb = np.asarray(Image.open(out))
     assert rgb.shape == (48, 64, 3)
@@ -114,3 +114,24 @@ def test_bad_inputs_exit_with_a_message(tmp_path, capsys):
     )
     assert rc == 1
     assert read_grey(paths[0]).shape == (48, 64)
+
+
+def test_a_truncated_image_is_an_error_unless_lenient(tmp_path, capsys):
+    """A JPEG cut short: `scan` refuses it in one line; `--lenient` ranges what it holds (the
+    rows it decodes are the intact file's rows) and says so."""
+    from floorscan.formats.image_io import read_grey
+
+    rng = np.random.default_rng(4)
+    grey = (rng.random((48, 64)) * 255).astype(np.uint8)
+    Image.fromarray(grey).save(tmp_path / "whole.jpg", quality=90)
+    data = (tmp_path / "whole.jpg").read_bytes()
+    (tmp_path / "cut.jpg").write_bytes(data[: len(data) * 2 // 3])
+    affine_table(width=64, height=48).save(tmp_path / "t.json")
+    args = ["scan", "--table", str(tmp_path / "t.json"), str(tmp_path / "cut.jpg")]
+    assert main([*args, "-o", str(tmp_path / "a.csv")]) == 1
+    assert "truncated" in capsys.readouterr().err
+    assert main([*args, "-o", str(tmp_path / "b.csv"), "--lenient"]) == 0
+    assert "warning" in capsys.readouterr().err
+    whole, cut = read_grey(tmp_path / "whole.jpg"), read_grey(tmp_path / "cut.jpg", lenient=True)
+    assert cut.shape == whole.shape
+    assert np.array_equal(cut[:8], whole[:8])  # the first MCU row decoded as in the whole file

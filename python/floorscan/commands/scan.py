@@ -97,6 +97,11 @@ def register(sub) -> None:
     p.add_argument("inputs", nargs="+", help="image files and/or dataset folders")
     add_output(p, FILE, "scans CSV to write")
     add_ranger_arguments(p)
+    p.add_argument(
+        "--lenient",
+        action="store_true",
+        help="range a truncated image as far as it decodes, with a warning (default: an error)",
+    )
     p.set_defaults(run=run)
 
 
@@ -104,7 +109,10 @@ def run(args: argparse.Namespace) -> int:
     ranger = ranger_from_args(args)
     scans = []
     for t, path in image_inputs(args.inputs):
-        image = read_grey(path) if isinstance(ranger, VisualRanger) else read_rgb(path)
+        if isinstance(ranger, VisualRanger):
+            image = read_grey(path, lenient=args.lenient)
+        else:
+            image = read_rgb(path)
         scans.append(ranger.scan(image, timestamp=t))
     write_scans_csv(args.output, scans)
     n = sum(s.count()["boundary"] for s in scans)

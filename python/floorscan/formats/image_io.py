@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 import warnings
 from pathlib import Path
 
@@ -99,51 +100,70 @@ def open_image(path_or_file, what: str):
     return im
 
 
-def _decoded(im, what: str):
-    """Runs ``im.load()`` with PIL's own size checks off (ours ran on the header)."""
-    from PIL import Image
+def _decoded(im, what: str, *, lenient: bool = False):
+    """Runs ``im.load()`` with PIL's own size checks off (ours ran on the header). A file cut
+    short (a truncated JPEG or PNG) is an error; with ``lenient`` what it holds is decoded
+    (the rest grey) and a one-line warning says so."""
+    from PIL import Image, ImageFile
 
     old = Image.MAX_IMAGE_PIXELS
     Image.MAX_IMAGE_PIXELS = None
     try:
         im.load()
     except (OSError, SyntaxError, ValueError, MemoryError) as e:
-        raise ImageError(f"cannot decode image {what}: {e}") from None
+        if not (lenient and "truncated" in str(e)):
+            raise ImageError(f"cannot decode image {what}: {e}") from None
+        old_truncated = ImageFile.LOAD_TRUNCATED_IMAGES
+        ImageFile.LOAD_TRUNCATED_IMAGES = True
+        try:
+            im.load()
+        except (OSError, SyntaxError, ValueError, MemoryError) as e2:
+            raise ImageError(f"cannot decode image {what}: {e2}") from None
+        finally:
+            ImageFile.LOAD_TRUNCATED_IMAGES = old_truncated
+        print(
+            f"floorscan: warning: {what} is truncated ({e}): ranged as far as it decodes",
+            file=sys.stderr,
+        )
     finally:
         Image.MAX_IMAGE_PIXELS = old
     return im
 
 
-def read_grey(path: PathLike) -> np.ndarray:
+def read_grey(path: PathLike, *, lenient: bool = False) -> np.ndarray:
     """Reads an image file (PNG, JPEG, ... 8 or 16 bit) as a (H, W) uint8 or uint16 array.
     Images larger than ``max_image_pixels`` are refused unread (ImageError). PNG files are
-    decoded in Rust (:mod:`floorscan.formats.png`, the same pixels), the rest by Pillow."""
+    decoded in Rust (:mod:`floorscan.formats.png`, the same pixels), the rest by Pillow. A
+    truncated file is an ImageError, or with ``lenient`` decoded as far as it goes (a warning
+    on stderr)."""
     try:
         with open(path, "rb") as f:
             if os.fstat(f.fileno()).st_size > max_png_file_bytes(_max_image_pixels):
-                return _read_grey_pillow(path)  # reads the header first, the rest lazily
+                return _read_grey_pillow(path, lenient)  # the header first, the rest lazily
             data = f.read()
     except FileNotFoundError:
         raise ImageError(f"image file not found: {path}") from None
     except OSError as e:
         raise ImageError(f"cannot read image {path}: {e.strerror or e}") from None
     if not is_png(data):
-        return _read_grey_pillow(path)
+        return _read_grey_pillow(path, lenient)
     try:
         return png_to_grey(data, max_pixels=_max_image_pixels)
     except ImageTooLargeError as e:
         raise ImageTooLargeError(f"{path}: {e} ([limits] max_image_pixels)") from None
     except ImageError as e:
+        if lenient:
+            return _read_grey_pillow(path, lenient)
         raise ImageError(f"cannot read image {path}: {e}") from None
 
 
-def _read_grey_pillow(path: PathLike) -> np.ndarray:
+def _read_grey_pillow(path: PathLike, lenient: bool = False) -> np.ndarray:
     """:func:`read_grey` through Pillow (every format Pillow reads)."""
     from PIL import UnidentifiedImageError
 
     try:
         with open_image(path, str(path)) as im:
-            _decoded(im, str(path))
+            _decoded(im, str(path), lenient=lenient)
             if im.mode in ("I;16", "I;16B", "I;16L", "I"):
                 arr = np.asarray(im)
                 return np.clip(arr, 0, 65535).astype(np.uint16) if arr.dtype != np.uint16 else arr
