@@ -56,6 +56,22 @@ def base(tmp_path_factory) -> Path:
     )
     (d / "log.gz").write_bytes(gzip.compress(lines.encode()))
     shutil.copy(Path(__file__).resolve().parents[1] / "bench/worlds/study.toml", d / "world.toml")
+    # a ROS 2 bag of the dataset's frames, and a video of them (what `run` also reads)
+    from floorscan.formats.dataset import read_images_txt
+    from floorscan.formats.image_io import read_grey
+    from floorscan.formats.rosbag import rosbags_installed, write_image_odometry_bag
+    from floorscan.formats.trajectory import read_tum
+
+    frames = [(e.timestamp, read_grey(e.path)) for e in read_images_txt(d / "room")]
+    if rosbags_installed():
+        write_image_odometry_bag(d / "bag", frames, read_tum(d / "room" / "odometry.txt"))
+    import cv2
+
+    h, w = frames[0][1].shape
+    video = cv2.VideoWriter(str(d / "video.avi"), cv2.VideoWriter_fourcc(*"MJPG"), 10.0, (w, h))
+    for _, g in frames * 3:
+        video.write(cv2.cvtColor(g, cv2.COLOR_GRAY2BGR))
+    video.release()
     (d / "fleet.toml").write_text(
         f'table = "{d / "table.json"}"\n[[recording]]\ninput = "{d / "room"}"\n'
     )
@@ -118,6 +134,12 @@ CASES = {
                              "-o", str(d / "s2")], "world.toml"),
     "config-check": (lambda d: ["config", "--check", str(d / "config.toml")], "config.toml"),
     "fleet-spec": (lambda d: ["fleet", "--fleet", str(d / "fleet.toml"), "-o", str(d / "f")], "fleet.toml"),
+    "run-bag-metadata": (lambda d: ["run", str(d / "bag"), "--table", str(d / "table.json"),
+                                    "-o", str(d / "out")], "bag/metadata.yaml"),
+    "run-bag-storage": (lambda d: ["run", str(d / "bag"), "--table", str(d / "table.json"),
+                                   "-o", str(d / "out")], "bag/storage"),
+    "run-video": (lambda d: ["run", str(d / "video.avi"), "--table", str(d / "table.json"),
+                             "-o", str(d / "out")], "video.avi"),
 }  # fmt: skip
 
 
@@ -125,14 +147,25 @@ CASES = {
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_a_damaged_input_ends_in_one_line(base, tmp_path, capsys, name, how):
     build, target = CASES[name]
+    if name.startswith("run-bag") and not (base / "bag").is_dir():
+        pytest.skip("rosbags is not installed: no bag to damage")
     d = tmp_path / "d"
     shutil.copytree(base, d)
+    if target == "bag/storage":  # the storage file's name (and kind) is the writer's
+        target = str(
+            next(p for p in (d / "bag").iterdir() if p.name != "metadata.yaml").relative_to(d)
+        )
     damage(d / target, how)
     capsys.readouterr()
     rc = main(build(d))
     err = capsys.readouterr().err
     lines = [ln for ln in err.splitlines() if ln.strip() and "warning" not in ln.lower()]
     assert "Traceback" not in err and "internal error" not in err, err
+    if name == "run-video" and how == "truncated" and rc == 0:
+        # a video cut short plays the frames before the cut: they are mapped
+        counts = json.loads((d / "out" / "summary.json").read_text())["counts"]
+        assert counts["frames_mapped"] >= 1, counts
+        return
     if name == "run-frame" or (name == "run-images-txt" and rc == 0):
         # a damaged frame (or a listing line cut in half, naming no file) is skipped and
         # counted; the run goes on with the others
