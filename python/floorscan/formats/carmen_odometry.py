@@ -28,12 +28,7 @@ import numpy as np
 
 from ..errors import DatasetError
 from .carmen import CarmenLog, OdometryReading, Pose
-from .trajectory import compose
-
-
-def _inverse(p: Pose) -> Pose:
-    c, s = math.cos(p[2]), math.sin(p[2])
-    return (-c * p[0] - s * p[1], s * p[0] - c * p[1], -p[2])
+from .trajectory import compose, inverse
 
 
 @dataclass(frozen=True)
@@ -69,7 +64,7 @@ def log_odometry(log: CarmenLog) -> LogOdometry:
             after[current].append(log.odometry[index])
     anchored = [bool(a) and a[0].timestamp == 0.0 for a in after]
     rebuilt = any(anchored)
-    offsets = [compose(_inverse(r.robot_pose), r.laser_pose) for r in log.lasers]
+    offsets = [compose(inverse(r.robot_pose), r.laser_pose) for r in log.lasers]
     if not rebuilt:
         robot = np.array([r.robot_pose for r in log.lasers], np.float64)
         return LogOdometry(robot, _laser_poses(robot, offsets), False, 0)
@@ -80,7 +75,7 @@ def log_odometry(log: CarmenLog) -> LogOdometry:
         segment = after[k]
         raw = [o for o in segment if o.timestamp != 0.0]
         if anchored[k] and raw:
-            motion = compose(_inverse(segment[0].pose), raw[-1].pose)
+            motion = compose(inverse(segment[0].pose), raw[-1].pose)
             velocity = (raw[-1].tv, raw[-1].rv)
         else:
             # No odometry between the two scans: the last velocities over the time between.

@@ -29,6 +29,13 @@ def compose(a, b) -> Tuple[float, float, float]:
     return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
 
 
+def inverse(p) -> Tuple[float, float, float]:
+    """The inverse of the planar transform ``p`` (x [m], y [m], yaw [rad]): ``compose(p,
+    inverse(p))`` is the identity."""
+    c, s = math.cos(p[2]), math.sin(p[2])
+    return (-c * p[0] - s * p[1], s * p[0] - c * p[1], -p[2])
+
+
 def yaw_from_quaternion(qx: float, qy: float, qz: float, qw: float) -> float:
     """Yaw [rad] about +z of a quaternion, normalised first (GeometryError if near zero)."""
     norm = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)

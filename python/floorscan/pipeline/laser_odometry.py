@@ -14,9 +14,9 @@ import numpy as np
 
 from ..formats.carmen import CarmenLog, LaserReading
 from ..formats.carmen_odometry import log_odometry
-from ..formats.trajectory import compose
+from ..formats.trajectory import compose, inverse
 from .config import Config
-from .pose_correction import PoseCorrection, inverse
+from .pose_correction import PoseCorrection
 
 
 def beam_ends_robot(reading: LaserReading, range_max_m: float, range_min_m: float) -> np.ndarray:

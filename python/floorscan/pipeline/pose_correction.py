@@ -30,17 +30,11 @@ from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
-from ..formats.trajectory import Trajectory, compose
+from ..formats.trajectory import Trajectory, compose, inverse  # noqa: F401 (inverse re-exported)
 from ..mapping.scan_matcher import ScanMatcher, ScanMatcherOptions, boundary_points_robot
 from ..ranging.scan import Scan
 
 PoseTuple = Tuple[float, float, float]
-
-
-def inverse(p) -> PoseTuple:
-    """The inverse of the planar transform ``p`` (x [m], y [m], yaw [rad])."""
-    c, s = math.cos(p[2]), math.sin(p[2])
-    return (-c * p[0] - s * p[1], s * p[0] - c * p[1], -p[2])
 
 
 @dataclass
