@@ -23,7 +23,7 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install -q --upgrade pip
 	$(PY) -m pip install -q "maturin>=1.5,<2" "numpy>=1.21" "pillow>=9" "opencv-python-headless>=4.5" "pyyaml>=5.1" "tomlkit>=0.11" "tqdm>=4.60" "matplotlib>=3.5" \
 	    "pytest>=7" "hypothesis>=6" "rosbags>=0.9" "ray>=2.9" "eclipse-zenoh>=1.0,<2" \
-	    "foxglove-sdk>=0.30,<1" "websockets>=12" "protobuf>=4" ruff
+	    "foxglove-sdk>=0.30,<1" "websockets>=12" "protobuf>=4" "gtsam>=4.2" ruff
 	touch $@
 
 deps: $(STAMP)

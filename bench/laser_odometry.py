@@ -1,7 +1,8 @@
 """Real laser logs mapped from their raw odometry (`floorscan map-log --poses odometry`) against
 the map at the poses the log's SLAM run wrote: the share of the cells that map knows (free or
 occupied) classified alike, and occupied precision / recall within one cell, for dead reckoning
-(`[slam] mode = "off"`) and for local scan matching (the default `[slam]`).
+(`[slam] mode = "off"`), local scan matching (`"local"`, the camera runs' default) and loop
+closure over a pose graph (`"graph"`, map-log's default; needs GTSAM).
 
     .venv/bin/python bench/laser_odometry.py ../shared/data/carmen/intel-corrected.log.gz
 """
@@ -55,15 +56,21 @@ def main() -> None:
         truth = np.array([r.laser_pose for r in log.lasers])
         for name, c in (
             ("dead reckoning", cfg.with_overrides({"slam.mode": "off"})),
-            ("local matching", cfg),
+            ("local matching", cfg.with_overrides({"slam.mode": "local"})),
+            ("pose graph", cfg.with_overrides({"slam.mode": "graph"})),
         ):
             t0 = time.perf_counter()
-            lasers, _ = lasers_at_odometry(log, c, range_max_m=MAX_RANGE_M, range_min_m=MIN_RANGE_M)
+            lasers, summary = lasers_at_odometry(
+                log, c, range_max_m=MAX_RANGE_M, range_min_m=MIN_RANGE_M
+            )
             seconds = time.perf_counter() - t0
             end = np.array(lasers[-1].laser_pose) - truth[-1]
             agree, precision, recall = compare(build(cfg, lasers), reference)
+            loops = (
+                f", {summary['loop_closures']} loop closures" if "loop_closures" in summary else ""
+            )
             print(
-                f"{path}: {name}: agreement {100 * agree:.1f} %, occupied precision "
+                f"{path}: {name}{loops}: agreement {100 * agree:.1f} %, occupied precision "
                 f"{100 * precision:.1f} % / recall {100 * recall:.1f} %; final pose "
                 f"{math.hypot(end[0], end[1]):.2f} m / "
                 f"{math.degrees(math.remainder(end[2], 2 * math.pi)):.1f} deg off; "

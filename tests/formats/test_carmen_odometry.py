@@ -43,17 +43,19 @@ def path(n, rng):
     return poses, between
 
 
-def test_a_corrected_log_gives_back_the_dead_reckoned_path():
+@pytest.mark.parametrize("anchor_t", [0.0, 1.08499e-42, 1.13])
+def test_a_corrected_log_gives_back_the_dead_reckoned_path(anchor_t):
+    # an anchor's timestamp 0 is written as garbage in part of the Intel log
     rng = np.random.default_rng(3)
     raw, between = path(30, rng)
     # A SLAM run's corrected poses: the raw path bent by a slowly growing correction.
     corrected = [compose((0.02 * k, -0.01 * k, 0.005 * k), p) for k, p in enumerate(raw)]
     # The log starts where the corrected path starts.
     start = compose(corrected[0], inverse(raw[0]))
-    lines, t = [], 0.0
+    lines, t = [], 100.0  # (a log's clock: the garbage 1.13 lies well before every scan)
     for k, c in enumerate(corrected):
         lines.append(flaser(c, c, t))
-        lines.append(odom(c, 0.0))  # the anchor
+        lines.append(odom(c, anchor_t))  # the anchor
         if k < len(between):
             to_anchor = compose(c, inverse(raw[k]))  # raw frame moved to start at the anchor
             for p in between[k]:

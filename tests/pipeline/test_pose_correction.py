@@ -121,13 +121,21 @@ def test_the_slam_table_is_the_rust_options_and_bad_keys_name_themselves():
     assert cfg.slam.matcher.size_m == Config().slam.matcher.size_m  # the rest: defaults
     assert Config().slam.mode == "local"
     for text, key in (
-        ('[slam]\nmode = "graph"\n', "slam.mode"),
+        ('[slam]\nmode = "loops"\n', "slam.mode"),
+        ("[slam.graph]\nloop_candidates = 0\n", "slam.graph"),
         ("[slam]\nspeed = 1\n", "slam.speed"),
         ("[slam.matcher]\nsize_m = 1.0\n", "slam.matcher"),
     ):
         with pytest.raises(ConfigError, match=key.replace(".", r"\.")):
             Config.from_toml(text)
     assert "slam.mode" in Config().to_toml() or "[slam]" in Config().to_toml()
+
+
+def test_camera_runs_refuse_the_graph_mode_in_one_line():
+    cfg = Config.from_toml('[slam]\nmode = "graph"\n')
+    assert cfg.slam.mode == "graph"  # a valid mode: map-log's
+    with pytest.raises(ConfigError, match="map-log"):
+        Mapper(camera_table(), cfg)
 
 
 @pytest.fixture(scope="module")

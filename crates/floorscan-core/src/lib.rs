@@ -33,8 +33,8 @@ mod test_rng;
 pub use geometry::{ground_table, ground_table_inverse, lens, mount, pose};
 pub use mapping::{
     branchless, evidence, grid, grid_options, hit_map, inserter, laser, local_map, log_odds,
-    match_information, queries, ray_update, raycast, scan_matcher, scan_matcher_options,
-    slam_options, sonar, thin_walk,
+    match_information, pose_graph_options, queries, ray_update, raycast, scan_matcher,
+    scan_matcher_options, slam_options, sonar, thin_walk,
 };
 pub use navigation::{
     avoidance_map, avoidance_map_options, costmap_options, drive_map_options, dwa_options,
@@ -71,6 +71,7 @@ pub use log_odds::{Evidence, LogOdds};
 pub use mount::CameraMount;
 pub use parallax_options::ParallaxOptions;
 pub use pose::{Point2, Pose2};
+pub use pose_graph_options::PoseGraphOptions;
 pub use ranger::VisualRanger;
 pub use ranger_options::{ColumnSelection, ColumnStart, RangerOptions};
 pub use ray_update::{Ray, UpdateStats};

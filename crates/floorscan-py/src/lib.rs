@@ -29,7 +29,8 @@ use drive::{
 };
 use formats::{gif, png, read_ahead};
 use mapping::{
-    evidence, grid, grid_options, grid_views, inserter, local_map, log_odds, slam_options,
+    evidence, grid, grid_options, grid_views, inserter, local_map, log_odds, pose_graph_options,
+    slam_options,
 };
 use ranging::{
     appearance, appearance_options, floor_parallax, fusion_options, ground_table, parallax_options,
@@ -142,7 +143,16 @@ mod _native {
             occupancy_classes, probabilities_from_units, units_from_probabilities,
         };
         #[pymodule_export]
+        use crate::pose_graph_options::{
+            check_pose_graph_options, default_pose_graph_options, pose_graph_options_schema,
+        };
+        #[pymodule_export]
         use crate::slam_options::{check_slam_options, default_slam_options, slam_options_schema};
+
+        /// How far [m] the pose graph's rolling submap field may be used from where it was built
+        /// (`floorscan_core::pose_graph_options::FIELD_REUSE_M`).
+        #[pymodule_export]
+        const FIELD_REUSE_M: f64 = floorscan_core::pose_graph_options::FIELD_REUSE_M;
 
         /// Stored log-odds units per nat (`floorscan_core::log_odds::UNITS_PER_NAT`).
         #[pymodule_export]

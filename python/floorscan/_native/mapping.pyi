@@ -6,6 +6,12 @@ from .ranging import Scan
 from _typeshed import Incomplete, SupportsGetItem, SupportsLenAndGetItem
 from typing import Any, Final, SupportsFloat, SupportsIndex, final
 
+FIELD_REUSE_M: Final[float]
+"""
+How far [m] the pose graph's rolling submap field may be used from where it was built
+(`floorscan_core::pose_graph_options::FIELD_REUSE_M`).
+"""
+
 MAX_ABS_UNITS: Final[int]
 """
 Largest stored log-odds magnitude (`floorscan_core::log_odds::MAX_ABS_UNITS`).
@@ -134,6 +140,11 @@ def check_local_map_options(options: Any) -> Any:
     Reads `LocalMapOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
+def check_pose_graph_options(options: Any) -> Any:
+    """
+    Reads `PoseGraphOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def check_slam_options(options: Any) -> Any:
     """
     Reads `SlamOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
@@ -152,6 +163,11 @@ def default_inserter_options() -> Any:
 def default_local_map_options() -> Any:
     """
     The default `LocalMapOptions` (its serde form, a dict).
+    """
+
+def default_pose_graph_options() -> Any:
+    """
+    The default `PoseGraphOptions` (its serde form, a dict).
     """
 
 def default_slam_options() -> Any:
@@ -185,6 +201,11 @@ def occupancy_classes() -> list[tuple[str, int]]:
     """
     Every occupancy class as (name, code), in code order (`floorscan.Occupancy` is built from
     it).
+    """
+
+def pose_graph_options_schema() -> Any:
+    """
+    The JSON schema of `PoseGraphOptions`: field docs, types, defaults.
     """
 
 def probabilities_from_units(units: Incomplete) -> Incomplete:

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..errors import DatasetError
 from ..formats.carmen import LaserReading, read_carmen
+from ..mapping import pose_graph
 from ..mapping.grid import OccupancyGrid
 from ..pipeline.config import Config
 from ..pipeline.laser_odometry import lasers_at_odometry
@@ -104,13 +105,24 @@ def register(sub) -> None:
         default="log",
         help="where each scan is inserted: 'log' (the pose its line carries: a corrected log's "
         "SLAM poses, a raw log's odometry) or 'odometry' (the robot's raw odometry, rebuilt from "
-        "a corrected log's ODOM lines, then each scan matched against those before it as "
-        "[slam] says: docs/slam.md) (default %(default)s)",
+        "a corrected log's ODOM lines, then corrected as --slam says: docs/slam.md) "
+        "(default %(default)s)",
+    )
+    p.add_argument(
+        "--slam",
+        choices=["graph", "local", "off"],
+        default="graph",
+        help="with --poses odometry: 'graph' (scans matched against a rolling submap, loop "
+        "closures, a pose graph optimised by GTSAM: pip install 'floorscan[slam]'; local "
+        "matching, with a warning, where GTSAM is not installed), 'local' (each scan matched "
+        "against those before it, the camera runs' [slam] local mode) or 'off' (dead "
+        "reckoning); the config's [slam.graph] and [slam.matcher] tune them "
+        "(default %(default)s)",
     )
     p.add_argument(
         "--config",
-        help="configuration TOML (its [grid], [sensors.laser] and, with --poses odometry, [slam] "
-        "tables)",
+        help="configuration TOML (its [grid], [sensors.laser] and, with --poses odometry, "
+        "[slam.graph] and [slam.matcher] tables)",
     )
     p.set_defaults(run=run)
 
@@ -168,7 +180,15 @@ def map_lasers(
 
 def _describe(summary) -> str:
     text = f"odometry {summary['odometry']}"
-    if summary["slam"] == "local":
+    if summary["slam"] == "graph":
+        text += (
+            f"; pose graph: {summary['keyframes']} keyframes, {summary['loop_closures']} loop "
+            f"closures, {summary['frames_matched']} of "
+            f"{summary['frames_matched'] + summary['frames_not_matched']} scans matched to the "
+            f"submap, final correction {summary['final_correction_m']:.2f} m / "
+            f"{math.degrees(summary['final_correction_rad']):.1f} deg"
+        )
+    elif summary["slam"] == "local":
         text += (
             f"; scan matching: {summary['frames_matched']} of "
             f"{summary['frames_matched'] + summary['frames_not_matched']} scans matched, "
@@ -207,6 +227,15 @@ def run(args: argparse.Namespace) -> int:
     grid = OccupancyGrid(**grid_kwargs(cfg))
     lasers = log.lasers
     if args.poses == "odometry":
+        slam = args.slam
+        if slam == "graph" and not pose_graph.AVAILABLE:
+            print(
+                "floorscan map-log: warning: no loop closure (GTSAM is not installed: "
+                f"{pose_graph.INSTALL_HINT}); local scan matching instead",
+                file=sys.stderr,
+            )
+            slam = "local"
+        cfg = cfg.with_overrides({"slam.mode": slam})
         lasers, summary = lasers_at_odometry(
             log, cfg, range_max_m=args.max_range, range_min_m=args.min_range
         )

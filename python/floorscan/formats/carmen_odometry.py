@@ -7,7 +7,11 @@ Two kinds of log:
   (``FLASER``'s ``odom_*``, ``ROBOTLASER1``'s ``robot_*``) is the odometry at that scan.
 - **Corrected logs** (written by a SLAM run, as Radish's ``*-corrected`` logs and
   ``../shared/data/carmen``): each laser line carries the corrected pose and is followed by an
-  ``ODOM`` line with timestamp 0 at that pose (an *anchor*); the ``ODOM`` lines after it go on
+  ``ODOM`` line with timestamp 0 at that pose (an *anchor*; the Intel log's last 70 scans
+  write that 0 as garbage, a denormal such as ``1.08499e-42`` or a value such as ``1.13``: an
+  anchor is the first ``ODOM`` line after a laser line whose timestamp is below
+  :data:`ANCHOR_TIMESTAMP_S`, or which repeats the laser line's pose with a timestamp more than
+  :data:`ANCHOR_LAG_S` before the scan's); the ``ODOM`` lines after it go on
   with raw odometry, moved so that it starts at the anchor. Odometry's own motion from scan k to
   scan k + 1 is therefore ``inverse(anchor_k) * last ODOM before scan k + 1``, and chaining those
   motions from the first scan's pose rebuilds the dead-reckoned path. Where no ``ODOM`` line
@@ -29,6 +33,24 @@ import numpy as np
 from ..errors import DatasetError
 from .carmen import CarmenLog, OdometryReading, Pose
 from .trajectory import compose, inverse
+
+ANCHOR_TIMESTAMP_S = 1e-9
+"""An ``ODOM`` line's timestamp below this [s] marks an anchor (0, or a denormal written for
+it); a recorded timestamp counts seconds and is never this small."""
+ANCHOR_LAG_S = 1.0
+"""An ``ODOM`` line at the scan's pose stamped this much [s] before the scan is an anchor
+with a garbage timestamp (odometry recorded after a scan is not stamped before it)."""
+
+
+def _is_anchor(o: OdometryReading, laser) -> bool:
+    """Whether ``o``, the first ``ODOM`` line after ``laser``'s line, is its anchor."""
+    if abs(o.timestamp) < ANCHOR_TIMESTAMP_S:
+        return True
+    at_scan = any(
+        all(abs(a - b) <= 1e-6 for a, b in zip(o.pose, pose))
+        for pose in (laser.robot_pose, laser.laser_pose)
+    )
+    return at_scan and o.timestamp < laser.timestamp - ANCHOR_LAG_S
 
 
 @dataclass(frozen=True)
@@ -62,7 +84,7 @@ def log_odometry(log: CarmenLog) -> LogOdometry:
             current = index
         elif current is not None:
             after[current].append(log.odometry[index])
-    anchored = [bool(a) and a[0].timestamp == 0.0 for a in after]
+    anchored = [bool(a) and _is_anchor(a[0], r) for a, r in zip(after, log.lasers)]
     rebuilt = any(anchored)
     offsets = [compose(inverse(r.robot_pose), r.laser_pose) for r in log.lasers]
     if not rebuilt:
@@ -73,7 +95,7 @@ def log_odometry(log: CarmenLog) -> LogOdometry:
     extrapolated = 0
     for k in range(len(log.lasers) - 1):
         segment = after[k]
-        raw = [o for o in segment if o.timestamp != 0.0]
+        raw = segment[1:] if anchored[k] else segment
         if anchored[k] and raw:
             motion = compose(inverse(segment[0].pose), raw[-1].pose)
             velocity = (raw[-1].tv, raw[-1].rv)

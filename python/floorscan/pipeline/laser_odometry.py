@@ -1,6 +1,7 @@
 """A laser log mapped the way its robot met it: from raw odometry
-(:func:`~floorscan.formats.carmen_odometry.log_odometry`), each scan matched against the scans
-before it when ``[slam]`` is in local mode (the same matcher and filter as camera runs,
+(:func:`~floorscan.formats.carmen_odometry.log_odometry`), with loop closure over a pose graph
+when ``[slam]`` is in graph mode (:class:`~floorscan.pipeline.graph_slam.GraphSlam`), each scan
+matched against the scans before it in local mode (the same matcher and filter as camera runs,
 :class:`~floorscan.pipeline.pose_correction.PoseCorrection`), or dead reckoning with ``mode =
 "off"``. ``floorscan map-log --poses odometry`` uses it."""
 
@@ -16,6 +17,7 @@ from ..formats.carmen import CarmenLog, LaserReading
 from ..formats.carmen_odometry import log_odometry
 from ..formats.trajectory import compose, inverse
 from .config import Config
+from .graph_slam import GraphSlam
 from .pose_correction import PoseCorrection
 
 
@@ -35,7 +37,8 @@ def lasers_at_odometry(
     log: CarmenLog, cfg: Config, *, range_max_m: float, range_min_m: float
 ) -> Tuple[List[LaserReading], Dict[str, object]]:
     """The log's laser readings with their laser poses replaced by odometry's (matched when
-    ``cfg.slam.mode`` is ``local``), and a summary: how odometry was found, frames matched,
+    ``cfg.slam.mode`` is ``local``; optimised over a pose graph when it is ``graph``), and a
+    summary: how odometry was found, frames matched,
     the final correction."""
     odometry = log_odometry(log)
     summary: Dict[str, object] = {
@@ -44,7 +47,18 @@ def lasers_at_odometry(
         "slam": cfg.slam.mode,
     }
     robot = odometry.robot_poses
-    if cfg.slam.mode == "local":
+    if cfg.slam.mode == "graph":
+        options = cfg.slam.options()["graph"]
+        slam = GraphSlam(options)
+        reach = min(range_max_m, slam.options.range_max_m)
+        for r, p in zip(log.lasers, odometry.robot_poses):
+            slam.add(beam_ends_robot(r, reach, range_min_m), tuple(p))
+        robot = slam.finish()
+        end = compose(tuple(robot[-1]), inverse(tuple(odometry.robot_poses[-1])))
+        summary.update(slam.summary())
+        summary["final_correction_m"] = math.hypot(end[0], end[1])
+        summary["final_correction_rad"] = math.remainder(end[2], 2 * math.pi)
+    elif cfg.slam.mode == "local":
         correction = PoseCorrection(cfg.slam.options()["matcher"])
         # The matcher's reach, as a camera's scan has it (its points beyond are not matched).
         reach = min(range_max_m, correction.options.range_max_m)

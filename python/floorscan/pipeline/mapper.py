@@ -138,6 +138,11 @@ class Mapper:
         self.local_map = LocalMap(**local_map_kwargs(cfg))
         self.parallax: Optional[ParallaxRanger] = parallax_for(self.ranger, cfg)
         self.slam: Optional[PoseCorrection] = None
+        if cfg.slam.mode == "graph":
+            raise ConfigError(
+                "[slam] mode = 'graph' is floorscan map-log's (laser logs) so far: camera runs "
+                "take 'local' or 'off'"
+            )
         if cfg.slam.mode == "local":
             self.slam = PoseCorrection(
                 cfg.slam.options()["matcher"], robot_from_camera=self.robot_from_camera

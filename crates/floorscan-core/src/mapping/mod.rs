@@ -12,6 +12,7 @@ pub mod laser;
 pub mod local_map;
 pub mod log_odds;
 pub mod match_information;
+pub mod pose_graph_options;
 pub mod queries;
 pub mod ray_update;
 pub mod raycast;

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::pose_graph_options::PoseGraphOptions;
 use crate::scan_matcher_options::ScanMatcherOptions;
 
 /// How the pipeline places each scan.
@@ -18,6 +19,9 @@ pub enum SlamMode {
     /// odometry is given).
     #[default]
     Local,
+    /// Keyframes matched against a rolling submap, loop closures, and a pose graph optimised
+    /// over both (`floorscan map-log`, for a laser's scans; `[slam.graph]`).
+    Graph,
 }
 
 /// Options of the pipeline's pose correction.
@@ -26,22 +30,29 @@ pub enum SlamMode {
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct SlamOptions {
     /// `"local"` (default): local scan matching where odometry is given; `"off"`: odometry
-    /// poses as they are.
+    /// poses as they are; `"graph"`: loop closure over a pose graph (`floorscan map-log`
+    /// only so far, where it is that command's default).
     pub mode: SlamMode,
     /// The scan matcher and its odometry filter.
     pub matcher: ScanMatcherOptions,
+    /// The pose graph (`mode = "graph"`).
+    pub graph: PoseGraphOptions,
 }
 
 impl SlamOptions {
     /// The matcher's rules; an error names the field as `matcher: field`.
     pub fn validate(&self) -> Result<()> {
-        self.matcher.validate().map_err(|e| match e {
-            Error::InvalidOption { name, reason } => Error::InvalidOption {
-                name: "matcher",
-                reason: format!("{name}: {reason}"),
-            },
-            other => other,
-        })
+        let nest = |table: &'static str| {
+            move |e| match e {
+                Error::InvalidOption { name, reason } => Error::InvalidOption {
+                    name: table,
+                    reason: format!("{name}: {reason}"),
+                },
+                other => other,
+            }
+        };
+        self.matcher.validate().map_err(nest("matcher"))?;
+        self.graph.validate().map_err(nest("graph"))
     }
 }
 

@@ -8,4 +8,5 @@ pub mod grid_views;
 pub mod inserter;
 pub mod local_map;
 pub mod log_odds;
+pub mod pose_graph_options;
 pub mod slam_options;

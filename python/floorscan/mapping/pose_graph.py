@@ -1,0 +1,183 @@
+"""A 2-D pose graph: keyframe poses joined by sequential edges (the local trajectory between
+consecutive keyframes) and loop closures (a keyframe matched against keyframes it passes
+again), optimised by GTSAM's Levenberg-Marquardt (Dellaert and Kaess; the solver
+slam_toolbox's peers use), a Cauchy loss on the loop closures so that a wrong one weighs little
+once the rest disagree with it.
+
+GTSAM is an optional dependency (``pip install 'floorscan[slam]'``): :data:`AVAILABLE` says
+whether it is installed; building a :class:`PoseGraph` without it raises
+:class:`~floorscan.ConfigError` with the line that installs it. Chosen by a side-by-side on
+the graph of the Freiburg 079 log (1528 keyframes, 2192 edges, 665 loop closures; the same
+cost function): GTSAM 0.09 s, SciPy's sparse trust-region least squares 1.18 s to the same
+cost (BENCHMARKS.md, "Pose graph solvers").
+
+Options: the Rust ``PoseGraphOptions`` (``[slam.graph]``; defaults, docs and rules in
+``crates/floorscan-core/src/mapping/pose_graph_options.rs``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import List, Sequence, Tuple
+
+import numpy as np
+
+from .._native.mapping import FIELD_REUSE_M
+from ..errors import ConfigError
+from ..options import OptionsObject
+
+try:
+    import gtsam
+except ImportError:  # the optional extra is not installed
+    gtsam = None
+
+AVAILABLE = gtsam is not None
+"""Whether GTSAM is installed (loop closure over a pose graph needs it)."""
+
+INSTALL_HINT = "pip install 'floorscan[slam]' (GTSAM)"
+
+PoseTuple = Tuple[float, float, float]
+Edge = Tuple[int, int, PoseTuple, PoseTuple, bool]
+
+
+class PoseGraphOptions(OptionsObject, kind="pose_graph"):
+    """The pose graph's options: the Rust ``PoseGraphOptions`` (``[slam.graph]``).
+
+    >>> PoseGraphOptions(loop_min_score=0.6).loop_min_score, PoseGraphOptions().loop_candidates
+    (0.6, 2)
+    """
+
+    def field_half_side_m(self) -> float:
+        """Half-side [m] of a search's likelihood field around the pose searched from (the
+        Rust ``PoseGraphOptions::field_half_side_m``, whose size rule ``validate`` applies)."""
+        return (
+            self.range_max_m
+            + max(self.search_xy_m, self.loop_search_xy_m)
+            + 3.0 * self.sigma_m
+            + FIELD_REUSE_M
+        )
+
+
+def relative(a: Sequence[float], b: Sequence[float]) -> PoseTuple:
+    """``a^-1 b`` for planar poses (x, y, yaw): b in a's frame."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    return (c * dx + s * dy, -s * dx + c * dy, math.remainder(b[2] - a[2], 2 * math.pi))
+
+
+class PoseGraph:
+    """Keyframe poses and the edges between them; :meth:`optimize` moves the poses.
+
+    The first pose is held where it is (a prior of 1 mm / 0.1 mrad): the graph's frame is the
+    first keyframe's frame, as the odometry's is.
+    """
+
+    def __init__(self, options: PoseGraphOptions) -> None:
+        if gtsam is None:
+            raise ConfigError(
+                f"[slam] mode = 'graph' needs GTSAM, which is not installed: {INSTALL_HINT}"
+            )
+        self.options = options
+        self._graph = gtsam.NonlinearFactorGraph()
+        self._values = gtsam.Values()
+        self._poses: List[PoseTuple] = []
+        self.edges: List[Edge] = []
+        """Every edge as added: (earlier, later, measured (x, y, yaw), sigmas (x, y, yaw),
+        robust): the graph in plain numbers (another solver reads it)."""
+        self.loop_closures = 0
+        o = options
+        self._loop_noise = gtsam.noiseModel.Robust.Create(
+            gtsam.noiseModel.mEstimator.Cauchy.Create(o.loop_robust_scale),
+            gtsam.noiseModel.Diagonal.Sigmas(
+                np.array([o.loop_sigma_xy_m, o.loop_sigma_xy_m, o.loop_sigma_yaw_rad])
+            ),
+        )
+
+    def __len__(self) -> int:
+        return len(self._poses)
+
+    @property
+    def poses(self) -> np.ndarray:
+        """(N, 3) the keyframes' poses (x [m], y [m], yaw [rad]) as last estimated."""
+        return np.array(self._poses, np.float64).reshape(-1, 3)
+
+    def pose(self, k: int) -> PoseTuple:
+        return self._poses[k]
+
+    def add_keyframe(self, step: Sequence[float]) -> int:
+        """Adds a keyframe ``step`` (x, y, yaw) from the last one (the local trajectory's
+        motion between them), joined to it by a sequential edge whose standard deviations grow
+        with the step; the first keyframe's ``step`` is its pose. Returns its index."""
+        step = tuple(float(v) for v in step[:3])
+        k = len(self._poses)
+        if k == 0:
+            pose = step
+            self._graph.add(
+                gtsam.PriorFactorPose2(
+                    0,
+                    gtsam.Pose2(*pose),
+                    gtsam.noiseModel.Diagonal.Sigmas(np.array([1e-3, 1e-3, 1e-4])),
+                )
+            )
+        else:
+            o = self.options
+            last = self._poses[-1]
+            c, s = math.cos(last[2]), math.sin(last[2])
+            pose = (
+                last[0] + c * step[0] - s * step[1],
+                last[1] + s * step[0] + c * step[1],
+                last[2] + step[2],
+            )
+            d = math.hypot(step[0], step[1])
+            xy = o.sequential_sigma_xy_m + o.sequential_sigma_per_m * d
+            yaw = o.sequential_sigma_yaw_rad + o.sequential_sigma_per_m * (abs(step[2]) + 0.4 * d)
+            self._graph.add(
+                gtsam.BetweenFactorPose2(
+                    k - 1,
+                    k,
+                    gtsam.Pose2(*step),
+                    gtsam.noiseModel.Diagonal.Sigmas(np.array([xy, xy, yaw])),
+                )
+            )
+            self.edges.append((k - 1, k, step, (xy, xy, yaw), False))
+        self._values.insert(k, gtsam.Pose2(*pose))
+        self._poses.append(pose)
+        return k
+
+    def add_loop_closure(self, earlier: int, later: int, measured: Sequence[float]) -> None:
+        """A loop closure: keyframe ``later`` seen at ``measured`` (x, y, yaw) in keyframe
+        ``earlier``'s frame."""
+        if not (0 <= earlier < later < len(self._poses)):
+            raise ValueError(f"loop closure {earlier} -> {later} outside 0..{len(self._poses)}")
+        self._graph.add(
+            gtsam.BetweenFactorPose2(
+                int(earlier),
+                int(later),
+                gtsam.Pose2(*[float(v) for v in measured[:3]]),
+                self._loop_noise,
+            )
+        )
+        o = self.options
+        self.edges.append(
+            (
+                int(earlier),
+                int(later),
+                tuple(float(v) for v in measured[:3]),
+                (o.loop_sigma_xy_m, o.loop_sigma_xy_m, o.loop_sigma_yaw_rad),
+                True,
+            )
+        )
+        self.loop_closures += 1
+
+    def optimize(self) -> None:
+        """Levenberg-Marquardt from the current estimate; the poses take the result."""
+        result = gtsam.LevenbergMarquardtOptimizer(self._graph, self._values).optimize()
+        self._values = result
+        self._poses = [
+            (p.x(), p.y(), p.theta()) for p in (result.atPose2(k) for k in range(len(self._poses)))
+        ]
+
+    def error(self) -> float:
+        """The graph's cost at the current estimate (half the sum of whitened squared
+        residuals, the loss applied)."""
+        return float(self._graph.error(self._values))
