@@ -12,7 +12,7 @@ from floorscan import OccupancyGrid
 from floorscan.cli import main
 from floorscan.errors import ConfigError
 from floorscan.formats.carmen import read_carmen
-from floorscan.formats.trajectory import compose
+from floorscan.formats.trajectory import compose, read_tum
 from floorscan.mapping import pose_graph
 from floorscan.pipeline.config import Config
 from floorscan.pipeline.laser_odometry import beam_ends_robot, lasers_at_odometry
@@ -156,8 +156,25 @@ def test_the_pose_graph_closes_the_loops_of_a_second_lap(tmp_path, capsys):
     # map-log's default with --poses odometry is the graph; its map matches the log's
     out, reference = tmp_path / "graph.yaml", tmp_path / "log.yaml"
     assert main(["map-log", str(log_path), "-o", str(reference)]) == 0
-    assert main(["map-log", str(log_path), "-o", str(out), "--poses", "odometry"]) == 0
+    tum = tmp_path / "graph.tum"
+    args = [
+        "map-log",
+        str(log_path),
+        "-o",
+        str(out),
+        "--poses",
+        "odometry",
+        "--trajectory",
+        str(tum),
+    ]
+    assert main(args) == 0
     assert "loop closures" in capsys.readouterr().err
+    # the trajectory file holds the poses the map was built at; the odometry beside it
+    placed, odometry = read_tum(tum), read_tum(tmp_path / "graph_odometry.tum")
+    assert len(placed) == len(odometry) == len(truth)
+    d = np.hypot(placed.x - truth[:, 0], placed.y - truth[:, 1])
+    assert np.percentile(d, 95) < 0.1
+    assert np.hypot(odometry.x[-1] - truth[-1, 0], odometry.y[-1] - truth[-1, 1]) > 1.0
     # (poses off by 2 cm / 0.3 degrees at random give about 96 % on a real log's map)
     assert agreement(OccupancyGrid.load(out), OccupancyGrid.load(reference)) > 0.92
 

@@ -13,6 +13,8 @@ import numpy as np
 
 from ..errors import DatasetError
 from ..formats.carmen import LaserReading, read_carmen
+from ..formats.carmen_odometry import log_odometry
+from ..formats.trajectory import Trajectory, compose, inverse, write_tum
 from ..mapping import pose_graph
 from ..mapping.grid import OccupancyGrid
 from ..pipeline.config import Config
@@ -120,6 +122,13 @@ def register(sub) -> None:
         "(default %(default)s)",
     )
     p.add_argument(
+        "--trajectory",
+        metavar="TUM",
+        help="also write the robot's pose at each scan as the map placed it (TUM format); with "
+        "--poses odometry, the raw odometry beside it as <name>_odometry.tum",
+    )
+    also_writes(p, "trajectory")
+    p.add_argument(
         "--config",
         help="configuration TOML (its [grid], [sensors.laser] and, with --poses odometry, "
         "[slam.graph] and [slam.matcher] tables)",
@@ -176,6 +185,22 @@ def map_lasers(
         rays += stats.rays
         cells += stats.cells_traversed
     return rays, cells, seconds
+
+
+def robot_trajectory(logged: List[LaserReading], placed: List[LaserReading]) -> Trajectory:
+    """The robot's pose at each scan where ``placed`` put its laser (``logged``: the same
+    readings as read, whose robot and laser poses give the laser's mount)."""
+    rows = []
+    for r, q in zip(logged, placed):
+        mount = compose(inverse(r.robot_pose), r.laser_pose)
+        rows.append((r.timestamp, *compose(q.laser_pose, inverse(mount))))
+    return Trajectory.from_increasing(rows)
+
+
+def odometry_path(path) -> Path:
+    """``x.tum`` -> ``x_odometry.tum``."""
+    p = Path(path)
+    return p.with_name(p.stem + "_odometry" + (p.suffix or ".tum"))
 
 
 def _describe(summary) -> str:
@@ -248,6 +273,14 @@ def run(args: argparse.Namespace) -> int:
         clear_no_return=args.no_return == "clear",
     )
     grid.save(args.output, mode=args.mode)
+    if args.trajectory:
+        write_tum(args.trajectory, robot_trajectory(log.lasers, lasers))
+        if args.poses == "odometry":
+            odometry = log_odometry(log).robot_poses
+            write_tum(
+                odometry_path(args.trajectory),
+                Trajectory.from_increasing((r.timestamp, *p) for r, p in zip(log.lasers, odometry)),
+            )
     if args.png:
         grid.to_png(args.png, scale=args.png_scale)
     e = grid.extent

@@ -108,6 +108,16 @@ class Trajectory:
         )
 
     @classmethod
+    def from_increasing(cls, stamped: Iterable[Tuple[float, float, float, float]]) -> Trajectory:
+        """As :meth:`from_poses`, leaving out each pose whose timestamp does not increase
+        on the last one kept (a log whose clock stood still)."""
+        kept: List[Tuple[float, float, float, float]] = []
+        for r in stamped:
+            if not kept or r[0] > kept[-1][0]:
+                kept.append(tuple(r))
+        return cls.from_poses(kept)
+
+    @classmethod
     def from_poses(cls, stamped: Iterable[Tuple[float, float, float, float]]) -> Trajectory:
         rows = list(stamped)
         if not rows:

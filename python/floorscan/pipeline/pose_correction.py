@@ -104,12 +104,12 @@ class PoseCorrection:
     @property
     def odometry(self) -> Trajectory:
         """The odometry poses of the frames corrected (a TUM-ready trajectory)."""
-        return _trajectory(self._odometry)
+        return Trajectory.from_increasing(self._odometry)
 
     @property
     def corrected(self) -> Trajectory:
         """The corrected poses (a TUM-ready trajectory)."""
-        return _trajectory(self._corrected)
+        return Trajectory.from_increasing(self._corrected)
 
     def summary(self) -> Dict[str, object]:
         """Counts and the final correction (``map -> odom``: metres and radians)."""
@@ -123,14 +123,3 @@ class PoseCorrection:
                 "drift_rad_per_m": self.matcher.calibration[1] if self.matcher else 0.0,
             },
         }
-
-
-def _trajectory(rows) -> Trajectory:
-    """Rows (t, x, y, yaw) as a trajectory; a frame with the timestamp of the one before it is
-    left out (a trajectory's timestamps increase strictly)."""
-    kept = []
-    for r in rows:
-        if not kept or r[0] > kept[-1][0]:
-            kept.append(r)
-    a = np.array(kept, np.float64).reshape(-1, 4)
-    return Trajectory(a[:, 0], a[:, 1], a[:, 2], a[:, 3])
