@@ -7,7 +7,8 @@ bench/motion_cue_probe.py).
     .venv/bin/python bench/parallax_worlds.py --worlds bench/worlds/office_l.toml --floor tiles
 
 Prints per world and seed: columns wrong (status, or > 10 cm), within 2 m and within 1 m of
-the camera, for the edge ranger and with the cue, and the cue's ranging time per frame.
+the camera, for the edge ranger, with the cue at its defaults, and with its memory of the
+floor's edges (`memory_min_frames = 2`), and the ranging time per frame.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ def main() -> None:
     a = ap.parse_args()
     base = Config()
     cued = base.with_overrides({"parallax.enabled": True})
+    memory = cued.with_overrides({"parallax.memory_min_frames": 2})
     for spec in a.worlds:
         world = load_world(spec, a.floor)
         for seed in a.seeds:
@@ -48,7 +50,7 @@ def main() -> None:
             run = simulate_run(world, camera=camera, seconds=a.seconds, seed=seed, threads=2)
             table, _ = calibrated_table(camera, calibration=base.calibration.kwargs())
             row = []
-            for name, cfg in (("edge", base), ("parallax", cued)):
+            for name, cfg in (("edge", base), ("parallax", cued), ("+ memory", memory)):
                 case = case_from_run(spec, run, table, cell_size_m=cfg.grid.cell_size_m)
                 r = evaluate_case(case, cfg)
                 b = r.metrics["boundary"]

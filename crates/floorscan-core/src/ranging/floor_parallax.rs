@@ -47,6 +47,16 @@ pub struct ParallaxReport {
     pub vetoes: usize,
     /// The floor's residual noise after the refined warp [grey levels]; 0 when not compared.
     pub noise_grey: f64,
+    /// Of the vetoes, those the memory of the floor's edges made (no comparison needed).
+    pub remembered: usize,
+}
+
+/// One cell of the memory of the floor's own edges: in how many frames a boundary there was
+/// found to be the floor's, and the last of them.
+#[derive(Debug, Clone, Copy)]
+struct Mark {
+    frames: u32,
+    last_frame: u64,
 }
 
 struct Frame {
@@ -75,6 +85,9 @@ pub struct FloorParallax {
     dirty: Vec<bool>,
     patch: Vec<(f64, f64, Point2)>,
     samples: Vec<[f32; 4]>,
+    /// The memory of the floor's own edges: world cells -> marks; frames seen with a pose.
+    memory: std::collections::HashMap<(i64, i64), Mark>,
+    frame_index: u64,
 }
 
 impl FloorParallax {
@@ -113,6 +126,8 @@ impl FloorParallax {
             dirty: Vec::new(),
             patch: Vec::new(),
             samples: Vec::new(),
+            memory: std::collections::HashMap::new(),
+            frame_index: 0,
             options,
             table,
             width,
@@ -128,6 +143,58 @@ impl FloorParallax {
     pub fn reset(&mut self) {
         self.frames.clear();
         self.next = 0;
+        self.memory.clear();
+    }
+
+    fn cell_of(&self, world: Point2) -> (i64, i64) {
+        let c = self.options.memory_cell_m;
+        ((world.x / c).floor() as i64, (world.y / c).floor() as i64)
+    }
+
+    /// Whether the memory holds the floor's own edge at `world`: its cell, or one of the 8
+    /// around, was marked in `memory_min_frames` different frames. (Counting different frames
+    /// over the 9 cells together let single-frame mistakes add up: 35 % of the columns within
+    /// 1 m wrong on a held-out carpet world, against 15 % this way.)
+    fn remembered(&self, world: Point2) -> bool {
+        let need = self.options.memory_min_frames;
+        if need == 0 {
+            return false;
+        }
+        let (i, j) = self.cell_of(world);
+        (-1..=1).any(|di| {
+            (-1..=1).any(|dj| {
+                self.memory
+                    .get(&(i + di, j + dj))
+                    .is_some_and(|m| m.frames >= need)
+            })
+        })
+    }
+
+    fn mark(&mut self, world: Point2) {
+        if self.options.memory_min_frames == 0 {
+            return;
+        }
+        let frame = self.frame_index;
+        let cell = self.cell_of(world);
+        let m = self.memory.entry(cell).or_insert(Mark {
+            frames: 0,
+            last_frame: u64::MAX,
+        });
+        if m.last_frame != frame {
+            m.frames = m.frames.saturating_add(1);
+            m.last_frame = frame;
+        }
+    }
+
+    /// Forgets the cells beyond `memory_radius_m` of the camera at `pose`.
+    fn forget_far(&mut self, pose: &Pose2) {
+        let r = self.options.memory_radius_m;
+        let c = self.options.memory_cell_m;
+        let o = pose.transform_point(Point2::new(0.0, 0.0));
+        self.memory.retain(|&(i, j), _| {
+            let (x, y) = ((i as f64 + 0.5) * c, (j as f64 + 0.5) * c);
+            (x - o.x).hypot(y - o.y) <= r
+        });
     }
 
     /// Ranges `image` with `ranger` into `out`, then checks its boundaries against the
@@ -156,16 +223,33 @@ impl FloorParallax {
             )));
         }
         blur_into(image, &self.kernel, &mut self.scratch, &mut self.current);
+        self.frame_index += 1;
+        self.forget_far(&pose);
         let mut report = ParallaxReport::default();
-        if let Some(i) = self.earlier_frame(&pose) {
-            let earlier = std::mem::take(&mut self.frames[i].image);
-            let rough = self.frames[i].world_from_camera.between(&pose);
-            let motion = self.refine_motion(&earlier, rough);
-            let noise = self.floor_noise(&earlier, &motion).max(MIN_NOISE_GREY);
+        let earlier_index = self.earlier_frame(&pose);
+        if earlier_index.is_some() || !self.memory.is_empty() {
+            let earlier = earlier_index
+                .map(|i| std::mem::take(&mut self.frames[i].image))
+                .unwrap_or_default();
+            let rough = earlier_index
+                .map(|i| self.frames[i].world_from_camera.between(&pose))
+                .unwrap_or(Pose2::new(0.0, 0.0, 0.0));
+            let (motion, noise) = if earlier_index.is_some() {
+                let motion = self.refine_motion(&earlier, rough);
+                let noise = self.floor_noise(&earlier, &motion).max(MIN_NOISE_GREY);
+                (motion, noise)
+            } else {
+                (rough, 0.0)
+            };
             report = ParallaxReport {
-                baseline_m: rough.translation().norm(),
+                baseline_m: if earlier_index.is_some() {
+                    rough.translation().norm()
+                } else {
+                    0.0
+                },
                 vetoes: 0,
                 noise_grey: noise,
+                remembered: 0,
             };
             // a column's test reads its own boundary and its neighbours': it is tested again
             // only when one of those moved
@@ -178,12 +262,28 @@ impl FloorParallax {
                         continue;
                     }
                     if let ColumnOutcome::Boundary { row, point, .. } = out.readings[j].outcome {
-                        let along = base_direction(out, j, point, self.options.base_line_gap_m);
-                        let u = out.readings[j].column as f64;
-                        let llr = self
-                            .log_likelihood_ratio(&earlier, &motion, noise, u, row, point, along);
+                        let world = pose.transform_point(point);
+                        // the motion decides where it can; the memory where it cannot (no
+                        // earlier frame, no texture above, the two explanations too close)
+                        let llr = if earlier_index.is_some() {
+                            let along = base_direction(out, j, point, self.options.base_line_gap_m);
+                            let u = out.readings[j].column as f64;
+                            self.log_likelihood_ratio(
+                                &earlier, &motion, noise, u, row, point, along,
+                            )
+                        } else {
+                            0.0
+                        };
                         if llr > self.options.min_log_likelihood_ratio {
                             self.restarts.push((j, row));
+                            self.mark(world);
+                        } else if llr < 0.0 {
+                            // any evidence of standing outweighs the memory, and clears it
+                            let cell = self.cell_of(world);
+                            self.memory.remove(&cell);
+                        } else if self.remembered(world) {
+                            self.restarts.push((j, row));
+                            report.remembered += 1;
                         }
                     }
                 }
@@ -199,7 +299,9 @@ impl FloorParallax {
                     }
                 }
             }
-            self.frames[i].image = earlier;
+            if let Some(i) = earlier_index {
+                self.frames[i].image = earlier;
+            }
         }
         self.keep(pose);
         Ok(report)

@@ -334,3 +334,93 @@ fn a_wall_along_the_motion_keeps_its_base() {
         boundary_x(&out)
     );
 }
+
+const STOP: f64 = 0.4;
+
+/// Frames driven forward 0.2 m apart, back one step and forward again, each compared with the
+/// one before (one kept), then one more from where the last stood (nothing far enough back to
+/// compare): (scan of that one, its report, the edge ranger's scan of it). The grout line 0.5 m
+/// ahead of the stop was found to be the floor's from there twice.
+fn drive_then_stand(options: ParallaxOptions) -> (Scan, ParallaxReport, Scan) {
+    let options = ParallaxOptions {
+        history_frames: 1,
+        ..options
+    };
+    let table = table();
+    let mut cued = ranger(&table);
+    let plain = ranger(&table).scan(&view(&render(STOP)), 2.0).unwrap();
+    let mut cue = FloorParallax::new(table, options).unwrap();
+    let mut out = Scan::default();
+    for (k, foot) in [0.0, 0.2, STOP, 0.2, STOP].into_iter().enumerate() {
+        cue.scan_into(
+            &mut cued,
+            &view(&render(foot)),
+            0.5 * k as f64,
+            Some(Pose2::new(foot, 0.0, 0.0)),
+            &mut out,
+        )
+        .unwrap();
+    }
+    let standing = Pose2::new(STOP, 0.0, 0.0);
+    let report = cue
+        .scan_into(
+            &mut cued,
+            &view(&render(STOP)),
+            2.0,
+            Some(standing),
+            &mut out,
+        )
+        .unwrap();
+    (out, report, plain)
+}
+
+#[test]
+fn the_memory_keeps_the_floors_own_edges_when_there_is_nothing_to_compare() {
+    // standing still: no earlier frame far enough back, yet the grout lines seen in two
+    // earlier frames are the floor's, and the wall's base is found above them
+    let (out, report, plain) = drive_then_stand(ParallaxOptions {
+        memory_min_frames: 2,
+        ..ParallaxOptions::default()
+    });
+    assert_eq!(report.baseline_m, 0.0, "{report:?}");
+    assert!(
+        report.remembered > 0 && report.vetoes == report.remembered,
+        "{report:?}"
+    );
+    let wall_x = WALL_X - STOP;
+    let xa = boundary_x(&out);
+    let right = xa
+        .iter()
+        .flatten()
+        .filter(|&&x| (x - wall_x).abs() < 0.03)
+        .count();
+    assert!(
+        right * 10 >= xa.len() * 8,
+        "{right} of {}: {xa:?}",
+        xa.len()
+    );
+    // the edge ranger alone stops at grout in most columns
+    let at_grout = boundary_x(&plain)
+        .iter()
+        .flatten()
+        .filter(|&&x| x < wall_x - 0.1)
+        .count();
+    assert!(at_grout * 2 > xa.len(), "{at_grout}");
+}
+
+#[test]
+fn without_the_memory_or_beyond_its_radius_standing_is_the_edge_rangers_scan() {
+    for options in [
+        ParallaxOptions::default(),
+        // every mark lies farther than 5 cm from the camera
+        ParallaxOptions {
+            memory_min_frames: 2,
+            memory_radius_m: 0.05,
+            ..ParallaxOptions::default()
+        },
+    ] {
+        let (out, report, plain) = drive_then_stand(options);
+        assert_eq!((report.vetoes, report.remembered), (0, 0));
+        assert_eq!(out.readings, plain.readings);
+    }
+}
