@@ -60,13 +60,15 @@ def true_path(n=120, laps=1):
     return out
 
 
-def write_log(path, beams=181, laps=1):
+def write_log(path, beams=181, laps=1, glitch=None):
+    """``glitch``: (scan index, radians) one odometry step turned wrong by that much."""
     truth = true_path(laps=laps)
     # Odometry's motions: the true ones with its turns 8 % too large and its distances 3 % short.
     raw = [truth[0]]
     for k in range(1, len(truth)):
         m = compose(inverse(truth[k - 1]), truth[k])
-        raw.append(compose(raw[-1], (0.97 * m[0], 0.97 * m[1], 1.08 * m[2])))
+        turn = 1.08 * m[2] + (glitch[1] if glitch and glitch[0] == k else 0.0)
+        raw.append(compose(raw[-1], (0.97 * m[0], 0.97 * m[1], turn)))
     lines = ["# synthetic corrected log"]
     for k, (x, y, th) in enumerate(truth):
         step = math.pi / (beams - 1)
@@ -198,3 +200,20 @@ def test_without_gtsam_map_log_falls_back_to_local_matching_and_says_so(
             range_max_m=40.0,
             range_min_m=0.05,
         )
+
+
+@pytest.mark.skipif(not pose_graph.AVAILABLE, reason="GTSAM is not installed (floorscan[slam])")
+def test_one_odometry_step_turned_wrong_by_50_degrees_is_caught(tmp_path):
+    # (the Seattle log has one such step: 80 degrees)
+    log_path = tmp_path / "glitch.log.gz"
+    truth = write_log(log_path, laps=2, glitch=(60, math.radians(50.0)))
+    log = read_carmen(log_path)
+    cfg = Config().with_overrides({"slam.mode": "graph"})
+    ends = {}
+    for recovery in (0.0, 1.6):
+        c = cfg.with_overrides({"slam.graph.recovery_yaw_rad": recovery})
+        lasers, summary = lasers_at_odometry(log, c, range_max_m=40.0, range_min_m=0.05)
+        end = np.array(lasers[-1].laser_pose) - truth[-1]
+        ends[recovery] = (math.hypot(end[0], end[1]), summary["frames_recovered"])
+    assert ends[1.6][1] >= 1 and ends[1.6][0] < 0.1, ends
+    assert ends[0.0][1] == 0 and ends[0.0][0] > 1.0, ends

@@ -97,6 +97,8 @@ class GraphSlam:
         self._submap: Optional[Tuple[np.ndarray, Tuple[float, float], PoseTuple]] = None
         self.matched = 0
         self.not_matched = 0
+        self.recovered = 0
+        """Scans placed by the wide yaw search (``recovery_yaw_rad``)."""
 
     def _usable(self, points_robot) -> np.ndarray:
         o = self.options
@@ -106,8 +108,9 @@ class GraphSlam:
             pts = pts[np.linspace(0, len(pts) - 1, int(o.max_points)).round().astype(np.int64)]
         return np.ascontiguousarray(pts)
 
-    def _search(self, field, corner, points, prior, xy_m: float, yaw_rad: float):
+    def _search(self, field, corner, points, prior, xy_m: float, yaw_rad: float, yaw_step=None):
         o = self.options
+        step = o.yaw_step_rad if yaw_step is None else yaw_step
         pose, mean, _ = correlative_search(
             field,
             corner,
@@ -115,8 +118,8 @@ class GraphSlam:
             points,
             tuple(float(v) for v in prior),
             int(round(xy_m / o.cell_size_m)),
-            int(round(yaw_rad / o.yaw_step_rad)),
-            o.yaw_step_rad,
+            int(round(yaw_rad / step)),
+            step,
             1e6,  # no prior: the window bounds the search (a prior of 0.5-1 m did no
             1e6,  # better on the real logs: bench/laser_odometry.py)
         )
@@ -139,6 +142,20 @@ class GraphSlam:
                 )
                 if mean >= o.min_score:
                     pose, matched = found, True
+                elif o.recovery_yaw_rad > o.search_yaw_rad:
+                    # odometry turned wrong by more than the window: search all turns near
+                    found, mean = self._search(
+                        field,
+                        corner,
+                        pts,
+                        pose,
+                        o.search_xy_m,
+                        o.recovery_yaw_rad,
+                        2 * o.yaw_step_rad,
+                    )
+                    if mean >= o.loop_min_score:
+                        pose, matched = found, True
+                        self.recovered += 1
             self.matched += matched
             self.not_matched += not matched
         self._last_odometry = odo
@@ -255,6 +272,7 @@ class GraphSlam:
         return {
             "frames_matched": self.matched,
             "frames_not_matched": self.not_matched,
+            "frames_recovered": self.recovered,
             "keyframes": len(self.graph),
             "loop_closures": self.graph.loop_closures,
         }

@@ -36,6 +36,11 @@ pub struct PoseGraphOptions {
     pub search_yaw_rad: f64,
     /// Yaw step of every search [rad], in [0.001, 0.1]. Default 0.01.
     pub yaw_step_rad: f64,
+    /// A scan the submap search cannot place is searched again over this half-width in yaw
+    /// [rad] (at twice the yaw step), and kept when it scores `loop_min_score`: odometry that
+    /// turned wrong by tens of degrees in one step (a wheel slip, a glitch) is caught before
+    /// it turns the rest of the run. In [0, 3.2]; 0 turns it off. Default 1.6.
+    pub recovery_yaw_rad: f64,
     /// Mean field value a scan-to-submap match needs to be kept, in (0, 1); below it the
     /// odometry's increment is kept. Default 0.3.
     pub min_score: f64,
@@ -91,6 +96,7 @@ impl Default for PoseGraphOptions {
             search_xy_m: 0.3,
             search_yaw_rad: 0.25,
             yaw_step_rad: 0.01,
+            recovery_yaw_rad: 1.6,
             min_score: 0.3,
             loop_min_travel_m: 8.0,
             loop_search_radius_m: 4.0,
@@ -130,7 +136,15 @@ impl PoseGraphOptions {
 
     pub fn validate(&self) -> Result<()> {
         // (name, value, low, high, low closed, high closed)
-        let ranges: [(&'static str, f64, f64, f64, bool, bool); 20] = [
+        let ranges: [(&'static str, f64, f64, f64, bool, bool); 21] = [
+            (
+                "recovery_yaw_rad",
+                self.recovery_yaw_rad,
+                0.0,
+                3.2,
+                true,
+                true,
+            ),
             (
                 "keyframe_distance_m",
                 self.keyframe_distance_m,
