@@ -18,8 +18,8 @@ import gtsam
 import numpy as np
 from floorscan.formats.carmen import read_carmen
 from floorscan.formats.carmen_odometry import log_odometry
-from floorscan.pipeline.graph_slam import GraphSlam
-from floorscan.pipeline.laser_odometry import beam_ends_robot
+from floorscan.pipeline.config import Config
+from floorscan.pipeline.laser_odometry import graph_of
 from scipy.optimize import least_squares
 from scipy.sparse import lil_matrix
 
@@ -56,9 +56,10 @@ def main() -> None:
     ap.add_argument("log")
     a = ap.parse_args()
     log = read_carmen(a.log)
-    slam = GraphSlam()
-    for r, p in zip(log.lasers, log_odometry(log).robot_poses):
-        slam.add(beam_ends_robot(r, 40.0, 0.05), tuple(p))
+    # map-log's graph: its default beam limits (40 m, 0.05 m) and [slam.graph] defaults
+    slam = graph_of(
+        log, log_odometry(log).robot_poses, Config(), range_max_m=40.0, range_min_m=0.05
+    )
     edges = slam.graph.edges
     first = np.array(slam.local_poses[0])
     start = chained(edges, tuple(first))

@@ -7,9 +7,10 @@ import math
 import numpy as np
 import pytest
 from floorscan.errors import ConfigError, OptionError
-from floorscan.formats.trajectory import compose
+from floorscan.formats.trajectory import compose, relative
 from floorscan.mapping import pose_graph
-from floorscan.mapping.pose_graph import PoseGraph, PoseGraphOptions, relative
+from floorscan.mapping.pose_graph import PoseGraph, PoseGraphOptions
+from floorscan.pipeline.config import Config
 
 needs_gtsam = pytest.mark.skipif(not pose_graph.AVAILABLE, reason="GTSAM is not installed")
 
@@ -86,7 +87,11 @@ def test_without_gtsam_the_graph_is_a_config_error_naming_the_install(monkeypatc
 
 def test_options_come_from_rust_and_a_bad_one_is_named():
     o = PoseGraphOptions()
-    assert o.loop_min_score == PoseGraphOptions(loop_min_score=o.loop_min_score).loop_min_score
+    # the config file's [slam.graph] is this type
+    assert Config.from_toml("[slam.graph]\nloop_candidates = 3\n").slam.options()["graph"] == {
+        **o.to_dict(),
+        "loop_candidates": 3,
+    }
     with pytest.raises(OptionError, match="loop_candidates"):
         PoseGraphOptions(loop_candidates=0)
     with pytest.raises(OptionError, match="keyframe_distance_m"):

@@ -144,7 +144,8 @@ mod _native {
         };
         #[pymodule_export]
         use crate::pose_graph_options::{
-            check_pose_graph_options, default_pose_graph_options, pose_graph_options_schema,
+            check_pose_graph_options, default_pose_graph_options, pose_graph_field_half_side_m,
+            pose_graph_options_schema,
         };
         #[pymodule_export]
         use crate::slam_options::{check_slam_options, default_slam_options, slam_options_schema};

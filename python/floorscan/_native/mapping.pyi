@@ -203,6 +203,12 @@ def occupancy_classes() -> list[tuple[str, int]]:
     it).
     """
 
+def pose_graph_field_half_side_m(options: Any) -> float:
+    """
+    `PoseGraphOptions::field_half_side_m` of a dict of its fields: the half-side [m] of a
+    search's likelihood field around the pose searched from.
+    """
+
 def pose_graph_options_schema() -> Any:
     """
     The JSON schema of `PoseGraphOptions`: field docs, types, defaults.

@@ -36,6 +36,13 @@ def inverse(p) -> Tuple[float, float, float]:
     return (-c * p[0] - s * p[1], s * p[0] - c * p[1], -p[2])
 
 
+def relative(a, b) -> Tuple[float, float, float]:
+    """``b`` seen from ``a`` (``compose(inverse(a), b)``), the yaw wrapped to [-pi, pi]: the
+    motion from pose ``a`` to pose ``b``."""
+    x, y, yaw = compose(inverse(a), b)
+    return (x, y, math.remainder(yaw, 2 * math.pi))
+
+
 def yaw_from_quaternion(qx: float, qy: float, qz: float, qw: float) -> float:
     """Yaw [rad] about +z of a quaternion, normalised first (GeometryError if near zero)."""
     norm = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)

@@ -7,8 +7,8 @@ once the rest disagree with it.
 GTSAM is an optional dependency (``pip install 'floorscan[slam]'``): :data:`AVAILABLE` says
 whether it is installed; building a :class:`PoseGraph` without it raises
 :class:`~floorscan.ConfigError` with the line that installs it. Chosen by a side-by-side on
-the graph of the Freiburg 079 log (1528 keyframes, 2192 edges, 665 loop closures; the same
-cost function): GTSAM 0.09 s, SciPy's sparse trust-region least squares 1.18 s to the same
+the graph of the Freiburg 079 log (1525 keyframes, 2165 edges, 641 loop closures; the same
+cost function): GTSAM 0.12 s, SciPy's sparse trust-region least squares 12.4 s to the same
 cost (BENCHMARKS.md, "Pose graph solvers").
 
 Options: the Rust ``PoseGraphOptions`` (``[slam.graph]``; defaults, docs and rules in
@@ -22,7 +22,7 @@ from typing import List, Sequence, Tuple
 
 import numpy as np
 
-from .._native.mapping import FIELD_REUSE_M
+from .._native.mapping import pose_graph_field_half_side_m
 from ..errors import ConfigError
 from ..options import OptionsObject
 
@@ -50,19 +50,7 @@ class PoseGraphOptions(OptionsObject, kind="pose_graph"):
     def field_half_side_m(self) -> float:
         """Half-side [m] of a search's likelihood field around the pose searched from (the
         Rust ``PoseGraphOptions::field_half_side_m``, whose size rule ``validate`` applies)."""
-        return (
-            self.range_max_m
-            + max(self.search_xy_m, self.loop_search_xy_m)
-            + 3.0 * self.sigma_m
-            + FIELD_REUSE_M
-        )
-
-
-def relative(a: Sequence[float], b: Sequence[float]) -> PoseTuple:
-    """``a^-1 b`` for planar poses (x, y, yaw): b in a's frame."""
-    c, s = math.cos(a[2]), math.sin(a[2])
-    dx, dy = b[0] - a[0], b[1] - a[1]
-    return (c * dx + s * dy, -s * dx + c * dy, math.remainder(b[2] - a[2], 2 * math.pi))
+        return pose_graph_field_half_side_m(self.to_dict())
 
 
 class PoseGraph:

@@ -31,8 +31,9 @@ import cv2
 import numpy as np
 
 from .._native.drive import correlative_search
-from ..formats.trajectory import compose, inverse
-from ..mapping.pose_graph import FIELD_REUSE_M, PoseGraph, PoseGraphOptions, relative
+from .._native.mapping import FIELD_REUSE_M
+from ..formats.trajectory import compose, inverse, relative
+from ..mapping.pose_graph import PoseGraph, PoseGraphOptions
 
 PoseTuple = Tuple[float, float, float]
 

@@ -33,6 +33,18 @@ def beam_ends_robot(reading: LaserReading, range_max_m: float, range_min_m: floa
     return np.stack([ox + c * x - s * y, oy + s * x + c * y], axis=1)
 
 
+def graph_of(
+    log: CarmenLog, robot_poses, cfg: Config, *, range_max_m: float, range_min_m: float
+) -> GraphSlam:
+    """The pose graph (``[slam.graph]``) of the log's scans at odometry's ``robot_poses`` (N,
+    3), every scan added, not yet finished (its graph as built, before the last solve)."""
+    slam = GraphSlam(cfg.slam.options()["graph"])
+    reach = min(range_max_m, slam.options.range_max_m)
+    for r, p in zip(log.lasers, robot_poses):
+        slam.add(beam_ends_robot(r, reach, range_min_m), tuple(p))
+    return slam
+
+
 def lasers_at_odometry(
     log: CarmenLog, cfg: Config, *, range_max_m: float, range_min_m: float
 ) -> Tuple[List[LaserReading], Dict[str, object]]:
@@ -48,11 +60,9 @@ def lasers_at_odometry(
     }
     robot = odometry.robot_poses
     if cfg.slam.mode == "graph":
-        options = cfg.slam.options()["graph"]
-        slam = GraphSlam(options)
-        reach = min(range_max_m, slam.options.range_max_m)
-        for r, p in zip(log.lasers, odometry.robot_poses):
-            slam.add(beam_ends_robot(r, reach, range_min_m), tuple(p))
+        slam = graph_of(
+            log, odometry.robot_poses, cfg, range_max_m=range_max_m, range_min_m=range_min_m
+        )
         robot = slam.finish()
         end = compose(tuple(robot[-1]), inverse(tuple(odometry.robot_poses[-1])))
         summary.update(slam.summary())

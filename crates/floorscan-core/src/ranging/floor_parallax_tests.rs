@@ -389,16 +389,7 @@ fn the_memory_keeps_the_floors_own_edges_when_there_is_nothing_to_compare() {
     );
     let wall_x = WALL_X - STOP;
     let xa = boundary_x(&out);
-    let right = xa
-        .iter()
-        .flatten()
-        .filter(|&&x| (x - wall_x).abs() < 0.03)
-        .count();
-    assert!(
-        right * 10 >= xa.len() * 8,
-        "{right} of {}: {xa:?}",
-        xa.len()
-    );
+    assert_wall_base_found(&xa, wall_x, &report);
     // the edge ranger alone stops at grout in most columns
     let at_grout = boundary_x(&plain)
         .iter()
