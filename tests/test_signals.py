@@ -357,6 +357,10 @@ def test_a_killed_run_says_so_and_the_next_run_cleans_up_after_it(dataset, tmp_p
     (out / ".map.yaml.ab12cd34.tmp").write_text("partial")
     (out / ".notes.txt").write_text("mine")
     (out / ".scans.csv.backup1").write_text("mine too")  # not a temporary's name
+    # a local map snapshot's atomic write, in the run's own local/ folder, beside a user's file
+    (out / "local").mkdir(exist_ok=True)
+    (out / "local" / ".local_0000105.00.png.7g4407ap.png").write_bytes(b"partial")
+    (out / "local" / ".mine.png").write_bytes(b"mine")
     args = ["run", str(dataset / "room"), "--table", str(dataset / "table.json"), "-o", str(out)]
     done = subprocess.run(
         [FLOORSCAN, *args, "--force"], capture_output=True, text=True, timeout=300
@@ -364,8 +368,8 @@ def test_a_killed_run_says_so_and_the_next_run_cleans_up_after_it(dataset, tmp_p
     assert done.returncode == 0, done.stderr
     summary = json.loads((out / "summary.json").read_text())
     assert summary["complete"] is True
-    assert summary["stale_temporaries_removed"] == len(left) + 2
-    assert temp_files(out) == [".notes.txt", ".scans.csv.backup1"]
+    assert summary["stale_temporaries_removed"] == len(left) + 3
+    assert temp_files(out) == [".notes.txt", ".scans.csv.backup1", "local/.mine.png"]
     OccupancyGrid.load(out / "map.yaml")
 
 

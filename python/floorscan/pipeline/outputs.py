@@ -110,6 +110,8 @@ _STALE = re.compile(
     + "|".join(re.escape(n) for n in RUN_OUTPUT_NAMES)
     + r")\.[a-z0-9_]{8}(\.(tmp|gif|mp4|png|npz|csv|yaml|pgm|json|tum))?$"
 )
+_STALE_LOCAL = re.compile(r"^\.local_([0-9]+\.[0-9]{2}|final)\.png\.[a-z0-9_]{8}\.png$")
+"""The temporaries of the local map snapshots a run writes in ``local/``."""
 
 
 def _write_marker(path: Path, text: str) -> None:
@@ -132,11 +134,14 @@ def remove_stale_temporaries(out: Path) -> int:
     """Removes the temporary files (and bag folders) an earlier run into ``out`` left when it
     was killed before it could clean up (SIGKILL, a power cut): only the names a run's atomic
     writes use (``.scans.csv.x1y2z3ab``, ``.bag.x1y2z3ab/``, ``.map.yaml.x1y2z3ab.tmp``),
-    only in ``out`` itself. Returns how many."""
+    only in ``out`` itself and its ``local/`` snapshot folder
+    (``local/.local_0000105.00.png.x1y2z3ab.png``). Returns how many."""
     removed = 0
-    for p in out.iterdir():
-        if not _STALE.match(p.name):
-            continue
+    local = out / "local"
+    candidates = [p for p in out.iterdir() if _STALE.match(p.name)]
+    if local.is_dir() and not local.is_symlink():
+        candidates += [p for p in local.iterdir() if _STALE_LOCAL.match(p.name)]
+    for p in candidates:
         try:
             if p.is_dir() and not p.is_symlink():
                 shutil.rmtree(p)
