@@ -54,6 +54,8 @@ def read_images_txt(folder: PathLike) -> List[ImageEntry]:
                 f"{index}:{lineno}: timestamp {t} is not after the previous one "
                 f"({entries[-1].timestamp}): images.txt must be in increasing time order"
             )
+        if "\x00" in parts[1]:
+            raise DatasetError(f"{index}:{lineno}: the image path holds a NUL byte")
         entries.append(ImageEntry(t, folder / parts[1]))
     return entries
 

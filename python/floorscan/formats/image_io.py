@@ -136,6 +136,9 @@ def read_grey(path: PathLike, *, lenient: bool = False) -> np.ndarray:
     decoded in Rust (:mod:`floorscan.formats.png`, the same pixels), the rest by Pillow. A
     truncated file is an ImageError, or with ``lenient`` decoded as far as it goes (a warning
     on stderr)."""
+    name = os.fspath(path)
+    if ("\x00" if isinstance(name, str) else b"\x00") in name:  # no file system allows one
+        raise ImageError(f"cannot read image {name!r}: the path holds a NUL byte")
     try:
         with open(path, "rb") as f:
             if os.fstat(f.fileno()).st_size > max_png_file_bytes(_max_image_pixels):

@@ -19,6 +19,7 @@ from .._atomic import PathLike
 from ..errors import DatasetError, FloorscanError, ImageError
 from ..formats.dataset import read_images_txt
 from ..formats.image_io import as_grey, check_image_size, read_grey
+from ..formats.native_messages import native_messages
 from ..formats.read_ahead import read_grey_ahead
 from ..formats.rig import Rig, read_rig
 from ..formats.rosbag import iter_bag_images, read_bag_odometry
@@ -114,9 +115,12 @@ class VideoSource(FrameSource):
         self.path = Path(path)
         if not self.path.is_file():
             raise DatasetError(f"video not found: {self.path}")
-        self._cap = cv2.VideoCapture(str(self.path))
-        if not self._cap.isOpened():
-            raise DatasetError(f"cannot open video {self.path}")
+        with native_messages() as said:
+            self._cap = cv2.VideoCapture(str(self.path))
+            opened = self._cap.isOpened()
+        if not opened:
+            why = f" ({said.first})" if said else ""
+            raise DatasetError(f"cannot open video {self.path}{why}")
         w = int(self._cap.get(cv2.CAP_PROP_FRAME_WIDTH) or 0)
         h = int(self._cap.get(cv2.CAP_PROP_FRAME_HEIGHT) or 0)
         try:
@@ -135,9 +139,16 @@ class VideoSource(FrameSource):
     def __iter__(self) -> Iterator[Frame]:
         i = 0
         while True:
-            ok, img = self._cap.read()
+            with native_messages() as said:
+                ok, img = self._cap.read()
             if not ok:
                 break
+            if said:
+                # the decoder complained: the frame is damaged (decoded in part, or garbage),
+                # skipped and counted as a damaged image file is
+                yield Frame(i, self.start_time + i / self._fps, None, f"decoder: {said.first}")
+                i += 1
+                continue
             yield Frame(
                 i,
                 self.start_time + i / self._fps,
