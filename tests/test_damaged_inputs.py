@@ -46,6 +46,9 @@ def base(tmp_path_factory) -> Path:
     write_png(d / "frame.png", np.full((48, 64), 90, np.uint8))
     (d / "config.toml").write_text('[ranger]\nthreshold = 12.0\n[outputs]\noverlay = "none"\n')
     assert main(["sim", "--world", "room", "--seconds", "0.3", "-o", str(d / "sim")]) == 0
+    cal = d / "sim" / "calibration"
+    calibrate = ["calibrate", str(cal / "pattern.png"), "--pattern", str(cal / "pattern.toml")]
+    assert main([*calibrate, "-o", str(d / "sim_table.json")]) == 0  # once, not per case
     grid = OccupancyGrid(keep_evidence=True)
     grid.insert_laser(np.array([1.0, 1.5, 2.0]), pose=(0.0, 0.0, 0.0), angle_min=-0.2,
                       angle_increment=0.2, range_max_m=5.0)  # fmt: skip
@@ -65,6 +68,10 @@ def base(tmp_path_factory) -> Path:
     frames = [(e.timestamp, read_grey(e.path)) for e in read_images_txt(d / "room")]
     if rosbags_installed():
         write_image_odometry_bag(d / "bag", frames, read_tum(d / "room" / "odometry.txt"))
+        write_image_odometry_bag(
+            d / "bag1.bag", frames, read_tum(d / "room" / "odometry.txt"), ros_version=1
+        )
+    (d / "labels.csv").write_text("image,column,row\n0,40,60.5\n1,90,61.0\n")
     import cv2
 
     h, w = frames[0][1].shape
@@ -138,6 +145,16 @@ CASES = {
                                     "-o", str(d / "out")], "bag/metadata.yaml"),
     "run-bag-storage": (lambda d: ["run", str(d / "bag"), "--table", str(d / "table.json"),
                                    "-o", str(d / "out")], "bag/storage"),
+    "run-bag1": (lambda d: ["run", str(d / "bag1.bag"), "--table", str(d / "table.json"),
+                             "-o", str(d / "out")], "bag1.bag"),
+    "tune-truth": (lambda d: ["tune", str(d / "sim"), "--table", str(d / "sim_table.json"),
+                              "-o", str(d / "t.toml"), "--half-widths", "2",
+                              "--thresholds", "10:12:1", "--frames", "3"], "sim/truth/columns.csv"),
+    "tune-labels": (lambda d: ["tune", str(d / "room"), "--labels", str(d / "labels.csv"), "--table",
+                               str(d / "table.json"), "-o", str(d / "t.toml"), "--half-widths", "2",
+                               "--thresholds", "10:12:1"], "labels.csv"),
+    "eval-truth-map": (lambda d: ["eval", str(d / "sim"), "--table", str(d / "sim_table.json"),
+                                  "-o", str(d / "ev")], "sim/truth/map.yaml"),
     "run-video": (lambda d: ["run", str(d / "video.avi"), "--table", str(d / "table.json"),
                              "-o", str(d / "out")], "video.avi"),
 }  # fmt: skip

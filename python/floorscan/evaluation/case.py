@@ -104,14 +104,19 @@ def read_truth_columns(path: PathLike, timestamps: Sequence[float], width: int):
                 try:
                     k, u = int(rec["frame"]), int(rec["column"])
                     code = codes[rec["status"]]
-                except (KeyError, ValueError):
+                    row, x, y = float(rec["row"]), float(rec["x"]), float(rec["y"])
+                except (KeyError, ValueError, TypeError):  # TypeError: a short line's None
                     raise FileFormatError(
-                        f"{path}:{lineno}: bad frame/column/status {rec}"
+                        f"{path}:{lineno}: bad frame/column/status/row/x/y"
                     ) from None
                 if 0 <= k < n and 0 <= u < width:
                     status[k, u] = code
-                    rows[k, u] = float(rec["row"])
-                    points[k, u] = (float(rec["x"]), float(rec["y"]))
+                    rows[k, u] = row
+                    points[k, u] = (x, y)
+    except UnicodeDecodeError as e:
+        raise FileFormatError(f"{path}: not UTF-8 text ({e.reason})") from None
+    except csv.Error as e:
+        raise FileFormatError(f"{path}: not a CSV file ({e})") from None
     except OSError as e:
         raise FileFormatError(f"cannot read truth columns {path}: {e}") from None
     return status, points, rows

@@ -68,37 +68,49 @@ def read_labels_csv(
     except OSError as e:
         raise FileFormatError(f"cannot read labels {path}: {e}") from None
     with f:
-        reader = csv.DictReader(f)
-        if reader.fieldnames is None or {"image", "column", "row"} - set(reader.fieldnames):
-            raise FileFormatError(f"{path}: header must be image,column,row")
-        for lineno, rec in enumerate(reader, start=2):
-            name = rec["image"].strip()
-            k = index.get(name)
-            if k is None and name.isdigit():
-                k = int(name)
-            if k is None or not 0 <= k < n:
-                raise FileFormatError(f"{path}:{lineno}: unknown image {name!r}")
-            try:
-                u = int(rec["column"])
-            except ValueError:
-                raise FileFormatError(f"{path}:{lineno}: bad column {rec['column']!r}") from None
-            if not 0 <= u < w:
-                raise FileFormatError(f"{path}:{lineno}: column {u} outside the image (width {w})")
-            text = (rec["row"] or "").strip().lower()
-            labelled[k, u] = True
-            if text in ("", "none", "nan"):
-                status[k, u] = NO_BOUNDARY
-                continue
-            try:
-                row = float(text)
-            except ValueError:
-                raise FileFormatError(f"{path}:{lineno}: bad row {rec['row']!r}") from None
-            p = table.lookup(float(u), row)
-            if p is None:
-                raise FileFormatError(f"{path}:{lineno}: row {row} of column {u} has no ground")
-            status[k, u] = BOUNDARY
-            points[k, u] = p
+        try:
+            _read_labels(path, f, index, table, status, points, labelled)
+        except UnicodeDecodeError as e:
+            raise FileFormatError(f"{path}: not UTF-8 text ({e.reason})") from None
+        except csv.Error as e:
+            raise FileFormatError(f"{path}: not a CSV file ({e})") from None
     return status, points, labelled
+
+
+def _read_labels(path, f, index, table, status, points, labelled) -> None:
+    n, w = status.shape
+    reader = csv.DictReader(f)
+    if reader.fieldnames is None or {"image", "column", "row"} - set(reader.fieldnames):
+        raise FileFormatError(f"{path}: header must be image,column,row")
+    for lineno, rec in enumerate(reader, start=2):
+        if None in (rec["image"], rec["column"]):
+            raise FileFormatError(f"{path}:{lineno}: expected image,column,row")
+        name = rec["image"].strip()
+        k = index.get(name)
+        if k is None and name.isascii() and name.isdigit():
+            k = int(name)
+        if k is None or not 0 <= k < n:
+            raise FileFormatError(f"{path}:{lineno}: unknown image {name!r}")
+        try:
+            u = int(rec["column"])
+        except ValueError:
+            raise FileFormatError(f"{path}:{lineno}: bad column {rec['column']!r}") from None
+        if not 0 <= u < w:
+            raise FileFormatError(f"{path}:{lineno}: column {u} outside the image (width {w})")
+        text = (rec["row"] or "").strip().lower()
+        labelled[k, u] = True
+        if text in ("", "none", "nan"):
+            status[k, u] = NO_BOUNDARY
+            continue
+        try:
+            row = float(text)
+        except ValueError:
+            raise FileFormatError(f"{path}:{lineno}: bad row {rec['row']!r}") from None
+        p = table.lookup(float(u), row)
+        if p is None:
+            raise FileFormatError(f"{path}:{lineno}: row {row} of column {u} has no ground")
+        status[k, u] = BOUNDARY
+        points[k, u] = p
 
 
 @dataclass
