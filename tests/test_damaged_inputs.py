@@ -49,6 +49,22 @@ def base(tmp_path_factory) -> Path:
     cal = d / "sim" / "calibration"
     calibrate = ["calibrate", str(cal / "pattern.png"), "--pattern", str(cal / "pattern.toml")]
     assert main([*calibrate, "-o", str(d / "sim_table.json")]) == 0  # once, not per case
+    # the simulated camera's intrinsics as OpenCV's FileStorage and ROS camera_info write them
+    lens = json.loads((d / "sim" / "truth" / "camera.json").read_text())["lens"]
+    k = [[lens["fx"], 0.0, lens["cx"]], [0.0, lens["fy"], lens["cy"]], [0.0, 0.0, 1.0]]
+    dist = [lens["k1"], lens["k2"], lens["k3"], lens["k4"]]
+    import cv2
+
+    fs = cv2.FileStorage(str(d / "intrinsics.yml"), cv2.FILE_STORAGE_WRITE)
+    fs.write("camera_matrix", np.array(k))
+    fs.write("distortion_coefficients", np.array(dist))
+    fs.write("distortion_model", "fisheye")
+    fs.release()
+    (d / "camera_info.yaml").write_text(
+        "image_width: 320\nimage_height: 240\ndistortion_model: equidistant\n"
+        f"camera_matrix:\n  rows: 3\n  cols: 3\n  data: {sum(k, [])}\n"
+        f"distortion_coefficients:\n  rows: 1\n  cols: 4\n  data: {dist}\n"
+    )
     grid = OccupancyGrid(keep_evidence=True)
     grid.insert_laser(np.array([1.0, 1.5, 2.0]), pose=(0.0, 0.0, 0.0), angle_min=-0.2,
                       angle_increment=0.2, range_max_m=5.0)  # fmt: skip
@@ -131,6 +147,18 @@ CASES = {
         lambda d: ["calibrate", str(d / "sim/calibration/pattern.png"), "--pattern",
                    str(d / "sim/calibration/pattern.toml"), "-o", str(d / "t.json")],
         "sim/calibration/pattern.toml",
+    ),
+    "calibrate-opencv-intrinsics": (
+        lambda d: ["calibrate", str(d / "sim/calibration/pattern.png"), "--pattern",
+                   str(d / "sim/calibration/pattern.toml"), "--intrinsics", str(d / "intrinsics.yml"),
+                   "-o", str(d / "t.json")],
+        "intrinsics.yml",
+    ),
+    "calibrate-ros-intrinsics": (
+        lambda d: ["calibrate", str(d / "sim/calibration/pattern.png"), "--pattern",
+                   str(d / "sim/calibration/pattern.toml"), "--intrinsics", str(d / "camera_info.yaml"),
+                   "-o", str(d / "t.json")],
+        "camera_info.yaml",
     ),
     "map-log": (lambda d: ["map-log", str(d / "log.gz"), "-o", str(d / "m/m.yaml")], "log.gz"),
     "merge-evidence": (

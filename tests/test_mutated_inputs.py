@@ -84,7 +84,7 @@ TEXT_DAMAGES["drop-line"] = _drop_line
 TEXT_DAMAGES["shuffled"] = _shuffle
 TEXT_DAMAGES["long-line"] = lambda t, rng: t + "9" * (2 << 20) + "\n"
 
-TEXT_SUFFIXES = (".toml", ".json", ".txt", ".yaml", ".csv")
+TEXT_SUFFIXES = (".toml", ".json", ".txt", ".yaml", ".yml", ".csv")
 
 
 def _cases():

@@ -25,8 +25,16 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from .._atomic import PathLike
-from ..errors import CalibrationError, FileFormatError
+from ..errors import CalibrationError, FileFormatError, FloorscanError
+from ..formats.native_messages import native_messages
 from .lens_family import FAMILIES, LensFamily
+
+MIN_FOCAL_PX = 1.0
+"""Smallest focal length [px] read from a file (below it a camera sees nothing sharp)."""
+MAX_PIXEL_VALUE = 1e6
+"""Largest focal length and principal point coordinate [px] read from a file."""
+MAX_DISTORTION = 1e4
+"""Largest magnitude of a distortion coefficient read from a file."""
 
 
 @dataclass(frozen=True)
@@ -86,10 +94,19 @@ class Intrinsics:
         import cv2
 
         try:
-            fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
-        except cv2.error as e:
-            raise FileFormatError(f"{path}: not an OpenCV FileStorage file: {e}") from None
+            with native_messages():  # its parser's complaints come back in the error
+                return cls._read_opencv(path, cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ))
+        except FloorscanError:
+            raise
+        except (cv2.error, SystemError, ValueError, TypeError, OverflowError) as e:
+            # SystemError: OpenCV's bindings report a damaged node's type so
+            why = str(e).strip().splitlines()[-1] if str(e).strip() else type(e).__name__
+            raise FileFormatError(
+                f"{path}: not a readable OpenCV FileStorage file: {why}"
+            ) from None
 
+    @classmethod
+    def _read_opencv(cls, path: Path, fs) -> Intrinsics:
         def node(*names):
             for n in names:
                 nd = fs.getNode(n)
@@ -147,11 +164,21 @@ class Intrinsics:
         k = np.asarray(k, float)
         if k.shape != (3, 3) or not np.all(np.isfinite(k)) or k[0, 0] <= 0 or k[1, 1] <= 0:
             raise FileFormatError(f"{path}: camera matrix must be a finite 3 x 3 with fx, fy > 0")
+        if not (
+            MIN_FOCAL_PX <= min(k[0, 0], k[1, 1])
+            and max(k[0, 0], k[1, 1], abs(k[0, 2]), abs(k[1, 2])) <= MAX_PIXEL_VALUE
+        ):
+            raise FileFormatError(
+                f"{path}: camera matrix out of range: fx, fy must lie in [{MIN_FOCAL_PX:g}, "
+                f"{MAX_PIXEL_VALUE:g}] px and |cx|, |cy| <= {MAX_PIXEL_VALUE:g} px"
+            )
         if abs(k[0, 1]) > 1e-9 * k[0, 0]:
             raise CalibrationError(f"{path}: a skewed camera matrix is not supported")
         d = np.asarray(d, float)
-        if not np.all(np.isfinite(d)):
-            raise FileFormatError(f"{path}: distortion coefficients must be finite")
+        if not np.all(np.isfinite(d)) or np.any(np.abs(d) > MAX_DISTORTION):
+            raise FileFormatError(
+                f"{path}: distortion coefficients must be finite, each within +-{MAX_DISTORTION:g}"
+            )
         kw = dict(
             fx=k[0, 0], fy=k[1, 1], cx=k[0, 2], cy=k[1, 2], distortion=list(d), image_size=size
         )
