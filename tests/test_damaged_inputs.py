@@ -17,6 +17,7 @@ import pytest
 from floorscan import OccupancyGrid
 from floorscan.cli import main
 from floorscan.formats.image_io import write_png
+from PIL import Image
 from synthetic_dataset import camera_table, make_dataset
 
 if sys.version_info >= (3, 11):
@@ -44,6 +45,9 @@ def base(tmp_path_factory) -> Path:
     make_dataset(d / "room", n=4)
     camera_table().save(d / "table.json")
     write_png(d / "frame.png", np.full((48, 64), 90, np.uint8))
+    texture = np.random.default_rng(5).integers(0, 255, (48, 64), np.uint8)
+    Image.fromarray(texture).save(d / "frame.jpg", quality=90)
+    write_png(d / "frame16.png", texture.astype(np.uint16) * 257)
     (d / "config.toml").write_text('[ranger]\nthreshold = 12.0\n[outputs]\noverlay = "none"\n')
     assert main(["sim", "--world", "room", "--seconds", "0.3", "-o", str(d / "sim")]) == 0
     cal = d / "sim" / "calibration"
@@ -87,6 +91,9 @@ def base(tmp_path_factory) -> Path:
         write_image_odometry_bag(
             d / "bag1.bag", frames, read_tum(d / "room" / "odometry.txt"), ros_version=1
         )
+        write_image_odometry_bag(
+            d / "bag_png", frames, read_tum(d / "room" / "odometry.txt"), compressed=True
+        )
     (d / "labels.csv").write_text("image,column,row\n0,40,60.5\n1,90,61.0\n")
     import cv2
 
@@ -122,6 +129,14 @@ CASES = {
     "scan-image": (
         lambda d: ["scan", "--table", str(d / "table.json"), str(d / "frame.png"), "-o", str(d / "s.csv")],
         "frame.png",
+    ),
+    "scan-jpeg": (
+        lambda d: ["scan", "--table", str(d / "table.json"), str(d / "frame.jpg"), "-o", str(d / "s.csv")],
+        "frame.jpg",
+    ),
+    "scan-png16": (
+        lambda d: ["scan", "--table", str(d / "table.json"), str(d / "frame16.png"), "-o", str(d / "s.csv")],
+        "frame16.png",
     ),
     "scan-config": (
         lambda d: ["scan", "--table", str(d / "table.json"), "--config", str(d / "config.toml"),
@@ -173,6 +188,8 @@ CASES = {
                                     "-o", str(d / "out")], "bag/metadata.yaml"),
     "run-bag-storage": (lambda d: ["run", str(d / "bag"), "--table", str(d / "table.json"),
                                    "-o", str(d / "out")], "bag/storage"),
+    "run-bag-png": (lambda d: ["run", str(d / "bag_png"), "--table", str(d / "table.json"),
+                                "-o", str(d / "out")], "bag_png/storage"),
     "run-bag1": (lambda d: ["run", str(d / "bag1.bag"), "--table", str(d / "table.json"),
                              "-o", str(d / "out")], "bag1.bag"),
     "tune-truth": (lambda d: ["tune", str(d / "sim"), "--table", str(d / "sim_table.json"),
@@ -196,10 +213,9 @@ def test_a_damaged_input_ends_in_one_line(base, tmp_path, capsys, name, how):
         pytest.skip("rosbags is not installed: no bag to damage")
     d = tmp_path / "d"
     shutil.copytree(base, d)
-    if target == "bag/storage":  # the storage file's name (and kind) is the writer's
-        target = str(
-            next(p for p in (d / "bag").iterdir() if p.name != "metadata.yaml").relative_to(d)
-        )
+    if target.endswith("/storage"):  # the storage file's name (and kind) is the writer's
+        folder = d / target.split("/")[0]
+        target = str(next(p for p in folder.iterdir() if p.name != "metadata.yaml").relative_to(d))
     damage(d / target, how)
     capsys.readouterr()
     rc = main(build(d))

@@ -128,10 +128,9 @@ def test_a_mutated_input_ends_as_promised(base, tmp_path, capfd, name, how):  # 
         pytest.skip("rosbags is not installed: no bag to damage")
     d = tmp_path / "d"
     shutil.copytree(base, d)
-    if target == "bag/storage":  # the storage file's name (and kind) is the writer's
-        target = str(
-            next(p for p in (d / "bag").iterdir() if p.name != "metadata.yaml").relative_to(d)
-        )
+    if target.endswith("/storage"):  # the storage file's name (and kind) is the writer's
+        folder = d / target.split("/")[0]
+        target = str(next(p for p in folder.iterdir() if p.name != "metadata.yaml").relative_to(d))
     seed = sum(map(ord, f"{name}/{how}"))
     damage(d / target, how, seed)
     before_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss

@@ -118,3 +118,26 @@ def test_a_compressed_image_whose_size_cannot_be_checked_is_refused_undecoded():
         SimpleNamespace(data=png.tobytes(), format="png"), "sensor_msgs/msg/CompressedImage"
     )
     assert out.shape == (6, 8) and int(out[0, 0]) == 7
+
+
+@pytest.mark.parametrize("ext", [".png", ".jpg"])
+def test_a_compressed_image_the_decoder_complains_about_is_an_error(capfd, ext):
+    """A damaged PNG (CRC) or a JPEG cut short: OpenCV's decoders print their complaint and
+    may still return pixels (a cut JPEG comes back "whole", grey where data was missing). The
+    complaint is the message's ImageError (the frame is skipped and counted), not raw stderr."""
+    img = np.random.default_rng(3).integers(0, 255, (48, 64), np.uint8)
+    data = bytearray(cv2.imencode(ext, img)[1].tobytes())
+    if ext == ".png":
+        data[60] ^= 0xFF  # inside the image data: the chunk's CRC no longer matches
+    else:
+        data = data[: len(data) * 2 // 3] + b"\xff\xd9"  # cut, with its end marker
+    assert decode_image(
+        SimpleNamespace(data=cv2.imencode(ext, img)[1].tobytes(), format=ext[1:]),
+        "sensor_msgs/msg/CompressedImage",
+    ).shape == (48, 64)
+    capfd.readouterr()
+    with pytest.raises(floorscan.ImageError, match="cannot decode compressed image .*: .+"):
+        decode_image(
+            SimpleNamespace(data=bytes(data), format=ext[1:]), "sensor_msgs/msg/CompressedImage"
+        )
+    assert capfd.readouterr().err == ""

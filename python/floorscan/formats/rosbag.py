@@ -22,6 +22,7 @@ import numpy as np
 from .._atomic import PathLike, deferred_signals
 from ..errors import DatasetError, FloorscanError, ImageError
 from .image_io import as_grey, check_image_size, open_image
+from .native_messages import native_messages
 from .trajectory import Trajectory, quaternion_from_yaw, yaw_from_quaternion
 
 IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
@@ -87,9 +88,13 @@ def decode_image(msg, msgtype: str) -> np.ndarray:
 
         data = bytes(msg.data)
         _check_compressed_size(data)
-        img = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
-        if img is None:
-            raise ImageError(f"cannot decode compressed image (format {msg.format!r})")
+        with native_messages() as said:  # libpng / libjpeg print their complaints
+            img = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+        if img is None or said:
+            # a decoder's complaint is an error, as for image files: a corrupt JPEG decodes
+            # "whole" with grey where its data was missing
+            why = f": {said.first}" if said else ""
+            raise ImageError(f"cannot decode compressed image (format {msg.format!r}){why}")
         if img.ndim == 3:
             img = img[..., ::-1]  # OpenCV decodes to BGR
         return as_grey(img)
