@@ -34,8 +34,10 @@ class ParallaxRanger:
         **options: any field of the core's ``ParallaxOptions`` (``min_baseline_m``,
             ``history_frames``, ``rows_above_fraction``, ``min_texture_grey``,
             ``blur_sigma_px``, ``refine_range_m``, ``min_log_likelihood_ratio``,
-            ``max_vetoes``, ``base_line_gap_m``; ``enabled`` is the config's switch and is
-            ignored here); a bad one raises OptionError naming it.
+            ``max_vetoes``, ``base_line_gap_m``, ``search_above_vetoed``,
+            ``min_standing_log_likelihood_ratio``, ``memory_min_frames``, ``memory_cell_m``,
+            ``memory_radius_m``; ``enabled`` is the config's switch and is ignored here); a bad
+            one raises OptionError naming it.
 
     :meth:`scan` takes the camera ground frame's pose ``world_from_camera`` (odometry
     composed with the mount); without it the scan is the edge ranger's.

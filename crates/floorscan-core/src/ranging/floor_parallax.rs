@@ -49,6 +49,9 @@ pub struct ParallaxReport {
     pub noise_grey: f64,
     /// Of the vetoes, those the memory of the floor's edges made (no comparison needed).
     pub remembered: usize,
+    /// Columns whose boundary the motion found above a vetoed one where no edge was
+    /// (`search_above_vetoed`).
+    pub found_above: usize,
 }
 
 /// One cell of the memory of the floor's own edges: in how many frames a boundary there was
@@ -82,6 +85,8 @@ pub struct FloorParallax {
     band_guess: Vec<(f64, f64)>,
     residuals: Vec<f32>,
     restarts: Vec<(usize, f64)>,
+    /// Each column's last vetoed row in the current frame.
+    last_vetoed: Vec<Option<f64>>,
     dirty: Vec<bool>,
     patch: Vec<(f64, f64, Point2)>,
     samples: Vec<[f32; 4]>,
@@ -123,6 +128,7 @@ impl FloorParallax {
             band_guess,
             band,
             restarts: Vec::new(),
+            last_vetoed: Vec::new(),
             dirty: Vec::new(),
             patch: Vec::new(),
             samples: Vec::new(),
@@ -250,11 +256,14 @@ impl FloorParallax {
                 vetoes: 0,
                 noise_grey: noise,
                 remembered: 0,
+                found_above: 0,
             };
             // a column's test reads its own boundary and its neighbours': it is tested again
             // only when one of those moved
             self.dirty.clear();
             self.dirty.resize(out.readings.len(), true);
+            self.last_vetoed.clear();
+            self.last_vetoed.resize(out.readings.len(), None);
             for _ in 0..self.options.max_vetoes {
                 self.restarts.clear();
                 for j in 0..out.readings.len() {
@@ -291,6 +300,9 @@ impl FloorParallax {
                     break;
                 }
                 report.vetoes += self.restarts.len();
+                for &(j, row) in &self.restarts {
+                    self.last_vetoed[j] = Some(row);
+                }
                 ranger.continue_above(image, &self.restarts, out)?;
                 self.dirty.fill(false);
                 for &(j, _) in &self.restarts {
@@ -299,12 +311,62 @@ impl FloorParallax {
                     }
                 }
             }
+            if self.options.search_above_vetoed && earlier_index.is_some() {
+                report.found_above = self.search_above_vetoed(&earlier, &motion, noise, out);
+            }
             if let Some(i) = earlier_index {
                 self.frames[i].image = earlier;
             }
         }
         self.keep(pose);
         Ok(report)
+    }
+
+    /// Columns whose last vetoed boundary has no edge above it: the first row above it, in
+    /// steps of a quarter of the test's rows, whose rows above move as a surface standing
+    /// there becomes the boundary. Returns how many columns got one.
+    fn search_above_vetoed(
+        &mut self,
+        earlier: &[f32],
+        motion: &Pose2,
+        noise: f64,
+        out: &mut Scan,
+    ) -> usize {
+        let rows = ((self.options.rows_above_fraction * self.height as f64).round()).max(4.0);
+        let step = (rows / 4.0).round().max(1.0);
+        let mut found = 0;
+        for j in 0..out.readings.len() {
+            let Some(vetoed_row) = self.last_vetoed[j] else {
+                continue;
+            };
+            let ColumnOutcome::NoBoundary { top_row, .. } = out.readings[j].outcome else {
+                continue;
+            };
+            let u = out.readings[j].column as f64;
+            let mut row = vetoed_row - step;
+            while row >= top_row.max(rows) {
+                if let Some(point) = self.table.lookup(u, row) {
+                    let llr =
+                        self.log_likelihood_ratio(earlier, motion, noise, u, row, point, None);
+                    if llr < -self.options.min_standing_log_likelihood_ratio {
+                        let footprint_m = self
+                            .table
+                            .lookup(u, row - 1.0)
+                            .map_or(0.0, |above| (above.x - point.x).hypot(above.y - point.y));
+                        out.readings[j].outcome = ColumnOutcome::Boundary {
+                            row,
+                            point,
+                            footprint_m,
+                        };
+                        out.readings[j].confidence = (-llr / (1.0 - llr)) as f32;
+                        found += 1;
+                        break;
+                    }
+                }
+                row -= step;
+            }
+        }
+        found
     }
 
     /// The newest kept frame at least `min_baseline_m` of camera travel back.

@@ -415,3 +415,61 @@ fn without_the_memory_or_beyond_its_radius_standing_is_the_edge_rangers_scan() {
         assert_eq!(out.readings, plain.readings);
     }
 }
+
+/// Ranges the view at camera foot 0.6 m after the one at 0.4 m: the wall stands 0.6 m ahead,
+/// its base responding below the frame's threshold (the floor's texture set it).
+fn near_wall_views(options: ParallaxOptions) -> (Scan, ParallaxReport) {
+    let table = table();
+    let mut cued = ranger(&table);
+    let mut cue = FloorParallax::new(table, options).unwrap();
+    let mut out = Scan::default();
+    let mut report = ParallaxReport::default();
+    for (k, foot) in [0.4, 0.6].into_iter().enumerate() {
+        report = cue
+            .scan_into(
+                &mut cued,
+                &view(&render(foot)),
+                k as f64,
+                Some(Pose2::new(foot, 0.0, 0.0)),
+                &mut out,
+            )
+            .unwrap();
+    }
+    (out, report)
+}
+
+#[test]
+fn above_a_vetoed_boundary_with_no_edge_the_motion_finds_a_faint_wall() {
+    let wall_x = WALL_X - 0.6;
+    let free = |scan: &Scan| {
+        scan.readings
+            .iter()
+            .filter(|r| !matches!(r.outcome, ColumnOutcome::Boundary { .. }))
+            .count()
+    };
+    // without the search: once the grout before it is vetoed, the faint wall is no edge and
+    // columns that see the wall 0.6 m ahead report floor to the end of their range
+    let off = ParallaxOptions {
+        search_above_vetoed: false,
+        ..ParallaxOptions::default()
+    };
+    let (hazard, report) = near_wall_views(off);
+    assert!(report.vetoes > 0 && free(&hazard) > 0, "{report:?}");
+    // with it (the default): those columns find the wall's base, none goes past it
+    let (out, report) = near_wall_views(ParallaxOptions::default());
+    assert_eq!(report.found_above, free(&hazard), "{report:?}");
+    assert_eq!(free(&out), 0, "{:?}", boundary_x(&out));
+    let xa = boundary_x(&out);
+    assert!(xa.iter().flatten().all(|&x| x < wall_x + 0.03), "{xa:?}");
+    for (h, o) in hazard.readings.iter().zip(&out.readings) {
+        match h.outcome {
+            ColumnOutcome::Boundary { .. } => assert_eq!(h, o),
+            _ => {
+                let ColumnOutcome::Boundary { point, .. } = o.outcome else {
+                    unreachable!()
+                };
+                assert!((point.x - wall_x).abs() < 0.05, "{point:?}, wall {wall_x}");
+            }
+        }
+    }
+}

@@ -74,6 +74,17 @@ pub struct ParallaxOptions {
     /// Cells farther than this [m] from the camera are forgotten (odometry's drift makes old
     /// marks wrong), in (0, 20]. Default 3.
     pub memory_radius_m: f64,
+    /// Where a vetoed boundary has no edge above it (the floor seen to the end of the
+    /// column's range), the motion looks for a standing surface above it: rows tested every
+    /// quarter of `rows_above_fraction`, the first whose rows above move as a surface standing
+    /// there (log-likelihood ratio below minus `min_standing_log_likelihood_ratio`) is the
+    /// boundary. Once the floor's own edges are vetoed, a wall or a baseboard fainter than the
+    /// frame's threshold (set by the floor's texture) is no edge: without this the column
+    /// reports floor where the wall stands. Default true.
+    pub search_above_vetoed: bool,
+    /// Evidence [nats] a row's test needs to place a boundary in that search, finite and >= 0.
+    /// Default 2.
+    pub min_standing_log_likelihood_ratio: f64,
 }
 
 impl Default for ParallaxOptions {
@@ -94,6 +105,8 @@ impl Default for ParallaxOptions {
             memory_min_frames: 0,
             memory_cell_m: 0.05,
             memory_radius_m: 3.0,
+            search_above_vetoed: true,
+            min_standing_log_likelihood_ratio: 2.0,
         }
     }
 }
@@ -114,6 +127,13 @@ impl ParallaxOptions {
         positive("min_baseline_m", self.min_baseline_m)?;
         positive("refine_range_m", self.refine_range_m)?;
         positive("base_line_gap_m", self.base_line_gap_m)?;
+        let standing = self.min_standing_log_likelihood_ratio;
+        if !(standing.is_finite() && standing >= 0.0) {
+            return Err(invalid_option(
+                "min_standing_log_likelihood_ratio",
+                format!("must be finite and >= 0, got {standing}"),
+            ));
+        }
         if !(1..=MAX_HISTORY_FRAMES).contains(&self.history_frames) {
             return Err(invalid_option(
                 "history_frames",
