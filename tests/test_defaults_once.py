@@ -12,8 +12,9 @@ from floorscan.options import KINDS, defaults
 
 PACKAGE = Path(floorscan.__file__).parent
 
-GENERIC = {"x", "y"}
-"""Point coordinates (`origin_m.x`): every pose and quaternion has an `x = 0.0`."""
+GENERIC = {"x", "y", "seed"}
+"""Point coordinates (`origin_m.x`): every pose and quaternion has an `x = 0.0`; a random
+seed's 0 (every simulation, render and noise draw takes one; the drive's is one of them)."""
 
 OTHER_OPTIONS = {"calibration"}
 """Python-owned options that happen to share a name and value (``CalibrationOptions.max_range_m``,

@@ -87,3 +87,19 @@ def test_a_negative_count_and_a_bad_name_say_what_is_expected():
         floorscan.OptionError, match=r"`refinement`: expected one of the option's names"
     ):
         native.ranging.check_ranger_options({"refinement": 3})
+
+
+def test_enum_choices_come_from_the_schema_and_agree_with_the_pipeline():
+    """The drive's sensor, table and ranger kinds are the core's enums: the ranger kinds are
+    the pipeline's (a drive takes what `[ranger] kind` takes)."""
+    from floorscan.drive import SENSORS, TABLES, DriveOptions
+    from floorscan.options import choices
+    from floorscan.pipeline.mapper import RANGER_KINDS
+
+    assert choices("drive_run", "ranger") == RANGER_KINDS
+    assert SENSORS == ("camera", "laser") and TABLES == ("calibrated", "exact")
+    assert choices("drive_run", "seconds") == ()  # a number, no enum
+    with pytest.raises(floorscan.OptionError, match="sensor"):
+        DriveOptions(sensor="sonar")
+    with pytest.raises(floorscan.OptionError, match="replan_every"):
+        DriveOptions(replan_every=0)

@@ -13,7 +13,7 @@ only reads them through the binding, and turns numpy values into plain ones on t
 from __future__ import annotations
 
 import re
-from typing import Any, Callable, Dict, List
+from typing import Any, Callable, Dict, List, Tuple
 
 import numpy as np
 
@@ -34,6 +34,7 @@ KINDS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "avoidance_map": drive.default_avoidance_map_options,
     "visual_sensor_model": drive.default_visual_sensor_model,
     "drive": drive.default_drive_map_options,
+    "drive_run": drive.default_drive_run_options,
     "costmap": drive.default_costmap_options,
     "dwa": drive.default_dwa_options,
 }
@@ -53,6 +54,7 @@ CHECKS: Dict[str, Callable[[Dict[str, Any]], Dict[str, Any]]] = {
     "avoidance_map": drive.check_avoidance_map_options,
     "visual_sensor_model": drive.check_visual_sensor_model,
     "drive": drive.check_drive_map_options,
+    "drive_run": drive.check_drive_run_options,
     "costmap": drive.check_costmap_options,
     "dwa": drive.check_dwa_options,
 }
@@ -72,6 +74,7 @@ SCHEMAS: Dict[str, Callable[[], Dict[str, Any]]] = {
     "avoidance_map": drive.avoidance_map_options_schema,
     "visual_sensor_model": drive.visual_sensor_model_schema,
     "drive": drive.drive_map_options_schema,
+    "drive_run": drive.drive_run_options_schema,
     "costmap": drive.costmap_options_schema,
     "dwa": drive.dwa_options_schema,
 }
@@ -165,6 +168,22 @@ def _expected(default: Any, values: List[str]) -> str:
     if isinstance(default, dict):
         return "a table of " + ", ".join(default)
     return f"a value like {default!r}"
+
+
+def choices(kind: str, name: str) -> Tuple[str, ...]:
+    """The values the enum field ``name`` of ``kind`` takes, from its schema (``()`` if it is
+    no enum of plain values).
+
+    >>> choices("drive_run", "sensor")
+    ('camera', 'laser')
+    """
+    schema = SCHEMAS[kind]()
+    node: Any = schema.get("properties", {}).get(name, {})
+    while "$ref" in node:
+        node = schema.get("$defs", {})[node["$ref"].rsplit("/", 1)[-1]]
+    if "enum" in node:
+        return tuple(node["enum"])
+    return tuple(alt["const"] for alt in node.get("oneOf", []) if "const" in alt)
 
 
 def merged(base: Any, given: Any) -> Any:

@@ -37,8 +37,8 @@ pub use mapping::{
     scan_matcher_options, slam_options, sonar, thin_walk,
 };
 pub use navigation::{
-    avoidance_map, avoidance_map_options, costmap_options, drive_map_options, dwa_options,
-    dynamic_window, polygon_fill, visual_sensor_model,
+    avoidance_map, avoidance_map_options, costmap_options, drive_map_options, drive_run_options,
+    dwa_options, dynamic_window, polygon_fill, visual_sensor_model,
 };
 pub use ranging::{
     appearance, appearance_options, colour_image, column_spacing, dark_rim, edge, floor_model,

@@ -23,9 +23,9 @@ mod sim;
 // Each binding file also at the crate root (`crate::ranger`), as before the files were grouped
 // by the package's submodules.
 use drive::{
-    avoidance_map, avoidance_map_options, costmap_options, drive_map_options, dwa_options,
-    dynamic_window, hit_map, match_information, navigation, scan_matcher, scan_matcher_options,
-    visual_sensor_model,
+    avoidance_map, avoidance_map_options, costmap_options, drive_map_options, drive_run_options,
+    dwa_options, dynamic_window, hit_map, match_information, navigation, scan_matcher,
+    scan_matcher_options, visual_sensor_model,
 };
 use formats::{gif, png, read_ahead};
 use mapping::{
@@ -189,6 +189,10 @@ mod _native {
         #[pymodule_export]
         use crate::drive_map_options::{
             check_drive_map_options, default_drive_map_options, drive_map_options_schema,
+        };
+        #[pymodule_export]
+        use crate::drive_run_options::{
+            check_drive_run_options, default_drive_run_options, drive_run_options_schema,
         };
         #[pymodule_export]
         use crate::dwa_options::{check_dwa_options, default_dwa_options, dwa_options_schema};

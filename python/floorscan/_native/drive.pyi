@@ -82,6 +82,11 @@ def check_drive_map_options(options: Any) -> Any:
     Reads `DriveMapOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
+def check_drive_run_options(options: Any) -> Any:
+    """
+    Reads `DriveRunOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def check_dwa_options(options: Any) -> Any:
     """
     Reads `DwaOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
@@ -140,6 +145,11 @@ def default_drive_map_options() -> Any:
     The default `DriveMapOptions` (its serde form, a dict).
     """
 
+def default_drive_run_options() -> Any:
+    """
+    The default `DriveRunOptions` (its serde form, a dict).
+    """
+
 def default_dwa_options() -> Any:
     """
     The default `DwaOptions` (its serde form, a dict).
@@ -158,6 +168,11 @@ def default_visual_sensor_model() -> Any:
 def drive_map_options_schema() -> Any:
     """
     The JSON schema of `DriveMapOptions`: field docs, types, defaults.
+    """
+
+def drive_run_options_schema() -> Any:
+    """
+    The JSON schema of `DriveRunOptions`: field docs, types, defaults.
     """
 
 def dwa_options_schema() -> Any:

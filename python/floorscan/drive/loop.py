@@ -22,10 +22,10 @@ import numpy as np
 from ..calibration import calibrate
 from ..errors import OptionError
 from ..mapping.scan_matcher import ScanMatcher, ScanMatcherOptions, boundary_points_robot
-from ..options import check, defaults
+from ..options import check, choices, defaults
 from ..pipeline.config import Config
 from ..pipeline.driven_floor import driven_floor_for
-from ..pipeline.mapper import RANGER_KINDS, parallax_for, ranger_from_config
+from ..pipeline.mapper import parallax_for, ranger_from_config
 from ..sim import Camera, Robot, render_calibration, render_image
 from .avoidance_map import AvoidanceMap, AvoidanceMapOptions
 from .costmap import CostmapOptions, inflate, navigation_function
@@ -37,81 +37,49 @@ from .solids import Solids
 if TYPE_CHECKING:
     from .result import DriveResult
 
-SENSORS = ("camera", "laser")
-TABLES = ("calibrated", "exact")
+SENSORS = choices("drive_run", "sensor")
+"""The range sensors a drive takes (the core's ``DriveSensor``)."""
+TABLES = choices("drive_run", "table")
+"""The ground tables a drive takes (the core's ``DriveTable``)."""
+_RUN = defaults("drive_run")
+"""The defaults of the drive's own options: the core's ``DriveRunOptions``."""
 
 
 @dataclass(frozen=True)
 class DriveOptions:
-    """Options of :func:`drive` (components have their own documented options).
-
-    - ``speed_m_s``: top speed [m/s], in (0, 3]. Default 0.3 (the paper's top speed).
-    - ``seconds``: longest run [s], > 0. Default 600; the run ends earlier when the tour is
-      done once.
-    - ``seed``: odometry noise and image noise. Default 0.
-    - ``sensor``: ``"camera"`` (the product) or ``"laser"`` (an ideal 2-D laser, the anchor).
-    - ``table``: ``"calibrated"`` (from the simulated pattern of dark lines, as ``floorscan
-      demo``; the default) or ``"exact"`` (the camera's perfect table).
-    - ``columns``: ranger columns, default 160 (every second column of a 320-wide image: a
-      2.5 cm chair leg at 1 m spans at least one).
-    - ``ranger``: the range sensor's kind, ``"edge"``, ``"appearance"`` or ``"fused"`` (a
-      ``config`` given to :func:`drive` supplies the rangers' options, this their kind).
-      Default ``"edge"``, the configuration's default too: on the carpet worlds the closed
-      loop drives better with the paper's ranger (built-in suite at 0.8 m/s: 0 contacts
-      against 2; the held-out open plan at 0.3 m/s: 93 % of waypoints against 71 %, the pose
-      estimate within 0.48 m against 1.36 m: the appearance boundaries scatter more for the
-      scan matcher), and its step takes ~2 ms a 640 x 480 frame against ~6 (EVALUATION.md,
-      BENCHMARKS.md). Textured floors need ``"fused"``.
-    - ``mid_contrast``, ``mid_range_m``: the edge ranger's lower contrast floor and the band
-      of ground range [m] where it applies (``RangerOptions``' fields of the same names),
-      set for the drive unless the configuration sets a band of its own; ``mid_range_m``
-      None leaves the ranger's options as they are. Defaults: the ranger's ``mid_contrast``
-      (0.06) over (0.6, 1.2) m, the range where an obstacle is about to be met (the dynamic
-      window looks 0.5 m ahead at 0.3 m/s) but the floor's texture is averaged out: a face
-      whose base is a 12-24 % step on the carpet (a wooden desk) is seen there, where the
-      default floor asks for 24 % (three held-out worlds, 16 camera runs at 0.3-0.8 m/s: 5
-      contacts -> 3, 0.5 m/s 3 -> 0; a 0.06 floor at every range also avoids the desk but
-      reads the resolved grain near the robot as obstacles and takes 1.4-2.5x the time:
-      EVALUATION.md, "A face the colour of the floor").
-    - ``goal_tolerance_m``: a waypoint counts as reached (by the robot, from its pose
-      estimate in the world frame) within this distance [m]. Default 0.15.
-    - ``waypoint_timeout_s``: the robot gives a waypoint up after 20 s plus three times its
-      straight-line travel time. Default 20.
-    - ``laser_fov_rad``, ``laser_range_m``, ``laser_beams``: the ideal laser; defaults
-      270 degrees, 4 m, 271 beams (a Hokuyo UTM-30LX-like scanner cut to the camera's range).
-    - ``replan_every``: frames between navigation-function updates. Default 5.
-    - ``keep_frames``: keep camera images and map views for a GIF every this many frames
-      (0: none). Default 5.
-    - ``dwa``: the dynamic window's options; its ``max_speed_m_s`` is ``speed_m_s``.
-    - ``bump_backup_m``: after a bump ahead or beside (not behind), the robot reverses this
-      far [m] at 0.1 m/s, in [0, 1]. Default 0.12: out of the inscribed radius (robot
-      radius + footprint padding) of the face it marked, where the dynamic window works
-      again (with 5 cm it stayed inside, escaped along the face and bumped it again:
-      `bench/drive_bumper.py`).
-    - ``scan_matching``: estimate the robot's pose in the world frame by matching each scan
-      against its own persistent map (:class:`~floorscan.mapping.scan_matcher.ScanMatcher`):
-      the correction ``map_from_odom`` carries the waypoints into the odometry frame the
-      avoidance map and the planner work in. Default True; False drives on odometry alone.
+    """Options of :func:`drive`: the core's ``DriveRunOptions`` (defaults, rules and reasons
+    in ``crates/floorscan-core/src/navigation/drive_run_options.rs``;
+    ``floorscan.options.field_docs("drive_run")``): ``speed_m_s``, ``seconds``, ``seed``,
+    ``sensor`` (``"camera"``, the product, or ``"laser"``, an ideal 2-D laser, the anchor),
+    ``table`` (``"calibrated"`` from the simulated pattern, or ``"exact"``), ``columns``,
+    ``ranger`` (``"edge"``, ``"appearance"``, ``"fused"``: a ``config`` given to :func:`drive`
+    supplies the rangers' options, this their kind), ``mid_contrast`` and ``mid_range_m`` (the
+    edge ranger's band for the drive; ``mid_range_m`` None leaves the ranger's options as they
+    are), ``goal_tolerance_m``, ``waypoint_timeout_s``, ``laser_fov_rad``, ``laser_range_m``,
+    ``laser_beams``, ``replan_every``, ``keep_frames``, ``bump_backup_m``, ``scan_matching``;
+    a bad one is an :class:`OptionError` naming it. Then the components' own options objects:
+    ``matcher``, ``dwa`` (its ``max_speed_m_s`` is ``speed_m_s``), ``map``, ``costmap``,
+    ``model``.
     """
 
-    speed_m_s: float = 0.3
-    seconds: float = 600.0
-    seed: int = 0
-    sensor: str = "camera"
-    table: str = "calibrated"
-    columns: int = 160
-    ranger: str = "edge"
-    mid_contrast: float = field(default_factory=lambda: defaults("ranger")["mid_contrast"])
-    mid_range_m: Optional[Tuple[float, float]] = (0.6, 1.2)
-    goal_tolerance_m: float = 0.15
-    waypoint_timeout_s: float = 20.0
-    laser_fov_rad: float = 3 * math.pi / 2
-    laser_range_m: float = 4.0
-    laser_beams: int = 271
-    replan_every: int = 5
-    keep_frames: int = 5
-    bump_backup_m: float = 0.12
-    scan_matching: bool = True
+    speed_m_s: float = _RUN["speed_m_s"]
+    seconds: float = _RUN["seconds"]
+    seed: int = _RUN["seed"]
+    sensor: str = _RUN["sensor"]
+    table: str = _RUN["table"]
+    columns: int = _RUN["columns"]
+    ranger: str = _RUN["ranger"]
+    mid_contrast: float = _RUN["mid_contrast"]
+    mid_range_m: Optional[Tuple[float, float]] = tuple(_RUN["mid_range_m"])
+    goal_tolerance_m: float = _RUN["goal_tolerance_m"]
+    waypoint_timeout_s: float = _RUN["waypoint_timeout_s"]
+    laser_fov_rad: float = _RUN["laser_fov_rad"]
+    laser_range_m: float = _RUN["laser_range_m"]
+    laser_beams: int = _RUN["laser_beams"]
+    replan_every: int = _RUN["replan_every"]
+    keep_frames: int = _RUN["keep_frames"]
+    bump_backup_m: float = _RUN["bump_backup_m"]
+    scan_matching: bool = _RUN["scan_matching"]
     matcher: ScanMatcherOptions = field(default_factory=ScanMatcherOptions)
     dwa: DwaOptions = field(default_factory=DwaOptions)
     map: AvoidanceMapOptions = field(default_factory=AvoidanceMapOptions)
@@ -119,39 +87,10 @@ class DriveOptions:
     model: VisualSensorModel = field(default_factory=VisualSensorModel)
 
     def __post_init__(self) -> None:
-        if not (0 < self.speed_m_s <= 3):
-            raise OptionError(
-                f"invalid option `speed`: must be in (0, 3] m/s, got {self.speed_m_s}"
-            )
-        if not (0 < self.seconds <= 1e5):
-            raise OptionError(f"invalid option `seconds`: must be in (0, 1e5], got {self.seconds}")
-        # the band is the ranger's: its rules are RangerOptions' (validated in Rust)
-        band = {"mid_contrast": self.mid_contrast}
-        if self.mid_range_m is not None:
-            band["mid_range_m"] = list(self.mid_range_m)
-        check("ranger", band)
-        if not 0.0 <= self.bump_backup_m <= 1.0:
-            raise OptionError(
-                f"invalid option `bump_backup_m`: must be in [0, 1], got {self.bump_backup_m}"
-            )
-        if self.sensor not in SENSORS:
-            raise OptionError(
-                f"invalid option `sensor`: expected one of {SENSORS}, got {self.sensor!r}"
-            )
-        if self.table not in TABLES:
-            raise OptionError(
-                f"invalid option `table`: expected one of {TABLES}, got {self.table!r}"
-            )
-        if self.ranger not in RANGER_KINDS:
-            raise OptionError(
-                f"invalid option `ranger`: expected one of {RANGER_KINDS}, got {self.ranger!r}"
-            )
-        if not 2 <= int(self.columns) <= 4096:
-            raise OptionError(f"invalid option `columns`: must be in 2..=4096, got {self.columns}")
-        if not 1 <= int(self.laser_beams) <= 10000:
-            raise OptionError(
-                f"invalid option `laser_beams`: must be in 1..=10000, got {self.laser_beams}"
-            )
+        own = {name: getattr(self, name) for name in _RUN}
+        if own["mid_range_m"] is not None:
+            own["mid_range_m"] = list(own["mid_range_m"])
+        check("drive_run", own)  # every rule is the core's
 
 
 @dataclass

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..drive.avoidance_map import AvoidanceMap, AvoidanceMapOptions, _compose
 from ..drive.sensor_model import VisualSensorModel
+from ..options import defaults
 from ..ranging.ranger import VisualRanger
 from .scoring import sample_truth
 
@@ -84,7 +85,7 @@ def fit_sensor_model(
     ``table``; returns the model and the sample counts."""
     base = VisualSensorModel() if base is None else base
     cell_size_m = _cell(cell_size_m)
-    ranger = VisualRanger(table, columns=160)
+    ranger = VisualRanger(table, columns=defaults("drive_run")["columns"])  # the drive's
     fr, fy, hr, hy = [], [], [], []
     for run in runs:
         raster = run.world.occupancy(resolution_m=cell_size_m)
@@ -109,7 +110,7 @@ def fused_map(
     run, table, model, *, cell_size_m=None, frames=None, map_options=None
 ) -> AvoidanceMap:
     """The avoidance map (no forgetting) after ``frames`` of ``run`` with true poses."""
-    ranger = VisualRanger(table, columns=160)
+    ranger = VisualRanger(table, columns=defaults("drive_run")["columns"])  # the drive's
 
     base = map_options or AvoidanceMapOptions(
         probability_scale=1.0, probability_offset=0.0, probability_knots=None

@@ -6,6 +6,7 @@ pub mod avoidance_map;
 pub mod avoidance_map_options;
 pub mod costmap_options;
 pub mod drive_map_options;
+pub mod drive_run_options;
 pub mod dwa_options;
 pub mod dynamic_window;
 pub mod hit_map;
