@@ -98,3 +98,52 @@ def test_options_come_from_rust_and_a_bad_one_is_named():
         PoseGraphOptions(keyframe_distance_m=-1.0)
     # the field covers the scan's reach and the wider search
     assert o.field_half_side_m() >= o.range_max_m + max(o.search_xy_m, o.loop_search_xy_m)
+
+
+def test_a_closure_is_wide_only_along_what_its_match_cannot_see():
+    """Analytic: an information matrix that constrains world y (and yaw) but not world x (a
+    corridor along x passed again): the closure's covariance, read in the later keyframe's
+    frame, is loop_sigma_xy_m across the corridor and MAX_WEAK_SIGMA_FACTOR times it along;
+    turned by 90 degrees, the axes swap; without information or with the option off, round."""
+    o = PoseGraphOptions()
+    info = np.diag([0.0, 400.0, 50.0])
+    s, wide = o.loop_sigma_xy_m, pose_graph.MAX_WEAK_SIGMA_FACTOR * o.loop_sigma_xy_m
+    cov = pose_graph.loop_covariance(o, info, 0.0)
+    np.testing.assert_allclose(np.sqrt(np.diag(cov)), [wide, s, o.loop_sigma_yaw_rad])
+    turned = pose_graph.loop_covariance(o, info, math.pi / 2)
+    np.testing.assert_allclose(np.sqrt(np.diag(turned)), [s, wide, o.loop_sigma_yaw_rad])
+    assert abs(turned[0, 1]) < 1e-12
+    # half the information along x: sqrt(2) wider there
+    half = pose_graph.loop_covariance(o, np.diag([200.0, 400.0, 50.0]), 0.0)
+    np.testing.assert_allclose(np.sqrt(half[0, 0]), s * math.sqrt(2.0))
+    for c in (
+        pose_graph.loop_covariance(o, None, 0.3),
+        pose_graph.loop_covariance(PoseGraphOptions(loop_information=False), info, 0.3),
+        pose_graph.loop_covariance(o, np.zeros((3, 3)), 0.3),
+    ):
+        np.testing.assert_allclose(np.sqrt(np.diag(c)), [s, s, o.loop_sigma_yaw_rad])
+
+
+@needs_gtsam
+def test_closures_slid_along_a_corridor_do_not_pull_the_graph_along_it():
+    """Exact odometry around the square, and three closures that slid 0.8 m along the later
+    keyframe's heading (what a plain corridor's match gives), each with the information of a
+    match that sees only the corridor's walls: weighed by their information, they leave the
+    square where odometry has it; weighed round, they pull it along."""
+    truth = square()
+    n = len(truth)
+
+    def solve(**options):
+        g = build(truth, odometry_steps(truth, turn_scale=1.0, drift=0.0), **options)
+        for j, k in [(0, n - 1), (1, n - 2), (2, n - 3)]:
+            slid = compose(truth[k], (0.8, 0.0, 0.0))
+            along = np.array([math.cos(slid[2]), math.sin(slid[2])])
+            info = np.zeros((3, 3))
+            info[:2, :2] = 400.0 * (np.eye(2) - np.outer(along, along))  # across only
+            info[2, 2] = 50.0
+            g.add_loop_closure(j, k, relative(truth[j], slid), info)
+        g.optimize()
+        return np.hypot(*(g.poses[:, :2] - np.array(truth)[:, :2]).T).max()
+
+    weighed, round_ = solve(), solve(loop_information=False)
+    assert weighed < 0.02 and round_ > 0.1, (weighed, round_)

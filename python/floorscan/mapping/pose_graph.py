@@ -18,7 +18,7 @@ Options: the Rust ``PoseGraphOptions`` (``[slam.graph]``; defaults, docs and rul
 from __future__ import annotations
 
 import math
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -38,6 +38,37 @@ INSTALL_HINT = "pip install 'floorscan[slam]' (GTSAM)"
 
 PoseTuple = Tuple[float, float, float]
 Edge = Tuple[int, int, PoseTuple, PoseTuple, bool]
+
+
+MAX_WEAK_SIGMA_FACTOR = 100.0
+"""A loop closure's least constrained direction is at most this many times wider than its
+best (``loop_information``)."""
+
+
+def loop_covariance(options, information: Optional[np.ndarray], later_yaw: float) -> np.ndarray:
+    """The (3, 3) covariance of a loop closure measured in the later keyframe's frame (where
+    GTSAM's between factor reads its error): ``loop_sigma_xy_m`` along the direction the match
+    constrains best and ``loop_sigma_xy_m / sqrt(share)`` across it, ``share`` the weaker
+    direction's share of the stronger one's information (a corridor passed again: almost 0
+    along it), the world frame's x, y turned into the later keyframe's (``later_yaw``);
+    ``loop_sigma_yaw_rad`` in yaw. Without information, or with ``loop_information`` off, or
+    an information matrix that constrains nothing: ``loop_sigma_xy_m`` in x and y."""
+    o = options
+    cov = np.diag([o.loop_sigma_xy_m**2, o.loop_sigma_xy_m**2, o.loop_sigma_yaw_rad**2])
+    if information is None or not o.loop_information:
+        return cov
+    block = np.asarray(information, np.float64)[:2, :2]
+    if not np.all(np.isfinite(block)):
+        return cov
+    w, v = np.linalg.eigh(0.5 * (block + block.T))  # ascending
+    if not w[-1] > 0:
+        return cov
+    share = max(w[0] / w[-1], MAX_WEAK_SIGMA_FACTOR**-2)
+    world = v @ np.diag([o.loop_sigma_xy_m**2 / share, o.loop_sigma_xy_m**2]) @ v.T
+    c, s = math.cos(later_yaw), math.sin(later_yaw)
+    r = np.array([[c, -s], [s, c]])
+    cov[:2, :2] = r.T @ world @ r
+    return cov
 
 
 class PoseGraphOptions(OptionsObject, kind="pose_graph"):
@@ -73,13 +104,6 @@ class PoseGraph:
         """Every edge as added: (earlier, later, measured (x, y, yaw), sigmas (x, y, yaw),
         robust): the graph in plain numbers (another solver reads it)."""
         self.loop_closures = 0
-        o = options
-        self._loop_noise = gtsam.noiseModel.Robust.Create(
-            gtsam.noiseModel.mEstimator.Cauchy.Create(o.loop_robust_scale),
-            gtsam.noiseModel.Diagonal.Sigmas(
-                np.array([o.loop_sigma_xy_m, o.loop_sigma_xy_m, o.loop_sigma_yaw_rad])
-            ),
-        )
 
     def __len__(self) -> int:
         return len(self._poses)
@@ -132,29 +156,33 @@ class PoseGraph:
         self._poses.append(pose)
         return k
 
-    def add_loop_closure(self, earlier: int, later: int, measured: Sequence[float]) -> None:
+    def add_loop_closure(
+        self,
+        earlier: int,
+        later: int,
+        measured: Sequence[float],
+        information: Optional[np.ndarray] = None,
+    ) -> None:
         """A loop closure: keyframe ``later`` seen at ``measured`` (x, y, yaw) in keyframe
-        ``earlier``'s frame."""
+        ``earlier``'s frame. ``information``: the match's (3, 3) information matrix over the
+        later keyframe's world pose (``floorscan_core::match_information``); with
+        ``loop_information`` its x, y block shapes the closure's standard deviations (see
+        :func:`loop_covariance`)."""
         if not (0 <= earlier < later < len(self._poses)):
             raise ValueError(f"loop closure {earlier} -> {later} outside 0..{len(self._poses)}")
-        self._graph.add(
-            gtsam.BetweenFactorPose2(
-                int(earlier),
-                int(later),
-                gtsam.Pose2(*[float(v) for v in measured[:3]]),
-                self._loop_noise,
-            )
-        )
         o = self.options
-        self.edges.append(
-            (
-                int(earlier),
-                int(later),
-                tuple(float(v) for v in measured[:3]),
-                (o.loop_sigma_xy_m, o.loop_sigma_xy_m, o.loop_sigma_yaw_rad),
-                True,
-            )
+        measured = tuple(float(v) for v in measured[:3])
+        later_world_yaw = self._poses[earlier][2] + measured[2]
+        cov = loop_covariance(o, information, later_world_yaw)
+        noise = gtsam.noiseModel.Robust.Create(
+            gtsam.noiseModel.mEstimator.Cauchy.Create(o.loop_robust_scale),
+            gtsam.noiseModel.Gaussian.Covariance(cov),
         )
+        self._graph.add(
+            gtsam.BetweenFactorPose2(int(earlier), int(later), gtsam.Pose2(*measured), noise)
+        )
+        sig = tuple(float(v) for v in np.sqrt(np.diag(cov)))
+        self.edges.append((int(earlier), int(later), measured, sig, True))
         self.loop_closures += 1
 
     def optimize(self) -> None:

@@ -12,7 +12,9 @@ with ``--poses odometry``), Cartographer's shape at a laser log's scale:
    window (``loop_search_*``), against the keyframes at least ``loop_min_travel_m`` of travel
    behind it whose estimated positions lie within ``loop_search_radius_m`` (the nearest
    ``loop_candidates``, each with ``loop_neighbours`` keyframes either side, placed at the
-   graph's current estimate); a match scoring ``loop_min_score`` is a loop closure.
+   graph's current estimate); a match scoring ``loop_min_score`` is a loop closure, weighed by
+   what the match constrains (``loop_information``: a corridor passed again closes across
+   it, hardly along it).
 3. **The graph** (:class:`~floorscan.mapping.pose_graph.PoseGraph`) is optimised after each
    keyframe that closed a loop, so the next search starts from the corrected estimate, and
    once more at the end. Every scan's pose is its keyframe's optimised pose moved by the local
@@ -30,7 +32,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import cv2
 import numpy as np
 
-from .._native.drive import correlative_search
+from .._native.drive import correlative_search, match_information
 from .._native.mapping import FIELD_REUSE_M
 from ..formats.trajectory import compose, inverse, relative
 from ..mapping.pose_graph import PoseGraph, PoseGraphOptions
@@ -247,7 +249,17 @@ class GraphSlam:
                 o.loop_search_yaw_rad,
             )
             if mean >= o.loop_min_score:
-                self.graph.add_loop_closure(j, k, relative(poses[j], found))
+                information = None
+                if o.loop_information:  # what the match constrains, and what it does not
+                    information = match_information(
+                        built[0],
+                        built[1],
+                        o.cell_size_m,
+                        self._keyframe_points[k],
+                        found,
+                        o.yaw_step_rad,
+                    )
+                self.graph.add_loop_closure(j, k, relative(poses[j], found), information)
                 closed = True
         return closed
 

@@ -81,6 +81,12 @@ pub struct PoseGraphOptions {
     /// Scale of the Cauchy loss on loop closures (in standard deviations), in (0, 100]: a
     /// wrong closure weighs little once it disagrees with the rest by more. Default 1.
     pub loop_robust_scale: f64,
+    /// A loop closure's standard deviations follow its match's information: the direction
+    /// the matched points constrain least (along a corridor passed again) gets `loop_sigma_xy_m`
+    /// divided by the square root of its share of the best direction's information (at most
+    /// 100 times wider), so a closure that slid along a corridor does not pull the graph along
+    /// it. False: `loop_sigma_xy_m` in every direction. Default true.
+    pub loop_information: bool,
 }
 
 impl Default for PoseGraphOptions {
@@ -112,6 +118,7 @@ impl Default for PoseGraphOptions {
             loop_sigma_xy_m: 0.05,
             loop_sigma_yaw_rad: 0.02,
             loop_robust_scale: 1.0,
+            loop_information: true,
         }
     }
 }
