@@ -361,6 +361,39 @@ def test_cli_drive_reads_the_rangers_config_and_refuses_bad_keys(tmp_path):
     assert two.returncode == 2 and "one --world" in two.stderr
 
 
+def test_cli_drive_settings_come_from_flags_then_drive_run_then_the_core(tmp_path):
+    """`floorscan drive`'s own settings: a flag given wins over the config's [drive.run],
+    which wins over the core's defaults; a bad [drive.run] key names itself."""
+    from floorscan.cli import build_parser
+    from floorscan.commands.drive import RUN, settings
+    from floorscan.options import defaults
+
+    parse = build_parser().parse_args
+    cfg = Config.from_toml('[drive.run]\nspeed_m_s = 0.5\nseconds = 7.0\nsensor = "laser"\n')
+    assert cfg.drive.options()["run"]["speed_m_s"] == 0.5
+    own = settings(parse(["drive", "--seconds", "3", "-o", "x"]), cfg)
+    assert (own["speed_m_s"], own["seconds"], own["sensor"]) == (0.5, 3.0, "laser")
+    plain = settings(parse(["drive", "--no-gif", "-o", "x"]), None)
+    assert plain["keep_frames"] == 0
+    assert {k: v for k, v in plain.items() if k != "keep_frames"} == {
+        k: (tuple(v) if k == "mid_range_m" else v)
+        for k, v in defaults("drive_run").items()
+        if k != "keep_frames"
+    }
+    assert RUN == defaults("drive_run")
+    with pytest.raises(ConfigError, match="drive.run"):
+        Config.from_toml("[drive.run]\nsped = 1.0\n")
+    world = tmp_path / "hall.toml"
+    world.write_text(HALL + BOX)
+    conf = tmp_path / "c.toml"
+    conf.write_text('[drive.run]\nseconds = 1.5\ntable = "exact"\nkeep_frames = 0\n')
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "floorscan", "drive", "--world", str(world), "--no-gif"]
+    subprocess.run(cmd + ["--config", str(conf), "-o", str(out)], check=True, capture_output=True)
+    s = json.loads((out / "summary.json").read_text())
+    assert s["duration_s"] <= 1.5 + 1e-9 and s["table"] == "exact"
+
+
 def test_pose_composition_keeps_yaw_in_minus_pi_to_pi():
     from floorscan.drive.loop import _between, _compose, _inverse
 

@@ -8,17 +8,19 @@ import json
 import sys
 
 from .._signals import StopRequest
-from ..drive import DriveOptions, drive
+from ..drive import SENSORS, TABLES, DriveOptions, drive
 from ..drive.obstacles import with_obstacles
 from ..drive.suite import run_suite
+from ..options import choices, defaults
 from ..pipeline.config import Config
 from ..sim import World
 from ._output import FOLDER, add_output
 
 DEFAULT_WORLD = "room"
 """The world driven without --world."""
-SECONDS = 600.0
-"""Longest drive [s] without --seconds."""
+RUN = defaults("drive_run")
+"""The drive's own settings' defaults (the core's ``DriveRunOptions``; a config's
+``[drive.run]`` sets them for a file, the flags for one command)."""
 SUITE_SECONDS = 150.0
 """Longest drive of each suite case [s] without --seconds."""
 
@@ -38,39 +40,46 @@ def register(sub) -> None:
         help=f"built-in world or world file (default: {DEFAULT_WORLD}; with --suite: "
         "repeatable, the built-in carpet worlds if none)",
     )
-    p.add_argument("--speed", type=float, default=0.3, help="top speed [m/s] (default %(default)s)")
+    # flags given override the config's [drive.run], which overrides the core's defaults
+    p.add_argument(
+        "--speed",
+        type=float,
+        help=f"top speed [m/s] (default {RUN['speed_m_s']:g}, the config's drive.run.speed_m_s)",
+    )
     p.add_argument(
         "--seconds",
         type=float,
-        default=SECONDS,
-        help="longest run [s]; ends when the tour is done (default %(default)s; with --suite "
-        f"and no --seconds: {SUITE_SECONDS})",
+        help="longest run [s]; ends when the tour is done (default "
+        f"{RUN['seconds']:g}, the config's drive.run.seconds); with --suite and no --seconds: "
+        f"{SUITE_SECONDS:g}",
     )
-    p.add_argument("--seed", type=int, default=0, help="noise seed (default %(default)s)")
+    p.add_argument(
+        "--seed", type=int, help=f"noise seed (default {RUN['seed']}, the config's drive.run.seed)"
+    )
     p.add_argument(
         "--sensor",
-        choices=["camera", "laser"],
-        default="camera",
-        help="range sensor: the camera or an ideal laser (default %(default)s)",
+        choices=SENSORS,
+        help="range sensor: the camera or an ideal laser (default "
+        f"{RUN['sensor']}, the config's drive.run.sensor)",
     )
     p.add_argument(
         "--table",
-        choices=["calibrated", "exact"],
-        default="calibrated",
-        help="ground table: calibrated from the simulated pattern or exact (default %(default)s)",
+        choices=TABLES,
+        help="ground table: calibrated from the simulated pattern or exact (default "
+        f"{RUN['table']}, the config's drive.run.table)",
     )
     p.add_argument(
         "--obstacles", action="store_true", help="place boxes, chairs, tables and bins on the route"
     )
     p.add_argument(
         "--config",
-        help="configuration TOML: its [ranger] and [appearance] tables make the range sensor, its [parallax] turns the floor-parallax cue on, its [drive] table gives the avoidance map, the sensor model, the costmap and the planner",
+        help="configuration TOML: its [ranger] and [appearance] tables make the range sensor, its [parallax] turns the floor-parallax cue on, its [drive] table gives the avoidance map, the sensor model, the costmap, the planner and the drive's own settings ([drive.run])",
     )
     p.add_argument(
         "--ranger",
-        choices=["edge", "appearance", "fused"],
-        help=f"range sensor kind (default: {DriveOptions().ranger}, DriveOptions.ranger; a "
-        "--config gives the rangers' options, not their kind)",
+        choices=choices("drive_run", "ranger"),
+        help=f"range sensor kind (default {RUN['ranger']}, the config's drive.run.ranger); a "
+        "--config's [ranger] gives the rangers' options, not their kind",
     )
     p.add_argument("--no-gif", action="store_true", help="leave out drive.gif")
     p.add_argument(
@@ -91,14 +100,37 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
+def settings(args: argparse.Namespace, config) -> dict:
+    """The drive's own settings: the flags given, over the config's ``[drive.run]``, over the
+    core's defaults."""
+    own = dict(config.drive.options()["run"]) if config is not None else dict(RUN)
+    flags = {
+        "speed_m_s": args.speed,
+        "seconds": args.seconds,
+        "seed": args.seed,
+        "sensor": args.sensor,
+        "table": args.table,
+        "ranger": args.ranger,
+    }
+    own.update({k: v for k, v in flags.items() if v is not None})
+    if args.no_gif:
+        own["keep_frames"] = 0
+    if args.no_scan_matching:
+        own["scan_matching"] = False
+    if own["mid_range_m"] is not None:
+        own["mid_range_m"] = tuple(own["mid_range_m"])
+    return own
+
+
 def run(args: argparse.Namespace) -> int:
     config = Config.load(args.config) if args.config else None
-    ranger = {"ranger": args.ranger} if args.ranger else {}
+    own = settings(args, config)
+    ranger = {"ranger": own["ranger"]}
     # a first SIGINT / SIGTERM / SIGHUP ends the drive after the current frame and the
     # outputs are still written; a second one while writing abandons what is not written yet
     stop = StopRequest()
     if args.suite:
-        seconds = args.seconds if args.seconds != SECONDS else SUITE_SECONDS
+        seconds = args.seconds if args.seconds is not None else SUITE_SECONDS
         kw = {"worlds": args.world} if args.world else {}
         with stop.installed():
             with stop.loop():
@@ -106,8 +138,8 @@ def run(args: argparse.Namespace) -> int:
                     args.output,
                     seeds=range(args.seeds),
                     seconds=seconds,
-                    table=args.table,
-                    scan_matching=not args.no_scan_matching,
+                    table=own["table"],
+                    scan_matching=own["scan_matching"],
                     config=config,
                     stop=stop,
                     **ranger,
@@ -122,16 +154,7 @@ def run(args: argparse.Namespace) -> int:
     if args.obstacles:
         world, placed = with_obstacles(world)
         print(f"obstacles: {placed}", file=sys.stderr)
-    options = DriveOptions(
-        speed_m_s=args.speed,
-        seconds=args.seconds,
-        seed=args.seed,
-        sensor=args.sensor,
-        table=args.table,
-        keep_frames=0 if args.no_gif else 5,
-        scan_matching=not args.no_scan_matching,
-        **ranger,
-    )
+    options = DriveOptions(**own)
     with stop.installed():
         with stop.loop():
             print(
