@@ -12,7 +12,8 @@ from floorscan import read_scans_csv
 from floorscan.cli import main
 from floorscan.formats.image_io import write_png
 from floorscan.options import defaults
-from floorscan.pipeline.config import SHARED_WITH_RANGER, Config
+from floorscan.pipeline.config import Config
+from floorscan.pipeline.config_tables import SHARED_WITH_RANGER
 
 if sys.version_info >= (3, 11):
     import tomllib

@@ -25,7 +25,8 @@ from ..evaluation.tune import (
 )
 from ..formats.dataset import read_images_txt
 from ..formats.image_io import read_grey
-from ..pipeline.config import LEGACY_KEYS, Config
+from ..pipeline.config import Config
+from ..pipeline.config_legacy import LEGACY_KEYS
 from ..ranging.ranger import VisualRanger
 from ._output import FILE, add_output, also_writes, refuse_existing
 

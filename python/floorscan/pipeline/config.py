@@ -11,9 +11,9 @@ own keys (``kind``, ``auto_threshold``...) and ``[appearance]`` takes ``columns`
 ``max_range_m`` from ``[ranger]``; ``[local_map]`` takes its grid from ``[grid]``. The other
 tables are the Python components' options (dataclasses below, defaults beside their fields).
 
-Older spellings of existing config files are still read (:data:`LEGACY_KEYS`): ``[map]``
-(now ``[grid]`` and ``[local_map]``), ``ranger.half_width``, ``ranger.refine``,
-``ranger.bottom_margin`` and the appearance keys without their units.
+The Rust tables and their pipeline keys live in :mod:`floorscan.pipeline.config_tables`;
+older spellings of existing config files are still read
+(:data:`~floorscan.pipeline.config_legacy.LEGACY_KEYS`).
 """
 
 from __future__ import annotations
@@ -24,116 +24,26 @@ import math
 import re
 from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Any, Callable, Dict, Optional, Tuple, Union, get_args, get_origin, get_type_hints
+from typing import Any, Dict, Optional, Tuple, Union, get_args, get_origin, get_type_hints
 
 from .._atomic import PathLike, write_atomic
 from ..calibration.options import CalibrationOptions
 from ..errors import ConfigError, OptionError
 from ..formats.toml_file import dumps_toml, load_toml, loads_toml
-from ..options import check, defaults, field_docs
+from ..options import check, field_docs
+from .config_legacy import LEGACY_KEYS, modernise
+from .config_tables import (
+    RUST_TABLES,
+    SHARED_WITH_RANGER,
+    OptionsTable,
+    appearance_table,
+    default_tables,
+    doc,
+    local_map_table,
+    ranger_table,
+)
 
 _CAL = CalibrationOptions()
-
-
-def doc(text: str, default: Any = dataclasses.MISSING, **kw):
-    return field(default=default, metadata={"doc": text}, **kw)
-
-
-@dataclass
-class RangerExtras:
-    """The pipeline's own keys of ``[ranger]`` (beside the Rust ``RangerOptions``)."""
-
-    kind: str = doc(
-        "range sensor: edge (the paper's box filter; the default: no other kind has fewer wrong columns on every real set with truth, `floorscan eval --real`, EVALUATION.md) | appearance (floor colour and texture model) | fused (appearance boundaries placed by nearby edges; fewer wrong columns on the simulator's tiles, more on real floors)",
-        "edge",
-    )
-    auto_threshold: bool = doc(
-        "set `threshold` (the least threshold) once from the first frame: auto_threshold_k x the carpet's texture noise near the robot (false: as configured; `noise_multiple` and `contrast` adapt every frame either way)",
-        False,
-    )
-    auto_threshold_k: float = doc("multiple of the texture noise for the automatic threshold", 5.0)
-
-
-_FUSION = defaults("fusion")
-"""The fused ranger's defaults, from the core's ``FusionOptions``."""
-
-
-@dataclass
-class AppearanceExtras:
-    """The pipeline's own keys of ``[appearance]`` (beside the Rust ``AppearanceOptions``)."""
-
-    snap_rows: float = doc(
-        "fused ranger: largest distance [rows] at which an edge replaces the appearance boundary",
-        _FUSION["snap_rows"],
-    )
-    snap_fraction: float = doc(
-        "fused ranger: the same distance as a share of the image height, in [0, 1]; the larger of the two applies",
-        _FUSION["snap_fraction"],
-    )
-    texture_share: float = doc(
-        "fused ranger: a frame where more than this share of the edge boundaries lie below appearance boundaries breaks the texture assumption, and its columns the appearance ranger saw as floor stay floor; in [0, 1], 1: never",
-        _FUSION["texture_share"],
-    )
-
-
-SHARED_WITH_RANGER = ("columns", "start", "max_range_m")
-"""Fields of ``AppearanceOptions`` that ``[appearance]`` takes from ``[ranger]``."""
-
-
-class OptionsView(dict):
-    """A dict of options with attribute access (``cfg.sensors.visual.hit_nats``)."""
-
-    def __getattr__(self, name: str) -> Any:
-        try:
-            value = self[name]
-        except KeyError:
-            raise AttributeError(name) from None
-        return OptionsView(value) if isinstance(value, dict) else value
-
-
-class OptionsTable:
-    """One table of the config file that is a Rust options type: its serde form, completed
-    with the Rust defaults and validated by the Rust type; plus the pipeline's own keys
-    (``extras``, a dataclass) where the table has some. Read-only; attribute access."""
-
-    def __init__(self, kind: str, values: Dict[str, Any], extras: Any = None) -> None:
-        self.__dict__.update(_kind=kind, _values=dict(values), _extras=extras)
-
-    @property
-    def options_kind(self) -> str:
-        """The Rust options type (a key of :data:`floorscan.options.KINDS`)."""
-        return self.__dict__["_kind"]
-
-    @property
-    def extras(self) -> Any:
-        """The pipeline's own keys of the table (a dataclass), or None."""
-        return self.__dict__["_extras"]
-
-    def __getattr__(self, name: str) -> Any:
-        values, extras = self.__dict__["_values"], self.__dict__["_extras"]
-        if name in values:
-            v = values[name]
-            return OptionsView(v) if isinstance(v, dict) else v
-        if extras is not None and name in {f.name for f in fields(extras)}:
-            return getattr(extras, name)
-        raise AttributeError(name)
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        raise AttributeError("config tables are read-only: use Config.with_overrides")
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, OptionsTable) and self.__dict__ == other.__dict__
-
-    def __repr__(self) -> str:
-        return f"OptionsTable({self.options_kind!r}, {self.to_dict()!r})"
-
-    def options(self) -> Dict[str, Any]:
-        """The Rust options of the table (serde form, every field)."""
-        return dict(self.__dict__["_values"])
-
-    def to_dict(self) -> Dict[str, Any]:
-        extras = self.__dict__["_extras"]
-        return {**self.options(), **(dataclasses.asdict(extras) if extras is not None else {})}
 
 
 @dataclass
@@ -265,124 +175,18 @@ class NodeConfig:
     )
 
 
-def _ranger_table(values: Dict[str, Any], extras: Optional[RangerExtras] = None) -> OptionsTable:
-    return OptionsTable("ranger", check("ranger", values), extras or RangerExtras())
-
-
-def _appearance_table(
-    values: Dict[str, Any], ranger: OptionsTable, extras: Optional[AppearanceExtras] = None
-) -> OptionsTable:
-    shared = {k: ranger.options()[k] for k in SHARED_WITH_RANGER}
-    full = check("appearance", {**values, **shared})
-    own = {k: v for k, v in full.items() if k not in SHARED_WITH_RANGER}
-    return OptionsTable("appearance", own, extras or AppearanceExtras())
-
-
-def _local_map_table(values: Dict[str, Any], grid: OptionsTable) -> OptionsTable:
-    full = check("local_map", {**values, "grid": grid.options()})
-    return OptionsTable("local_map", {k: v for k, v in full.items() if k != "grid"})
-
-
-def _default_tables() -> Dict[str, OptionsTable]:
-    ranger = _ranger_table({})
-    grid = OptionsTable("grid", check("grid", {}))
-    return {
-        "ranger": ranger,
-        "appearance": _appearance_table({}, ranger),
-        "grid": grid,
-        "local_map": _local_map_table({}, grid),
-        "sensors": OptionsTable("inserter", check("inserter", {})),
-        "slam": OptionsTable("slam", check("slam", {})),
-        "parallax": OptionsTable("parallax", check("parallax", {})),
-        "drive": OptionsTable("drive", check("drive", {})),
-    }
-
-
-RUST_TABLES = {
-    "ranger": ("ranger", RangerExtras),
-    "appearance": ("appearance", AppearanceExtras),
-    "grid": ("grid", None),
-    "local_map": ("local_map", None),
-    "sensors": ("inserter", None),
-    "slam": ("slam", None),
-    "parallax": ("parallax", None),
-    "drive": ("drive", None),
-}
-"""Config table -> (its Rust options type in :mod:`floorscan.options`, its pipeline keys)."""
-
-
-def _renamed(new: str, convert: Callable[[Any], Any] = lambda v: v) -> Tuple[str, Callable]:
-    return new, convert
-
-
-LEGACY_KEYS: Dict[str, Tuple[str, Callable[[Any], Any]]] = {
-    "ranger.half_width": _renamed("ranger.half_width_px"),
-    "ranger.refine": _renamed(
-        "ranger.refinement",
-        lambda v: {"subpixel": "sub_pixel", "none": "first_crossing"}.get(v, v),
-    ),
-    "ranger.bottom_margin": _renamed("ranger.start", lambda v: {"bottom_margin": v}),
-    "appearance.intensity_reach": _renamed("appearance.intensity_reach_bins"),
-    "appearance.patch_half_width": _renamed("appearance.patch_half_width_px"),
-    "appearance.min_run": _renamed("appearance.min_run_px"),
-    "appearance.features": _renamed(
-        "appearance.features", lambda v: {"colour_texture": "colour_and_texture"}.get(v, v)
-    ),
-    "map.local_size_m": _renamed("local_map.size_m"),
-    **{
-        f"map.{k}": _renamed(f"grid.{k}")
-        for k in (
-            "cell_size_m",
-            "origin_m",
-            "bounds_m",
-            "clamp_min_nats",
-            "clamp_max_nats",
-            "occupied_threshold",
-            "free_threshold",
-            "max_cells",
-        )
-    },
-}
-"""Spellings of config files written before the tables became the Rust serde form, read
-into today's keys (old key -> (new key, value conversion)). Kept so that existing files keep
-working; ``floorscan config --check`` prints the file in today's spelling."""
-
-
-def _modernise(d: Dict[str, Any], source: str) -> Dict[str, Any]:
-    out = {k: (dict(v) if isinstance(v, dict) else v) for k, v in d.items()}
-    for table in ("ranger", "appearance", "map"):
-        old = out.get(table)
-        if not isinstance(old, dict):
-            continue
-        for key in list(old):
-            rule = LEGACY_KEYS.get(f"{table}.{key}")
-            if rule is None:
-                continue
-            new, convert = rule
-            new_table, new_key = new.split(".")
-            value = convert(old.pop(key))
-            out.setdefault(new_table, {})
-            if isinstance(out[new_table], dict):
-                out[new_table][new_key] = value
-        if table == "map":
-            for key in old:
-                raise ConfigError(f"{source}: unknown key `map.{key}` ([map] is now [grid])")
-            del out["map"]
-    return out
-
-
 @dataclass
 class Config:
-    ranger: OptionsTable = field(default_factory=lambda: _default_tables()["ranger"])
-    appearance: OptionsTable = field(default_factory=lambda: _default_tables()["appearance"])
+    ranger: OptionsTable = field(default_factory=lambda: default_tables()["ranger"])
+    appearance: OptionsTable = field(default_factory=lambda: default_tables()["appearance"])
     calibration: CalibrationConfig = field(default_factory=CalibrationConfig)
     rig: RigConfig = field(default_factory=RigConfig)
-    grid: OptionsTable = field(default_factory=lambda: _default_tables()["grid"])
-    local_map: OptionsTable = field(default_factory=lambda: _default_tables()["local_map"])
-    sensors: OptionsTable = field(default_factory=lambda: _default_tables()["sensors"])
-    slam: OptionsTable = field(default_factory=lambda: _default_tables()["slam"])
-    parallax: OptionsTable = field(default_factory=lambda: _default_tables()["parallax"])
-    drive: OptionsTable = field(default_factory=lambda: _default_tables()["drive"])
+    grid: OptionsTable = field(default_factory=lambda: default_tables()["grid"])
+    local_map: OptionsTable = field(default_factory=lambda: default_tables()["local_map"])
+    sensors: OptionsTable = field(default_factory=lambda: default_tables()["sensors"])
+    slam: OptionsTable = field(default_factory=lambda: default_tables()["slam"])
+    parallax: OptionsTable = field(default_factory=lambda: default_tables()["parallax"])
+    drive: OptionsTable = field(default_factory=lambda: default_tables()["drive"])
     outputs: OutputsConfig = field(default_factory=OutputsConfig)
     limits: LimitsConfig = field(default_factory=LimitsConfig)
     node: NodeConfig = field(default_factory=NodeConfig)
@@ -392,7 +196,7 @@ class Config:
     def from_dict(cls, d: Dict[str, Any], *, source: str = "config") -> Config:
         if not isinstance(d, dict):
             raise ConfigError(f"{source}: `config` must be a table")
-        d = _modernise(d, source)
+        d = modernise(d, source)
         names = {f.name for f in fields(cls)}
         for k in d:
             if k not in names:
@@ -415,7 +219,7 @@ class Config:
 
         with _named(source, "ranger"):
             values, extras = split("ranger")
-            tables["ranger"] = _ranger_table(values, extras)
+            tables["ranger"] = ranger_table(values, extras)
         with _named(source, "appearance"):
             values, extras = split("appearance")
             for k in SHARED_WITH_RANGER:
@@ -423,14 +227,14 @@ class Config:
                     raise ConfigError(
                         f"{source}: `appearance.{k}` is set in [ranger] (`ranger.{k}`)"
                     )
-            tables["appearance"] = _appearance_table(values, tables["ranger"], extras)
+            tables["appearance"] = appearance_table(values, tables["ranger"], extras)
         with _named(source, "grid"):
             tables["grid"] = OptionsTable("grid", check("grid", split("grid")[0]))
         with _named(source, "local_map"):
             values = split("local_map")[0]
             if "grid" in values:
                 raise ConfigError(f"{source}: `local_map.grid` is the [grid] table")
-            tables["local_map"] = _local_map_table(values, tables["grid"])
+            tables["local_map"] = local_map_table(values, tables["grid"])
         with _named(source, "sensors"):
             tables["sensors"] = OptionsTable("inserter", check("inserter", split("sensors")[0]))
         with _named(source, "slam"):

@@ -26,7 +26,8 @@ from ..ranging.ground_table import GroundTable
 from ..ranging.parallax import ParallaxRanger
 from ..ranging.ranger import VisualRanger
 from ..ranging.scan import ColumnStatus, Scan
-from .config import SHARED_WITH_RANGER, Config
+from .config import Config
+from .config_tables import SHARED_WITH_RANGER
 from .driven_floor import driven_floor_for
 from .pose_correction import PoseCorrection
 from .sources import FrameSource
