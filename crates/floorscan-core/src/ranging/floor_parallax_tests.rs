@@ -2,6 +2,7 @@
 //! textured floor with dark grout lines across it every 0.3 m, and a textured wall standing
 //! 1.2 m ahead of the first view. Truth is the scene's geometry.
 
+use super::warp::solve3;
 use super::*;
 use crate::image::ImageView;
 use crate::ranger_options::{ColumnSelection, RangerOptions};

@@ -1,0 +1,175 @@
+//! The cue's evidence at a boundary: the rows above it explained as floor and as a surface
+//! standing at the boundary (their log-likelihood ratio), the base line the neighbouring
+//! boundaries draw, and the search above a vetoed boundary with no edge.
+
+use super::*;
+
+impl FloorParallax {
+    /// Columns whose last vetoed boundary has no edge above it: the first row above it, in
+    /// steps of a quarter of the test's rows, whose rows above move as a surface standing
+    /// there becomes the boundary. Returns how many columns got one.
+    pub(super) fn search_above_vetoed(
+        &mut self,
+        earlier: &[f32],
+        motion: &Pose2,
+        noise: f64,
+        out: &mut Scan,
+    ) -> usize {
+        let rows = ((self.options.rows_above_fraction * self.height as f64).round()).max(4.0);
+        let step = (rows / 4.0).round().max(1.0);
+        let mut found = 0;
+        for j in 0..out.readings.len() {
+            let Some(vetoed_row) = self.last_vetoed[j] else {
+                continue;
+            };
+            let ColumnOutcome::NoBoundary { top_row, .. } = out.readings[j].outcome else {
+                continue;
+            };
+            let u = out.readings[j].column as f64;
+            let mut row = vetoed_row - step;
+            while row >= top_row.max(rows) {
+                if let Some(point) = self.table.lookup(u, row) {
+                    let llr =
+                        self.log_likelihood_ratio(earlier, motion, noise, u, row, point, None);
+                    if llr < -self.options.min_standing_log_likelihood_ratio {
+                        let footprint_m = self
+                            .table
+                            .lookup(u, row - 1.0)
+                            .map_or(0.0, |above| (above.x - point.x).hypot(above.y - point.y));
+                        out.readings[j].outcome = ColumnOutcome::Boundary {
+                            row,
+                            point,
+                            footprint_m,
+                        };
+                        out.readings[j].confidence = (-llr / (1.0 - llr)) as f32;
+                        found += 1;
+                        break;
+                    }
+                }
+                row -= step;
+            }
+        }
+        found
+    }
+
+    /// log p(rows above | floor) - log p(rows above | standing at the boundary), Gaussian
+    /// residuals of `noise`; 0 where the rows cannot tell (no texture, not seen before).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn log_likelihood_ratio(
+        &mut self,
+        earlier: &[f32],
+        motion: &Pose2,
+        noise: f64,
+        u: f64,
+        row: f64,
+        base: Point2,
+        along: Option<Point2>,
+    ) -> f64 {
+        let rows =
+            ((self.options.rows_above_fraction * self.height as f64).round() as usize).max(4);
+        if row < rows as f64 || u < 1.0 || u > (self.width - 2) as f64 {
+            return 0.0;
+        }
+        // the surface's direction on the floor, and the share s of each ray's floor point G at
+        // which the ray meets it
+        let d = along.unwrap_or(Point2::new(-base.y, base.x));
+        let cross = |p: Point2| p.x * d.y - p.y * d.x;
+        self.patch.clear();
+        let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+        for i in 1..=rows {
+            for du in [-1.0, 0.0, 1.0] {
+                let (pu, pv) = (u + du, row - i as f64);
+                let Some(g) = self.table.lookup(pu, pv) else {
+                    return 0.0;
+                };
+                let c = bilinear(&self.current, self.width, self.height, pu, pv) as f64;
+                sum += c;
+                sum2 += c * c;
+                self.patch.push((pu, pv, g));
+            }
+        }
+        let n = self.patch.len() as f64;
+        if (sum2 / n - (sum / n).powi(2)).max(0.0).sqrt() < self.options.min_texture_grey {
+            return 0.0;
+        }
+        // each pixel's earlier position under both explanations, its variance (the noise, and
+        // what a warp `warp_error_px` off does to it: a strong edge along the motion, which both
+        // explanations place alike up to their small errors, weighs little)
+        self.samples.clear();
+        let mut apart = 0.0f64;
+        let (mut last_floor, mut last_standing) = (None, None);
+        for &(pu, pv, g) in &self.patch {
+            let s = cross(base) / cross(g);
+            if !(s.is_finite() && s > 0.05 && s <= 1.0 + 1e-9) {
+                return 0.0;
+            }
+            let p = motion.transform_point(Point2::new(s * g.x, s * g.y));
+            // the search starts where the previous pixel's ended, moved as the pixel moved
+            let guess = |at: Option<(f64, f64, f64, f64)>| match at {
+                Some((lu, lv, eu, ev)) => (eu + pu - lu, ev + pv - lv),
+                None => (pu, pv),
+            };
+            let floor = self
+                .table
+                .pixel_of(motion.transform_point(g), guess(last_floor));
+            let standing = self
+                .table
+                .pixel_of(Point2::new(p.x / s, p.y / s), guess(last_standing));
+            let (Some((fu, fv)), Some((su, sv))) = (floor, standing) else {
+                continue;
+            };
+            last_floor = Some((pu, pv, fu, fv));
+            last_standing = Some((pu, pv, su, sv));
+            apart += (fu - su).powi(2) + (fv - sv).powi(2);
+            let (gu, gv) = gradient(&self.current, self.width, self.height, pu, pv);
+            let slip = gu.hypot(gv) as f64 * self.options.warp_error_px;
+            self.samples.push([
+                bilinear(&self.current, self.width, self.height, pu, pv),
+                bilinear(earlier, self.width, self.height, fu, fv),
+                bilinear(earlier, self.width, self.height, su, sv),
+                (1.0 / (noise * noise + slip * slip)) as f32,
+            ]);
+        }
+        let k = self.samples.len();
+        if (k as f64) < MIN_PLACED_SHARE * n {
+            return 0.0;
+        }
+        // explanations that put the rows nearly in the same place cannot be told apart
+        if (apart / k as f64).sqrt() < self.options.min_separation_px {
+            return 0.0;
+        }
+        let mean = |i: usize| self.samples.iter().map(|x| x[i] as f64).sum::<f64>() / k as f64;
+        let (mc, mf, ms) = (mean(0), mean(1), mean(2));
+        let (mut floor, mut standing) = (0.0, 0.0);
+        for &[c, f, st, w] in &self.samples {
+            let c = c as f64 - mc;
+            floor += w as f64 * (c - (f as f64 - mf)).powi(2);
+            standing += w as f64 * (c - (st as f64 - ms)).powi(2);
+        }
+        // as if every pixel of the patch had been placed
+        (standing - floor) / 2.0 * n / k as f64
+    }
+}
+
+/// The base line's direction at reading j from its neighbours' boundary points within `gap_m`
+/// of its own (`None` where none lie near).
+pub(super) fn base_direction(scan: &Scan, j: usize, here: Point2, gap_m: f64) -> Option<Point2> {
+    let near = |i: usize| match scan.readings.get(i).map(|r| r.outcome) {
+        Some(ColumnOutcome::Boundary { point, .. })
+            if (point.x - here.x).hypot(point.y - here.y) < gap_m =>
+        {
+            Some(point)
+        }
+        _ => None,
+    };
+    let before = j.checked_sub(1).and_then(near);
+    let after = near(j + 1);
+    let d = match (before, after) {
+        (Some(a), Some(b)) => Point2::new(b.x - a.x, b.y - a.y),
+        (Some(a), None) => Point2::new(here.x - a.x, here.y - a.y),
+        (None, Some(b)) => Point2::new(b.x - here.x, b.y - here.y),
+        (None, None) => return None,
+    };
+    let n = d.norm();
+    (n > 1e-9).then(|| Point2::new(d.x / n, d.y / n))
+}
