@@ -141,3 +141,14 @@ def test_a_compressed_image_the_decoder_complains_about_is_an_error(capfd, ext):
             SimpleNamespace(data=bytes(data), format=ext[1:]), "sensor_msgs/msg/CompressedImage"
         )
     assert capfd.readouterr().err == ""
+    # the live node leaves stderr alone (its transport's threads log there): the decoder's
+    # own words reach it, and whatever the decoder returns is taken
+    try:
+        decode_image(
+            SimpleNamespace(data=bytes(data), format=ext[1:]),
+            "sensor_msgs/msg/CompressedImage",
+            catch_decoder=False,
+        )
+    except floorscan.ImageError as e:  # nothing decoded at all
+        assert str(e).endswith(f"(format {ext[1:]!r})")
+    assert capfd.readouterr().err != ""

@@ -81,14 +81,18 @@ def _magic(data: bytes) -> str:
     return "starts " + (head.hex(" ") if head else "empty")
 
 
-def decode_image(msg, msgtype: str) -> np.ndarray:
-    """A ROS image message as a (H, W) uint8/uint16 grey array."""
+def decode_image(msg, msgtype: str, *, catch_decoder: bool = True) -> np.ndarray:
+    """A ROS image message as a (H, W) uint8/uint16 grey array. ``catch_decoder``: a
+    compressed image's decoder complaints (libpng, libjpeg) are caught from the process's
+    stderr and make the image an ImageError (a bag read by ``run``); False leaves stderr alone
+    (the live node, where another thread's log lines must not be caught with them)."""
     if msgtype.endswith("CompressedImage"):
         import cv2
 
         data = bytes(msg.data)
         _check_compressed_size(data)
-        with native_messages() as said:  # libpng / libjpeg print their complaints
+        with native_messages() if catch_decoder else contextlib.nullcontext() as said:
+            # libpng / libjpeg print their complaints on the process's stderr
             img = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
         if img is None or said:
             # a decoder's complaint is an error, as for image files: a corrupt JPEG decodes

@@ -84,7 +84,8 @@ class Codec:
             msg = self.deserialize(data, msgtype)
         except Exception as e:  # rosbags raises several types on truncated data
             raise ImageError(f"cannot deserialise {msgtype}: {e}") from None
-        return _stamp(msg), decode_image(msg, msgtype)
+        # live: stderr is not redirected while decoding (the transport's threads log there)
+        return _stamp(msg), decode_image(msg, msgtype, catch_decoder=False)
 
     def decode_odometry(self, data: bytes) -> OdomSample:
         msg = self.deserialize(data, ODOMETRY)
