@@ -108,6 +108,15 @@ def base(tmp_path_factory) -> Path:
     return d
 
 
+def target_file(d: Path, target: str) -> Path:
+    """The file of ``target`` in the copy ``d``: a bag's ``storage`` is whichever file its
+    writer made beside ``metadata.yaml`` (its name and kind are the writer's)."""
+    if target.endswith("/storage"):
+        folder = d / target.split("/")[0]
+        return next(p for p in folder.iterdir() if p.name != "metadata.yaml")
+    return d / target
+
+
 def _valid_toml(path: Path) -> bool:
     try:
         tomllib.loads(path.read_text())
@@ -213,10 +222,7 @@ def test_a_damaged_input_ends_in_one_line(base, tmp_path, capsys, name, how):
         pytest.skip("rosbags is not installed: no bag to damage")
     d = tmp_path / "d"
     shutil.copytree(base, d)
-    if target.endswith("/storage"):  # the storage file's name (and kind) is the writer's
-        folder = d / target.split("/")[0]
-        target = str(next(p for p in folder.iterdir() if p.name != "metadata.yaml").relative_to(d))
-    damage(d / target, how)
+    damage(target_file(d, target), how)
     capsys.readouterr()
     rc = main(build(d))
     err = capsys.readouterr().err

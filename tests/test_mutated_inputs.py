@@ -20,7 +20,7 @@ from typing import Callable, Dict
 import pytest
 from floorscan.cli import main
 from hostile_corpus import temp_files
-from test_damaged_inputs import CASES, base  # noqa: F401 (base is the fixture of valid files)
+from test_damaged_inputs import CASES, base, target_file  # noqa: F401 (base: the fixture)
 
 BYTE_DAMAGES: Dict[str, Callable[[bytes, random.Random], bytes]] = {}
 TEXT_DAMAGES: Dict[str, Callable[[str, random.Random], str]] = {}
@@ -128,11 +128,8 @@ def test_a_mutated_input_ends_as_promised(base, tmp_path, capfd, name, how):  # 
         pytest.skip("rosbags is not installed: no bag to damage")
     d = tmp_path / "d"
     shutil.copytree(base, d)
-    if target.endswith("/storage"):  # the storage file's name (and kind) is the writer's
-        folder = d / target.split("/")[0]
-        target = str(next(p for p in folder.iterdir() if p.name != "metadata.yaml").relative_to(d))
     seed = sum(map(ord, f"{name}/{how}"))
-    damage(d / target, how, seed)
+    damage(target_file(d, target), how, seed)
     before_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     capfd.readouterr()
     rc = main(build(d))

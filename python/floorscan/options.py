@@ -170,6 +170,14 @@ def _expected(default: Any, values: List[str]) -> str:
     return f"a value like {default!r}"
 
 
+def _enum_values(node: Dict[str, Any]) -> Tuple[str, ...]:
+    """The values of a schema node that is an enum of plain values: schemars writes
+    ``enum`` for variants without docs and ``oneOf`` of ``const`` for documented ones."""
+    if "enum" in node:
+        return tuple(node["enum"])
+    return tuple(alt["const"] for alt in node.get("oneOf", []) if "const" in alt)
+
+
 def choices(kind: str, name: str) -> Tuple[str, ...]:
     """The values the enum field ``name`` of ``kind`` takes, from its schema (``()`` if it is
     no enum of plain values).
@@ -181,9 +189,7 @@ def choices(kind: str, name: str) -> Tuple[str, ...]:
     node: Any = schema.get("properties", {}).get(name, {})
     while "$ref" in node:
         node = schema.get("$defs", {})[node["$ref"].rsplit("/", 1)[-1]]
-    if "enum" in node:
-        return tuple(node["enum"])
-    return tuple(alt["const"] for alt in node.get("oneOf", []) if "const" in alt)
+    return _enum_values(node)
 
 
 def merged(base: Any, given: Any) -> Any:
@@ -215,7 +221,7 @@ def field_docs(kind: str) -> Dict[str, str]:
             target = resolve(prop)
             doc = " ".join((prop.get("description") or target.get("description", "")).split())
             doc = without_doc_links(doc)
-            values = [v["const"] for v in target.get("oneOf", []) if "const" in v]
+            values = _enum_values(target)
             if values:
                 doc += f" One of: {' | '.join(values)}."
             out[prefix + name] = doc
