@@ -8,7 +8,9 @@ bench/motion_cue_probe.py).
 
 Prints per world and seed: columns wrong (status, or > 10 cm), within 2 m and within 1 m of
 the camera, for the edge ranger, with the cue at its defaults, and with its memory of the
-floor's edges (`memory_min_frames = 2`), and the ranging time per frame.
+floor's edges (`memory_min_frames = 2`), and the ranging time per frame. `--floor-lines W`
+adds the edge ranger passing lines on the floor up to W [m] wide (`[ranger]
+floor_line_width_m`), alone and with the cue and its memory.
 """
 
 from __future__ import annotations
@@ -39,10 +41,18 @@ def main() -> None:
     ap.add_argument("--floor", choices=["as-is", *HELD_OUT_FLOORS], default="as-is")
     ap.add_argument("--seeds", nargs="+", type=int, default=[3])
     ap.add_argument("--seconds", type=float, default=20.0)
+    ap.add_argument("--floor-lines", type=float, default=0.0, metavar="W")
     a = ap.parse_args()
     base = Config()
     cued = base.with_overrides({"parallax.enabled": True})
     memory = cued.with_overrides({"parallax.memory_min_frames": 2})
+    configs = [("edge", base), ("parallax", cued), ("+ memory", memory)]
+    if a.floor_lines > 0:
+        lines = {"ranger.floor_line_width_m": a.floor_lines}
+        configs += [
+            ("edge + lines", base.with_overrides(lines)),
+            ("+ memory + lines", memory.with_overrides(lines)),
+        ]
     for spec in a.worlds:
         world = load_world(spec, a.floor)
         for seed in a.seeds:
@@ -50,7 +60,7 @@ def main() -> None:
             run = simulate_run(world, camera=camera, seconds=a.seconds, seed=seed, threads=2)
             table, _ = calibrated_table(camera, calibration=base.calibration.kwargs())
             row = []
-            for name, cfg in (("edge", base), ("parallax", cued), ("+ memory", memory)):
+            for name, cfg in configs:
                 case = case_from_run(spec, run, table, cell_size_m=cfg.grid.cell_size_m)
                 r = evaluate_case(case, cfg)
                 b = r.metrics["boundary"]

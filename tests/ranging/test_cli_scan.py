@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 from conftest import affine_table
-from floorscan import read_scans_csv
+from floorscan import VisualRanger, read_scans_csv
 from floorscan.cli import main
 from floorscan.formats.image_io import read_grey, write_png
 from PIL import Image
@@ -135,3 +135,36 @@ def test_a_truncated_image_is_an_error_unless_lenient(tmp_path, capsys):
     whole, cut = read_grey(tmp_path / "whole.jpg"), read_grey(tmp_path / "cut.jpg", lenient=True)
     assert cut.shape == whole.shape
     assert np.array_equal(cut[:8], whole[:8])  # the first MCU row decoded as in the whole file
+
+
+def grout_then_obstacle(h: int = 48, w: int = 64) -> np.ndarray:
+    """Floor (150) from the bottom, a 2-row dark grout line (60) at rows 30-31, floor again,
+    a dark obstacle (60) from row 10 up: its base lies at row 10.5, the line's lower side at
+    31.5 (the affine table: 1 cm of floor a row, so the line is 2 cm wide)."""
+    v = np.arange(h)[:, None]
+    img = np.where((v <= 10) | ((v >= 30) & (v <= 31)), 60, 150)
+    return (img * np.ones((1, w))).astype(np.uint8)
+
+
+def test_floor_lines_from_the_config_pass_a_grout_line_in_scan_and_the_api(tmp_path):
+    table = affine_table()
+    table.save(tmp_path / "table.json")
+    path = write_png(tmp_path / "f.png", grout_then_obstacle())
+    rows = {}
+    for name, width in (("off", 0.0), ("lines", 0.02)):
+        cfg = tmp_path / f"{name}.toml"
+        cfg.write_text(
+            f"[ranger]\nfloor_line_width_m = {width}\nnoise_multiple = 0\ncontrast = 0\n"
+        )
+        out = tmp_path / f"{name}.csv"
+        args = ["scan", "--table", str(tmp_path / "table.json"), str(path), "-o", str(out)]
+        assert main([*args, "--columns", "8", "--threshold", "10", "--config", str(cfg)]) == 0
+        rows[name] = read_scans_csv(out)[0].rows
+    # the paper's first edge is the grout line; passing lines up to 2 cm finds the obstacle
+    np.testing.assert_array_equal(rows["off"], 31.5)
+    np.testing.assert_array_equal(rows["lines"], 10.5)
+    # the Python API takes the option as a keyword, with the same result
+    scan = VisualRanger(
+        table, columns=8, threshold=10, noise_multiple=0, contrast=0, floor_line_width_m=0.02
+    ).scan(grout_then_obstacle())
+    np.testing.assert_array_equal(scan.rows, 10.5)

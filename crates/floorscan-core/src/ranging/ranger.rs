@@ -290,6 +290,7 @@ impl VisualRanger {
         self.set_frame_threshold(image);
         self.run_columns(image);
         self.scan_band(image);
+        self.skip_floor_lines(image);
         self.fill_scan(timestamp_s, out);
         Ok(())
     }
@@ -328,6 +329,7 @@ impl VisualRanger {
             });
         }
         self.scan_band(image);
+        self.skip_floor_lines(image);
         self.fill_scan(timestamp_s, out);
         Ok(())
     }
@@ -345,45 +347,17 @@ impl VisualRanger {
         out: &mut Scan,
     ) -> Result<()> {
         self.check_size(image)?;
-        let d = self.options.half_width_px;
-        let height = image.height();
+        let height = image.height() as f64;
         for &(j, row) in restarts {
-            let Some(plan) = self.plans.get(j).copied() else {
-                continue;
-            };
-            let Some((lo, hi)) = plan.window else {
-                continue;
-            };
-            if !(row.is_finite() && (0.0..height as f64).contains(&row)) {
+            if j >= self.plans.len() || !(row.is_finite() && (0.0..height).contains(&row)) {
                 continue;
             }
-            let c = plan.column as usize;
-            let threshold = self.column_threshold_sum[j];
-            let response = |k| direct_response_at(image, c, k, d);
-            // leave the vetoed edge's own crossing, then find the next one whose refined row
-            // lies above it (a line's far side, within the filter's reach, refines back onto
-            // the same step)
-            let mut k = (((height - 1) as f64 - row).round() as usize).max(lo + 1);
-            let outcome = loop {
-                while k <= hi && response(k).abs() > threshold {
-                    k += 1;
-                }
-                let Some(k_cross) = (k..=hi).find(|&k| response(k).abs() > threshold) else {
-                    break self.no_boundary(j, height);
-                };
-                let outcome = self.resolve_with(j, k_cross, height, response, |k| {
-                    image.get(c, height - 1 - k).to_i32()
-                });
-                match outcome {
-                    ColumnOutcome::Boundary { row: r, .. } if r > row - 1.0 => k = k_cross + 1,
-                    _ => {
-                        self.crossings[j] = k_cross;
-                        self.confidence[j] = edge_confidence(response(k_cross), threshold);
-                        break outcome;
-                    }
-                }
-            };
+            if self.plans[j].window.is_none() {
+                continue;
+            }
+            let outcome = self.search_above(image, j, row);
             self.outcomes[j] = Some(outcome);
+            self.skip_column_floor_lines(image, j);
         }
         self.fill_scan(out.timestamp_s, out);
         Ok(())
@@ -480,6 +454,8 @@ fn ring8_rows(d: usize) -> usize {
 
 #[path = "ranger_columns.rs"]
 mod columns;
+#[path = "ranger_floor_lines.rs"]
+mod floor_lines;
 #[path = "ranger_plan.rs"]
 mod plan;
 #[path = "ranger_resolve.rs"]

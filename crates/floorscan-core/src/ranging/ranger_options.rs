@@ -95,6 +95,12 @@ pub struct RangerOptions {
     #[serde(with = "range_limit")]
     #[cfg_attr(feature = "schema", schemars(with = "f64"))]
     pub max_range_m: Option<f64>,
+    /// Widest line on the floor [m] whose two sides are not a boundary: where the column
+    /// leaves the floor's brightness at an edge and comes back to it (within the edge's own
+    /// threshold) no more than this far beyond on the ground (by the table; 2 rows more for
+    /// the lens's blur), the edge is a grout line, a seam or a painted line, and the search
+    /// goes on above it. Finite, 0 <= w <= 1; 0 turns it off. Default 0.
+    pub floor_line_width_m: f64,
 }
 
 impl Default for RangerOptions {
@@ -113,6 +119,7 @@ impl Default for RangerOptions {
             },
             start: ColumnStart::BottomMargin(2),
             max_range_m: Some(3.0),
+            floor_line_width_m: 0.0,
         }
     }
 }
@@ -203,6 +210,13 @@ impl RangerOptions {
                 ))
             }
             _ => {}
+        }
+        if !(self.floor_line_width_m.is_finite() && (0.0..=1.0).contains(&self.floor_line_width_m))
+        {
+            return Err(invalid_option(
+                "floor_line_width_m",
+                format!("must be in [0, 1] m, got {}", self.floor_line_width_m),
+            ));
         }
         if let Some(r) = self.max_range_m {
             if !(r > 0.0 && r.is_finite()) {

@@ -63,6 +63,7 @@ fn options(
         columns,
         start: ColumnStart::BottomMargin(0),
         max_range_m: None,
+        floor_line_width_m: 0.0,
     }
 }
 
