@@ -10,10 +10,9 @@
    `floorscan run`'s loop: resident memory sampled every 600 frames, to show it stays flat.
 
 Run: .venv/bin/python bench/run_pipeline.py [--minutes 10] [--fps-only] [--repeats 3]
-[--ranger edge|appearance|fused] [--columns N] (prints Markdown). The figures in BENCHMARKS.md
-use the edge ranger on 64 columns (the defaults of the bench, the configuration's defaults
-before issue 13 made them the fused ranger on columns placed by floor distance: `--ranger
-fused --columns 0`).
+[--ranger edge|appearance|fused] [--columns N] (prints Markdown). BENCHMARKS.md gives the edge
+ranger on 64 columns (the bench's defaults) and the fused ranger on columns placed by floor
+distance (`--ranger fused --columns 0`).
 """
 
 from __future__ import annotations

@@ -25,9 +25,8 @@ READ_AHEAD_FRAMES = 8
 def decode_threads() -> int:
     """Decoding threads: one per core beyond the frame loop's, two to four. Two even on two
     cores: the threads sleep once they are ``depth`` frames ahead, so the second costs no CPU,
-    and it keeps decoding while the first is descheduled (measured in BENCHMARKS.md: the frame
-    loop waits 0.3-0.6 ms a frame for its images with two threads, 0.9-1.5 ms with one, on
-    this 2-core machine)."""
+    and it keeps decoding while the first is descheduled (on this 2-core machine the frame
+    loop waited less for its images with two threads than with one)."""
     return max(2, min(4, (os.cpu_count() or 2) - 1))
 
 
