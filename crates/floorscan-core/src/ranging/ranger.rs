@@ -14,7 +14,7 @@
 
 use crate::dark_rim::is_dark_rim;
 use crate::edge::{
-    direct_response_at, next_response, ramp_above, refine_crossing, sharpest_step,
+    direct_response, direct_response_at, next_response, ramp_above, refine_crossing, sharpest_step,
     threshold_to_sum, Refinement, RAMP_ROWS_PER_HALF_WIDTH,
 };
 use crate::error::{Error, Result};
@@ -71,6 +71,11 @@ pub struct VisualRanger {
     noise_samples: Vec<i32>,
     /// Scratch histogram of the noise samples (sized once, [`MAX_HISTOGRAM_SPAN`] counts).
     noise_histogram: Vec<u32>,
+    /// One column's pixels under the near-floor band's windows (sized once: the band's rows
+    /// and 2d more).
+    band_pixels: Vec<i32>,
+    /// Each column's sum over the band's rows, when every column shares them (sized once).
+    brightness_sums: Vec<i32>,
     column_brightness: Vec<f64>,
     frame_threshold: f64,
     /// Each column's threshold on the raw sum inside its `mid_range_m` band for the current
@@ -164,6 +169,8 @@ impl VisualRanger {
             footprints_m,
             noise_samples: Vec::new(),
             noise_histogram: vec![0; MAX_HISTOGRAM_SPAN],
+            band_pixels: vec![0; near_band_rows(height, d) + 2 * d + 1],
+            brightness_sums: vec![0; n],
             column_brightness: vec![0.0; n],
             frame_threshold: options.threshold,
             band_threshold_sum: vec![threshold_sum; n],

@@ -1182,30 +1182,52 @@ fn contrast_threshold_follows_each_columns_floor_brightness() {
         })
         .collect();
     let view = ImageView::new(&img, w, h).unwrap();
-    let scan = |threshold, contrast| {
-        let o = RangerOptions {
-            contrast,
-            ..options(4, threshold, Refinement::Step, ColumnSelection::Count(w))
+    // every column in order (their bands' brightness summed row by row), the columns in
+    // reverse and every other one (column by column), and starts that differ between the
+    // halves (each column its own band rows): the same brightness, the same outcomes
+    let all: Vec<u32> = (0..w as u32).collect();
+    let reversed: Vec<u32> = all.iter().rev().copied().collect();
+    let every_other: Vec<u32> = all.iter().step_by(2).copied().collect();
+    let starts: Vec<u32> = (0..w).map(|u| (h - 1 - u % 2) as u32).collect();
+    let selections = [
+        (ColumnSelection::Count(w), ColumnStart::BottomMargin(0)),
+        (
+            ColumnSelection::Explicit(reversed),
+            ColumnStart::BottomMargin(0),
+        ),
+        (
+            ColumnSelection::Explicit(every_other),
+            ColumnStart::BottomMargin(0),
+        ),
+        (ColumnSelection::Count(w), ColumnStart::PerColumn(starts)),
+    ];
+    for (columns, start) in selections {
+        let scan = |threshold, contrast| {
+            let o = RangerOptions {
+                contrast,
+                start: start.clone(),
+                ..options(4, threshold, Refinement::Step, columns.clone())
+            };
+            VisualRanger::new(table(w, h, 0.0), o)
+                .unwrap()
+                .scan(&view, 0.0)
+                .unwrap()
         };
-        VisualRanger::new(table(w, h, 0.0), o)
-            .unwrap()
-            .scan(&view, 0.0)
-            .unwrap()
-    };
-    let relative = scan(0.0, 0.05);
-    for r in &relative.readings {
-        if (r.column as usize) < w / 2 {
-            assert_eq!(r.status(), ColumnStatus::Boundary, "column {}", r.column);
-            assert_eq!(r.row(), 49.5);
-        } else {
-            assert_eq!(r.status(), ColumnStatus::NoBoundary, "column {}", r.column);
+        let relative = scan(0.0, 0.05);
+        for r in &relative.readings {
+            if (r.column as usize) < w / 2 {
+                assert_eq!(r.status(), ColumnStatus::Boundary, "column {}", r.column);
+                assert_eq!(r.row(), 49.5);
+            } else {
+                assert_eq!(r.status(), ColumnStatus::NoBoundary, "column {}", r.column);
+            }
         }
+        let fixed = scan(5.0, 0.0);
+        assert!(fixed
+            .readings
+            .iter()
+            .all(|r| r.status() == ColumnStatus::Boundary));
     }
-    let fixed = scan(5.0, 0.0);
-    assert!(fixed
-        .readings
-        .iter()
-        .all(|r| r.status() == ColumnStatus::Boundary));
 }
 
 #[test]
