@@ -40,29 +40,16 @@ pub struct VisualRanger {
     /// Indices (into `plans`) of scannable columns, sorted by window start and by window end.
     by_lo: Vec<usize>,
     by_hi: Vec<usize>,
-    // Per-frame scratch, indexed like `plans`.
-    sums: Vec<i32>,
-    active_threshold: Vec<i32>,
-    offsets: Vec<usize>,
-    /// The sampled pixels of the last 2d + 2 rows (row k in slot k mod (2d + 2)), so sparse
-    /// columns are gathered once per row and updated from contiguous memory.
-    ring: Vec<u16>,
-    /// Largest entry of `offsets` for the current frame.
-    max_offset: usize,
-    /// The 8-bit path's buffers: 16-bit sums and thresholds (i16::MAX: not tested), the crossing
-    /// masks of the last row step (one word per LANES columns), and the byte ring.
+    /// The column loop's buffers (see [`row_step::ColumnScratch`]), and its crossings of one
+    /// row (column, sum; capacity one a column).
+    scratch: ColumnScratch,
+    hits: Vec<(usize, i32)>,
+    /// The lane kernels' instruction set; whether this frame's scan uses the prefilter, and
+    /// each column's prefilter byte threshold for the frame (see
+    /// [`lanes::prefilter_threshold`]).
     kernel: Kernel,
-    sums16: Vec<i16>,
-    active_threshold16: Vec<i16>,
-    masks: Vec<u32>,
-    ring8: Vec<u8>,
-    /// Whether this frame's scan uses the prefilter, each column's prefilter byte threshold
-    /// for the frame (see [`lanes::prefilter_threshold`]), and the active per-column byte
-    /// thresholds (255: column not tested) and flags.
     prefilter: bool,
     column_prefilter: Vec<u8>,
-    thresholds8: Vec<u8>,
-    flags: Vec<u8>,
     outcomes: Vec<Option<ColumnOutcome>>,
     /// Per column: the confidence of its outcome (see [`edge_confidence`]).
     confidence: Vec<f32>,
@@ -147,23 +134,13 @@ impl VisualRanger {
         let n = plans.len();
         let threshold_sum = threshold_to_sum(options.threshold, d);
         let prefilter = lanes::prefilter_threshold(d, threshold_sum);
-        let small_d = d <= MAX_HALF_WIDTH_I16;
         let mut ranger = Self {
             column_threshold_sum: vec![threshold_sum; n],
-            offsets: vec![0; n],
-            ring: vec![0; (2 * d + 2) * n],
-            max_offset: 0,
+            scratch: ColumnScratch::new(n, d),
+            hits: Vec::with_capacity(n),
             kernel: Kernel::detect(),
-            sums16: vec![0; if small_d { n } else { 0 }],
-            active_threshold16: vec![i16::MAX; n],
-            masks: vec![0; n.div_ceil(LANES)],
-            ring8: vec![0; if small_d { ring8_rows(d) * n } else { 0 }],
             prefilter: prefilter.is_some(),
             column_prefilter: vec![prefilter.unwrap_or(u8::MAX); n],
-            thresholds8: vec![u8::MAX; n],
-            flags: vec![0; n],
-            sums: vec![0; n],
-            active_threshold: vec![i32::MAX; n],
             outcomes: vec![None; n],
             confidence: vec![1.0; n],
             footprints_m,
@@ -454,11 +431,6 @@ impl VisualRanger {
     }
 }
 
-/// Rows of the byte ring: at least the 2d + 2 a row step reads, a power of two (slot = k & mask).
-fn ring8_rows(d: usize) -> usize {
-    (2 * d + 2).next_power_of_two()
-}
-
 #[path = "ranger_columns.rs"]
 mod columns;
 #[path = "ranger_floor_lines.rs"]
@@ -467,7 +439,10 @@ mod floor_lines;
 mod plan;
 #[path = "ranger_resolve.rs"]
 mod resolve;
+#[path = "ranger_row_step.rs"]
+mod row_step;
 use plan::{plan_column, row_footprint_m, ColumnPlan};
+use row_step::ColumnScratch;
 #[path = "ranger_threshold.rs"]
 mod threshold;
 use resolve::edge_confidence;
