@@ -61,6 +61,12 @@ pub struct VisualRanger {
     /// One column's pixels under the near-floor band's windows (sized once: the band's rows
     /// and 2d more).
     band_pixels: Vec<i32>,
+    /// The band's rows of every scannable column, row-major (row r of the band, then the
+    /// columns in plan order), when they share their band rows (sized once); those columns'
+    /// pixel offsets in a row, and the running responses of the noise columns.
+    band_rows: Vec<u16>,
+    band_offsets: Vec<usize>,
+    band_responses: Vec<i32>,
     /// Each column's sum over the band's rows, when every column shares them (sized once).
     brightness_sums: Vec<i32>,
     column_brightness: Vec<f64>,
@@ -147,6 +153,9 @@ impl VisualRanger {
             noise_samples: Vec::new(),
             noise_histogram: vec![0; MAX_HISTOGRAM_SPAN],
             band_pixels: vec![0; near_band_rows(height, d) + 2 * d + 1],
+            band_rows: vec![0; (near_band_rows(height, d) + 2 * d + 1) * n],
+            band_offsets: vec![0; n],
+            band_responses: vec![0; n],
             brightness_sums: vec![0; n],
             column_brightness: vec![0.0; n],
             frame_threshold: options.threshold,

@@ -1407,3 +1407,90 @@ fn a_low_contrast_edge_is_found_only_inside_the_mid_range_band() {
         }
     }
 }
+
+/// The frame's noise threshold computed the slow way: every stride-th scannable column (plan
+/// order), the direct sum of eq. (1) at each row of its near-floor band, their robust spread.
+fn brute_force_frame_threshold<P: crate::image::Pixel>(
+    r: &VisualRanger,
+    image: &ImageView<P>,
+) -> f64 {
+    let d = r.options.half_width_px;
+    let band = crate::noise_threshold::near_band_rows(image.height(), d);
+    let scannable: Vec<_> = r.plans.iter().filter(|p| p.window.is_some()).collect();
+    let stride = scannable
+        .len()
+        .div_ceil(crate::noise_threshold::NOISE_COLUMNS)
+        .max(1);
+    let mut samples = Vec::new();
+    for p in scannable.iter().step_by(stride) {
+        let (lo, hi) = p.window.unwrap();
+        for k in lo..=hi.min(lo + band - 1) {
+            samples.push(crate::edge::direct_response_at(
+                image,
+                p.column as usize,
+                k,
+                d,
+            ));
+        }
+    }
+    let sigma = crate::noise_threshold::robust_sigma(&mut samples)
+        .map_or(0.0, |s| r.options.noise_multiple * s / (2 * d) as f64);
+    r.options.threshold.max(sigma)
+}
+
+#[test]
+fn the_frame_noise_threshold_is_the_brute_force_one_for_every_column_layout() {
+    // Consecutive columns (96: every other one pooled), a few with a margin, reversed, every
+    // other one, starts that differ between columns (no shared band rows); 8-bit, strided
+    // 8-bit and 16-bit images
+    let (w, h) = (96, 120);
+    for seed in [3, 11] {
+        let img8 = blocky_image(w, h, seed, 25);
+        let img16: Vec<u16> = img8
+            .iter()
+            .map(|&p| p as u16 * 256 + (p as u16 & 7))
+            .collect();
+        let strided: Vec<u8> = img8.iter().flat_map(|&p| [p, 0]).collect();
+        let all: Vec<u32> = (0..w as u32).collect();
+        let starts: Vec<u32> = (0..w).map(|u| (h - 1 - u % 3) as u32).collect();
+        let selections = [
+            (ColumnSelection::Count(w), ColumnStart::BottomMargin(0)),
+            (ColumnSelection::Count(20), ColumnStart::BottomMargin(2)),
+            (
+                ColumnSelection::Explicit(all.iter().rev().copied().collect()),
+                ColumnStart::BottomMargin(0),
+            ),
+            (
+                ColumnSelection::Explicit(all.iter().step_by(2).copied().collect()),
+                ColumnStart::BottomMargin(0),
+            ),
+            (ColumnSelection::Count(w), ColumnStart::PerColumn(starts)),
+        ];
+        for (columns, start) in selections {
+            let o = RangerOptions {
+                noise_multiple: 4.0,
+                contrast: 0.1,
+                start,
+                ..options(4, 0.5, Refinement::Step, columns)
+            };
+            let mut r = VisualRanger::new(table(w, h, 0.0), o).unwrap();
+            let view8 = ImageView::new(&img8, w, h).unwrap();
+            r.scan(&view8, 0.0).unwrap();
+            let expected = brute_force_frame_threshold(&r, &view8);
+            assert!(
+                expected > 0.5,
+                "the noise sets the threshold here: {expected}"
+            );
+            assert_eq!(r.frame_threshold(), expected);
+            let view = ImageView::with_strides(&strided, w, h, 2 * w, 2).unwrap();
+            r.scan(&view, 0.0).unwrap();
+            assert_eq!(r.frame_threshold(), expected);
+            let view16 = ImageView::new(&img16, w, h).unwrap();
+            r.scan(&view16, 0.0).unwrap();
+            assert_eq!(
+                r.frame_threshold(),
+                brute_force_frame_threshold(&r, &view16)
+            );
+        }
+    }
+}
