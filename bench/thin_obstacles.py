@@ -61,7 +61,7 @@ def main() -> None:
     print("|---|---:|---:|---:|---:|---:|")
     totals = {}
     for name in worlds:
-        world = World.builtin(name)
+        world = World.resolve(name)
         legs = Legs.of_world(world)
         counts = {c: [0, 0] for c in args.columns}
         for seed in args.seeds:
