@@ -72,6 +72,19 @@ def test_overrides_replace_dotted_keys_and_are_checked():
         Config().with_overrides({"ranger.columns": "x"})
 
 
+def test_an_unset_optional_key_of_a_nested_table_is_overridden_as_the_file_sets_it():
+    """`[slam.matcher] rejection_threshold` is unset by default (left out of the printed
+    defaults): an override sets it as a TOML file does, and a misspelt one is still refused."""
+    from_file = Config.from_toml("[slam.matcher]\nrejection_threshold = 3.0\n")
+    over = Config().with_overrides({"slam.matcher.rejection_threshold": 3.0})
+    assert over == from_file
+    assert over.slam.options()["matcher"]["rejection_threshold"] == 3.0
+    with pytest.raises(floorscan.ConfigError, match=r"slam\.matcher\.rejection_threshol\b"):
+        Config().with_overrides({"slam.matcher.rejection_threshol": 3.0})
+    with pytest.raises(floorscan.ConfigError, match=r"slam\.nope\.rejection_threshold"):
+        Config().with_overrides({"slam.nope.rejection_threshold": 3.0})
+
+
 def test_config_command_prints_and_checks(tmp_path, capsys):
     assert main(["config", "--default"]) == 0
     out = capsys.readouterr().out

@@ -324,10 +324,14 @@ def _named(source: str, table: str):
 def _optional_key(cfg: Config, parts) -> bool:
     """True for an unset optional key (a None field, left out of ``to_dict``)."""
     node: Any = cfg
-    for p in parts[:-1]:
+    for i, p in enumerate(parts[:-1]):
         node = getattr(node, p, None)
-    if isinstance(node, OptionsTable):
-        return parts[-1] in node.options()
+        if isinstance(node, OptionsTable):
+            # the rest of the key walks the table's options (``slam.matcher.<key>``)
+            options: Any = node.options()
+            for q in parts[i + 1 : -1]:
+                options = options.get(q) if isinstance(options, dict) else None
+            return isinstance(options, dict) and parts[-1] in options
     return dataclasses.is_dataclass(node) and parts[-1] in {f.name for f in fields(node)}
 
 
