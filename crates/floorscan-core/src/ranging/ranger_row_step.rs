@@ -13,7 +13,7 @@ pub(super) struct ColumnScratch {
     sums: Vec<i32>,
     active_threshold: Vec<i32>,
     /// Each sampled pixel's offset in its image row, and the largest of them.
-    pub(super) offsets: Vec<usize>,
+    offsets: Vec<usize>,
     max_offset: usize,
     /// The sampled pixels of the last 2d + 2 rows (row k in slot k mod (2d + 2)), so sparse
     /// columns are gathered once per row and updated from contiguous memory.
