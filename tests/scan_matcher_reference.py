@@ -1,28 +1,189 @@
-"""The scan matcher's storing (novelty test, hit counts, stamps into the cached likelihood
-field) as first written with numpy: the reference the Rust core (``floorscan_core::hit_map``)
-must equal (tests/mapping/test_scan_matcher_native.py); its filter (the odometry prediction, the
-match's information matrix, the fusion) as first written with numpy: the reference of the Rust
-core's ``floorscan_core::match_information`` and of the filter's algebra on floats
-(tests/mapping/test_scan_matcher_filter.py)."""
+"""floorscan's correlative scan matcher as first written in Python (numpy, OpenCV's exact
+distance transform), before its state and steps moved into the Rust core
+(``floorscan_core::scan_matcher``): the reference the core must equal, step by step and over whole
+runs (tests/mapping/test_scan_matcher_native.py, tests/mapping/test_scan_matcher_filter.py)."""
 
 from __future__ import annotations
 
 import math
+from typing import Optional, Tuple
 
 import numpy as np
-from floorscan.mapping.scan_matcher import MatchResult, ScanMatcher, _disc
+from floorscan._native.mapping import correlative_search
+from floorscan.mapping.scan_matcher import MatchResult, ScanMatcherOptions
+
+CACHE_MARGIN_M = 1.0
+STAMP_SIGMAS = 3.0
 
 
-class ReferenceScanMatcher(ScanMatcher):
-    """:class:`~floorscan.mapping.scan_matcher.ScanMatcher` storing with numpy."""
+def _disc(r: int, cell_m: float, radius_m: float):
+    """Cell offsets (di, dj) within ``radius_m`` [m] of the centre cell, and their distances
+    [m], for a square of half-side ``r`` cells."""
+    d = np.arange(-r, r + 1)
+    di, dj = (a.ravel() for a in np.meshgrid(d, d))
+    dist = np.hypot(di, dj) * cell_m
+    keep = dist <= radius_m + 1e-12
+    return di[keep], dj[keep], dist[keep]
 
-    def __init__(self, *args, **kwargs) -> None:
-        super().__init__(*args, **kwargs)
-        o = self.options
-        r = int(math.floor(3.0 * o.sigma_m / self.cell))
-        self._stamp_offsets = _disc(r, self.cell, 3.0 * o.sigma_m)[:2]
-        r = int(math.floor(o.novelty_m / self.cell))
+
+class ReferenceScanMatcher:
+    """floorscan's scan matcher as first written in Python: numpy and OpenCV's exact distance
+    transform for the field, numpy for storing and for the filter; the search is the core's
+    (``correlative_search``, tested against brute force in the core)."""
+
+    def __init__(self, options: Optional[ScanMatcherOptions] = None, *, center=(0.0, 0.0)) -> None:
+        options = options if options is not None else ScanMatcherOptions()
+        self.options = options
+        self.cell = options.cell_size_m
+        self.n = int(math.ceil(options.size_m / self.cell))
+        self.origin_m = (
+            float(center[0]) - 0.5 * self.n * self.cell,
+            float(center[1]) - 0.5 * self.n * self.cell,
+        )
+        self.hits = np.zeros((self.n, self.n), np.uint8)
+        self.frames = 0
+        # cell offsets (di, dj) of the field's Gaussian stamp and their values; of the
+        # novelty disc: fixed by the options, made once
+        r = int(math.floor(STAMP_SIGMAS * options.sigma_m / self.cell))
+        di, dj, dist = _disc(r, self.cell, STAMP_SIGMAS * options.sigma_m)
+        self._stamp_values = np.exp(-0.5 * (dist / options.sigma_m) ** 2).astype(np.float32)
+        self._stamp_offsets = (di, dj)
+        r = int(math.floor(options.novelty_m / self.cell))
         self._novelty_offsets = _disc(r, self.cell, r * self.cell)[:2] if r > 0 else None
+        # the last likelihood field (field, i0, j0), reused while the robot stays within it;
+        # newly stored hits are stamped into it; whether it holds any non-zero value
+        self._cache: Optional[Tuple[np.ndarray, int, int]] = None
+        # the last fused match's innovation as a Mahalanobis distance (None before any)
+        self.last_mahalanobis: Optional[float] = None
+        self._cache_nonzero = False
+        # the pose kept last and the covariance of its error (x [m], y [m], yaw [rad])
+        self._last: Optional[Tuple[float, float, float]] = None
+        # state: the pose and odometry's estimated errors (turn scale error, heading drift
+        # per metre); the covariance of its error
+        self.calibration = (0.0, 0.0)
+        self._covariance = [[0.0] * 5 for _ in range(5)]  # rows of floats (see `covariance`)
+        if options.calibrate_odometry:
+            self._covariance[3][3] = options.turn_error_prior**2
+            self._covariance[4][4] = options.drift_prior_rad_per_m**2
+        self._origin = (0.0, 0.0)  # of the field the last match used
+
+    @property
+    def covariance(self) -> np.ndarray:
+        return np.array(self._covariance)
+
+    @covariance.setter
+    def covariance(self, value) -> None:
+        self._covariance = np.asarray(value, np.float64).reshape(5, 5).tolist()
+
+    @property
+    def last_pose(self):
+        return self._last
+
+    @last_pose.setter
+    def last_pose(self, value) -> None:
+        self._last = None if value is None else tuple(float(v) for v in value)
+
+    def _window(self, x0: float, y0: float, half_m: float) -> Tuple[int, int, int, int]:
+        """Cells (i0, j0, i1, j1), end exclusive, of the square of half-side ``half_m``
+        [m] around (x0, y0), cut to the map."""
+        ci = math.floor((x0 - self.origin_m[0]) / self.cell)
+        cj = math.floor((y0 - self.origin_m[1]) / self.cell)
+        r = int(math.ceil(half_m / self.cell))
+        return (
+            max(0, int(ci) - r),
+            max(0, int(cj) - r),
+            min(self.n, int(ci) + r + 1),
+            min(self.n, int(cj) + r + 1),
+        )
+
+    def _usable(self, points_robot: np.ndarray) -> np.ndarray:
+        """The finite points (N, 2) within ``range_max_m``."""
+        pts = np.asarray(points_robot, np.float64).reshape(-1, 2)
+        # a non-finite coordinate makes the distance NaN or inf: one test drops both
+        return pts[np.hypot(pts[:, 0], pts[:, 1]) <= self.options.range_max_m]
+
+    def _matched_points(self, points_robot: np.ndarray) -> np.ndarray:
+        """The usable points (N, 2), at most ``max_points`` of them evenly spaced along the
+        scan: the points a match reads."""
+        pts = self._usable(points_robot)
+        if len(pts) > self.options.max_points:
+            idx = np.linspace(0, len(pts) - 1, int(self.options.max_points)).round()
+            pts = pts[idx.astype(np.int64)]
+        return np.ascontiguousarray(pts)
+
+    def _field(self, x0: float, y0: float, half_m: float):
+        """The likelihood field over a square of half-side ``half_m`` around (x0, y0):
+        (field (h, w) float32, i0, j0) with i0, j0 the crop's first cell."""
+        import cv2
+
+        i0, j0, i1, j1 = self._window(x0, y0, half_m)
+        if i1 <= i0 or j1 <= j0:
+            return np.zeros((0, 0), np.float32), i0, j0
+        crop = self.hits[j0:j1, i0:i1]
+        if not crop.any():
+            return np.zeros(crop.shape, np.float32), i0, j0
+        free = np.where(crop > 0, 0, 255).astype(np.uint8)
+        d = cv2.distanceTransform(free, cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * self.cell
+        s = self.options.sigma_m
+        field = np.exp(-0.5 * (d / s) ** 2).astype(np.float32)
+        field[d > STAMP_SIGMAS * s] = 0.0
+        return field, i0, j0
+
+    def _cached_field(self, x0: float, y0: float, half_m: float):
+        """The field over at least ``half_m`` around (x0, y0): the cached one when it covers
+        that square, else a new one ``CACHE_MARGIN_M`` larger."""
+        if self._cache is not None:
+            field, i0, j0 = self._cache
+            h, w = field.shape
+            lo_i, lo_j, hi_i, hi_j = self._window(x0, y0, half_m)
+            if i0 <= lo_i and j0 <= lo_j and hi_i <= i0 + w and hi_j <= j0 + h:
+                return self._cache
+        self._cache = self._field(x0, y0, half_m + CACHE_MARGIN_M)
+        self._cache_nonzero = bool(self._cache[0].any())
+        return self._cache
+
+    def match(self, points_robot: np.ndarray, prior) -> MatchResult:
+        """The best pose for ``points_robot`` (N, 2) [m, robot frame] near ``prior``
+        (world_from_robot); does not change the map."""
+        o = self.options
+        prior = tuple(float(v) for v in prior)
+        pts = self._matched_points(points_robot)
+        if len(pts) < o.min_points or self.frames == 0:
+            return MatchResult(prior, 0.0, False, len(pts))
+        half = o.range_max_m + o.search_xy_m + 3 * o.sigma_m
+        field, i0, j0 = self._cached_field(prior[0], prior[1], half)
+        if field.size == 0 or not self._cache_nonzero:
+            return MatchResult(prior, 0.0, False, len(pts))
+        origin = (self.origin_m[0] + i0 * self.cell, self.origin_m[1] + j0 * self.cell)
+        pose, mean, _ = correlative_search(
+            np.ascontiguousarray(field),
+            origin,
+            self.cell,
+            np.ascontiguousarray(pts),
+            prior,
+            int(round(o.search_xy_m / self.cell)),
+            int(round(o.search_yaw_rad / o.yaw_step_rad)),
+            o.yaw_step_rad,
+            o.prior_xy_m,
+            o.prior_yaw_rad,
+        )
+        pose = tuple(float(v) for v in pose)
+        if mean < o.min_score:
+            return MatchResult(prior, mean, False, len(pts))
+        return MatchResult(pose, mean, True, len(pts))
+
+    def correct(self, points_robot: np.ndarray, prior) -> MatchResult:
+        """Matches the scan near ``prior``, fuses the match with it (``fuse``), then stores
+        what the scan shows that the map does not hold yet, at the pose kept (the prior when
+        the match is refused)."""
+        prior = self.predict(prior)
+        result = self.match(points_robot, prior)
+        if result.accepted and self.options.match_variance_scale > 0:
+            result = self.fuse(result, prior, self.information(points_robot, result.pose))
+        else:
+            result = self.fuse(result, prior, np.zeros((3, 3)))
+        self.insert(points_robot, result.pose, novel_only=True)
+        return result
 
     def _cells(self, x, y):
         i = np.floor((np.asarray(x) - self.origin_m[0]) / self.cell).astype(np.int64)
@@ -68,12 +229,6 @@ class ReferenceScanMatcher(ScanMatcher):
         if self._cache is not None:
             self._cache_nonzero = bool(self._cache[0].any())
         return len(i)
-
-
-class ReferenceFilter(ScanMatcher):
-    """:class:`~floorscan.mapping.scan_matcher.ScanMatcher` predicting, reading the match's
-    information and fusing with numpy, as first written (``covariance`` set through its
-    property)."""
 
     def predict(self, prior):
         """The prediction for the frame whose odometry pose, carried by the last correction,

@@ -231,7 +231,8 @@ def test_config_with_limits_round_trips():
 
 
 def test_drive_natives_refuse_bad_grids_windows_and_poses():
-    from floorscan._native.drive import correlative_search, geodesic_distances
+    from floorscan._native.drive import geodesic_distances
+    from floorscan._native.mapping import correlative_search
 
     field = np.zeros((4, 4), np.float32)
     pts = np.zeros((3, 2))
@@ -253,7 +254,8 @@ def test_drive_natives_refuse_bad_grids_windows_and_poses():
 
 
 def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
-    from floorscan._native.drive import AvoidanceMap, HitMap, coarse_grid
+    from floorscan._native.drive import AvoidanceMap, coarse_grid
+    from floorscan._native.mapping import ScanMatcher
     from floorscan.drive import VisualSensorModel
 
     with pytest.raises(FloorscanError):  # 10^10 cells of scratch: refused, not allocated
@@ -320,8 +322,7 @@ def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
             np.zeros(2, np.uint8), np.array([1.0, 1.0]), big, big * 0, big * 0,
             np.full(2, 1e300), np.zeros(2), VisualSensorModel(),
         )  # fmt: skip
-    off = np.zeros((1, 2), np.int64)
-    with pytest.raises(FloorscanError):
-        HitMap(1 << 20, 0.025, (0.0, 0.0), 3.0, off, off, np.ones(1, np.float32))
+    with pytest.raises(FloorscanError):  # 400 m at 1 cm: 1.6 * 10^9 cells, refused
+        ScanMatcher({"size_m": 400.0, "cell_size_m": 0.01}, (0.0, 0.0))
     with pytest.raises(FloorscanError):  # a coarse cell larger than the map
         coarse_grid(np.zeros((4, 4), np.uint8), 9, 253, 2.0)

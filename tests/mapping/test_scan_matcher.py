@@ -126,11 +126,11 @@ def test_a_drifted_return_is_pulled_back_to_the_first_view():
 def test_the_cached_field_with_new_hits_stamped_equals_a_fresh_field():
     m = ScanMatcher(center=(2, 1.5))
     m.insert(_room_scan((1.5, 1.2, 0.3)), (1.5, 1.2, 0.3))
-    cached, i0, j0 = m._cached_field(1.5, 1.2, 3.3)
+    cached, i0, j0 = m.cover(1.5, 1.2, 3.3)
     m.insert(_room_scan((2.5, 1.0, 2.0)), (2.6, 1.1, 2.05))  # a shifted copy: new hits
-    fresh, f0, g0 = m._field(1.5, 1.2, 3.3 + 1.0)
-    assert (i0, j0) == (f0, g0)
-    assert np.abs(m._cache[0] - fresh).max() < 1e-5
+    fresh, f0, g0 = m.field_around(1.5, 1.2, 3.3 + 1.0)
+    assert (i0, j0) == (f0, g0) and m.field[1:] == (i0, j0)
+    assert np.array_equal(m.field[0], fresh) and not np.array_equal(cached, fresh)
 
 
 def test_refinement_recovers_a_shift_smaller_than_a_cell():
@@ -245,7 +245,7 @@ def test_fusion_corrects_across_a_wall_and_keeps_odometry_along_it():
     for k in range(1, 11):  # odometry drives 1 m along x, straight
         m.predict((0.1 * k, 0.0, 0.0))
     prior = (1.0 + 0.1, -0.08, 0.0)  # 10 cm along the wall, 8 cm away from it
-    m._last = (1.0, 0.0, 0.0)
+    m.last_pose = (1.0, 0.0, 0.0)
     truth_view = np.stack([np.linspace(-3, 1, 81), np.full(81, 1.0)], 1)  # from x = 1 m
     r = m.correct(truth_view, prior)
     assert r.accepted
@@ -267,12 +267,10 @@ def _fuse_once(threshold, offset, information, covariance):
     """One fusion of a match ``offset`` (dx, dy, dyaw) from the prediction (0, 0, 0), with
     the given match information (3, 3) and prediction covariance (3, 3)."""
     m = ScanMatcher(ScanMatcherOptions(rejection_threshold=threshold, calibrate_odometry=False))
-    cov = [[0.0] * 5 for _ in range(5)]
-    for r in range(3):
-        for c in range(3):
-            cov[r][c] = float(covariance[r][c])
-    m._covariance = cov
-    m._last = (0.0, 0.0, 0.0)
+    cov = np.zeros((5, 5))
+    cov[:3, :3] = covariance
+    m.covariance = cov
+    m.last_pose = (0.0, 0.0, 0.0)
     found = MatchResult(tuple(float(v) for v in offset), 0.9, True, 100)
     return m, m.fuse(found, (0.0, 0.0, 0.0), np.asarray(information, np.float64))
 
@@ -301,7 +299,7 @@ def test_a_match_beyond_the_gate_is_refused_and_one_within_it_fused():
     far = (10 * sigma, 0.0, 0.0)
     m, r = _fuse_once(3.0, far, j, p)
     assert not r.accepted and r.pose == (0.0, 0.0, 0.0)
-    assert np.allclose(np.asarray(m._covariance)[:3, :3], p)
+    assert np.allclose(m.covariance[:3, :3], p)
     assert m.last_mahalanobis == pytest.approx(10.0, rel=1e-3)
     _, r = _fuse_once(math.inf, far, j, p)
     assert r.accepted and r.pose[0] == pytest.approx(5 * sigma, rel=1e-3)  # halfway

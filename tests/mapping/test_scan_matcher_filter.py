@@ -1,11 +1,13 @@
-"""The scan matcher's filter against the numpy code it replaced (tests/scan_matcher_reference.py,
-``ReferenceFilter``): the match's information matrix from the Rust core
+"""The scan matcher's filter in the Rust core against the numpy code it replaced
+(tests/scan_matcher_reference.py): the match's information matrix
 (``floorscan_core::match_information``) on random fields, points and poses, points whose
 cells leave the field, no points, no field, negative curvatures cut; the prediction and the
-fusion written out on floats from random states; and whole runs of ``correct``. Equal to
+fusion (``floorscan_core::match_filter``) from random states; and whole runs of ``correct``. Equal to
 rounding: the information to 1e-9 of its largest entry; from random states the predicted and
 fused poses to 1e-12 m, the calibration to 1e-10, the covariance to 1e-10 (fusion) and 1e-12
-(prediction) of its largest entry; over whole runs the poses to 1e-10 m."""
+(prediction) of its largest entry; over whole runs, where the likelihood fields differ by
+float32 rounding (OpenCV's distance transform and numpy's float32 exp there, the hits' stamps
+computed in float64 here), the poses to 1e-7 m and rad."""
 
 from __future__ import annotations
 
@@ -13,9 +15,10 @@ import math
 
 import numpy as np
 import pytest
+from floorscan._native.mapping import match_information
 from floorscan.errors import FloorscanError
 from floorscan.mapping.scan_matcher import MatchResult, ScanMatcher, ScanMatcherOptions
-from scan_matcher_reference import ReferenceFilter
+from scan_matcher_reference import ReferenceScanMatcher
 
 
 def _close(a, b, rtol):
@@ -26,7 +29,26 @@ def _close(a, b, rtol):
 
 def _pair(options=None):
     options = options or ScanMatcherOptions(size_m=8.0)
-    return ScanMatcher(options, center=(0.3, -0.2)), ReferenceFilter(options, center=(0.3, -0.2))
+    return (
+        ScanMatcher(options, center=(0.3, -0.2)),
+        ReferenceScanMatcher(options, center=(0.3, -0.2)),
+    )
+
+
+def _information(ref, pts, pose):
+    """The core's information matrix on the reference's kept field and matched points."""
+    if ref._cache is None:
+        return np.zeros((3, 3))
+    field, i0, j0 = ref._cache
+    origin = (ref.origin_m[0] + i0 * ref.cell, ref.origin_m[1] + j0 * ref.cell)
+    return match_information(
+        np.ascontiguousarray(field),
+        origin,
+        ref.cell,
+        ref._matched_points(pts),
+        tuple(float(v) for v in pose),
+        ref.options.yaw_step_rad,
+    )
 
 
 def _random_field(rng, h, w):
@@ -48,16 +70,16 @@ def test_the_information_matrix_equals_numpys(seed):
     h, w = (int(v) for v in rng.integers(2, 90, 2))
     field = _random_field(rng, h, w)
     i0, j0 = (int(v) for v in rng.integers(0, 200, 2))
-    ours._cache = ref._cache = (field, i0, j0)
+    ref._cache = (field, i0, j0)
     # poses over the field and around its edges; points near and beyond them, some not
     # finite, some beyond the range limit, sometimes more than max_points
-    lo = np.array(ours.origin_m) + np.array([i0, j0]) * ours.cell
-    size = np.array([w, h]) * ours.cell
+    lo = np.array(ref.origin_m) + np.array([i0, j0]) * ref.cell
+    size = np.array([w, h]) * ref.cell
     pose = (*(lo + rng.uniform(-0.3, 1.3, 2) * size), rng.uniform(-math.pi, math.pi))
     n = int(rng.integers(0, 700))
     pts = rng.uniform(-1.5, 1.5, (n, 2)) * max(size.max(), 0.5)
     pts[rng.uniform(size=n) < 0.02] = np.nan
-    got, want = ours.information(pts, pose), ref.information(pts, pose)
+    got, want = _information(ref, pts, pose), ref.information(pts, pose)
     assert got.shape == (3, 3) and got.dtype == np.float64
     assert np.array_equal(got, got.T)  # exactly symmetric
     assert _close(got, want, 1e-9), (got, want)
@@ -71,12 +93,12 @@ def test_negative_curvatures_are_cut_as_numpy_cuts_them():
     ours, ref = _pair()
     field = np.zeros((60, 60), np.float32)
     field[rng.integers(0, 60, 80), rng.integers(0, 60, 80)] = 1.0
-    ours._cache = ref._cache = (field, 10, 20)
+    ref._cache = (field, 10, 20)
     cut = 0
     for _ in range(40):
         pts = rng.uniform(-0.6, 0.6, (30, 2))
-        pose = (ours.origin_m[0] + 40 * ours.cell, ours.origin_m[1] + 50 * ours.cell, 0.2)
-        got, want = ours.information(pts, pose), ref.information(pts, pose)
+        pose = (ref.origin_m[0] + 40 * ref.cell, ref.origin_m[1] + 50 * ref.cell, 0.2)
+        got, want = _information(ref, pts, pose), ref.information(pts, pose)
         assert _close(got, want, 1e-9)
         w = np.linalg.eigvalsh(want)
         cut += int(w.min() < 1e-9 * w.max())
@@ -88,27 +110,25 @@ def test_no_points_no_field_and_points_off_the_field_give_zeros():
     pose = (0.0, 0.0, 0.0)
     assert np.array_equal(ours.information(np.zeros((0, 2)), pose), np.zeros((3, 3)))
     field = np.ones((40, 40), np.float32)
-    ours._cache = ref._cache = (field, 100, 100)
+    ref._cache = (field, 100, 100)
     for pts in (np.zeros((0, 2)), np.full((5, 2), np.nan), np.full((5, 2), 2.9)):
-        got = ours.information(pts, pose)
+        got = _information(ref, pts, pose)
         assert np.array_equal(got, np.zeros((3, 3)))
         assert np.array_equal(ref.information(pts, pose), np.zeros((3, 3)))
-    ours._cache = ref._cache = (np.zeros((0, 0), np.float32), 0, 0)
+    ref._cache = (np.zeros((0, 0), np.float32), 0, 0)
     pts = np.ones((5, 2))
-    assert np.array_equal(ours.information(pts, pose), ref.information(pts, pose))
+    assert np.array_equal(_information(ref, pts, pose), ref.information(pts, pose))
     # a field of one row or column: every point's cells leave it (numpy's reading indexed
     # past such a field's end)
     for shape in ((1, 40), (40, 1)):
-        ours._cache = (np.ones(shape, np.float32), 100, 100)
-        got = ours.information(
-            np.zeros((5, 2)), (ours.origin_m[0] + 2.51, ours.origin_m[1] + 2.51, 0)
+        ref._cache = (np.ones(shape, np.float32), 100, 100)
+        got = _information(
+            ref, np.zeros((5, 2)), (ref.origin_m[0] + 2.51, ref.origin_m[1] + 2.51, 0)
         )
         assert np.array_equal(got, np.zeros((3, 3)))
 
 
 def test_bad_native_arguments_are_errors():
-    from floorscan._native.drive import match_information
-
     f, pts = np.zeros((4, 4), np.float32), np.zeros((3, 2))
     with pytest.raises(FloorscanError):
         match_information(f, (0.0, 0.0), 0.0, pts, (0.0, 0.0, 0.0), 0.01)
@@ -134,7 +154,7 @@ def _random_state(rng, m, calibrate):
         cov[3, 3], cov[4, 4] = 10 ** rng.uniform(-10, -8, 2)
     m.covariance = cov
     m.calibration = (float(rng.normal(0, 0.05)), float(rng.normal(0, 0.02)))
-    m._last = (float(rng.uniform(-5, 5)), float(rng.uniform(-5, 5)), float(rng.uniform(-4, 4)))
+    m.last_pose = (float(rng.uniform(-5, 5)), float(rng.uniform(-5, 5)), float(rng.uniform(-4, 4)))
 
 
 OPTIONS = [
@@ -151,8 +171,12 @@ def test_the_prediction_equals_numpys_from_random_states(options):
     ours, ref = _pair(options)
     for _ in range(200):
         _random_state(rng, ours, options.calibrate_odometry)
-        ref.covariance, ref.calibration, ref._last = ours.covariance, ours.calibration, ours._last
-        a = ours._last
+        ref.covariance, ref.calibration, ref.last_pose = (
+            ours.covariance,
+            ours.calibration,
+            ours.last_pose,
+        )
+        a = ours.last_pose
         d, turn = rng.uniform(-0.15, 0.3), rng.uniform(-0.4, 0.4) * (rng.uniform() < 0.8)
         side = rng.uniform(-0.02, 0.02)
         prior = (
@@ -162,7 +186,7 @@ def test_the_prediction_equals_numpys_from_random_states(options):
         )
         got, want = ours.predict(prior), ref.predict(prior)
         assert np.allclose(got, want, rtol=0, atol=1e-12)
-        assert ours._last == got and np.allclose(ref._last, want, rtol=0, atol=1e-12)
+        assert ours.last_pose == got and np.allclose(ref.last_pose, want, rtol=0, atol=1e-12)
         assert _close(ours.covariance, ref.covariance, 1e-12)
 
 
@@ -181,8 +205,12 @@ def test_the_fusion_equals_numpys_from_random_states(options):
     worst = 0.0
     for k in range(300):
         _random_state(rng, ours, options.calibrate_odometry)
-        ref.covariance, ref.calibration, ref._last = ours.covariance, ours.calibration, ours._last
-        prior = ours._last
+        ref.covariance, ref.calibration, ref.last_pose = (
+            ours.covariance,
+            ours.calibration,
+            ours.last_pose,
+        )
+        prior = ours.last_pose
         found = (
             prior[0] + rng.normal(0, 0.05),
             prior[1] + rng.normal(0, 0.05),
@@ -193,7 +221,7 @@ def test_the_fusion_equals_numpys_from_random_states(options):
         got, want = ours.fuse(result, prior, info), ref.fuse(result, prior, info)
         assert got.accepted == want.accepted and got.score == want.score
         assert np.allclose(got.pose, want.pose, rtol=0, atol=1e-12)
-        assert ours._last == got.pose
+        assert ours.last_pose == got.pose
         # numpy inverted the covariance itself (condition numbers to 1e9 here): equal to its
         # rounding (measured: 8e-12 in the calibration, 5e-13 of the covariance's largest
         # entry)
@@ -225,9 +253,9 @@ def test_whole_runs_of_correct_equal_numpys(options):
         pts = (world - truth[:2]) @ np.array([[c, -s], [s, c]])
         got, want = ours.correct(pts, tuple(odo)), ref.correct(pts, tuple(odo))
         assert got.accepted == want.accepted and got.points == want.points
-        assert np.allclose(got.pose, want.pose, rtol=0, atol=1e-10), k
-        assert np.allclose(ours.calibration, ref.calibration, rtol=0, atol=1e-10)
-        assert _close(ours.covariance, ref.covariance, 1e-8)
+        assert np.allclose(got.pose, want.pose, rtol=0, atol=1e-7), k
+        assert np.allclose(ours.calibration, ref.calibration, rtol=0, atol=1e-7)
+        assert _close(ours.covariance, ref.covariance, 1e-6)
         assert np.array_equal(ours.hits, ref.hits)
         accepted += got.accepted
     assert accepted > 20
@@ -238,7 +266,7 @@ def test_without_calibration_a_still_robot_fuses_the_pose_alone():
     rows are all 0 (numpy's inverse of the covariance failed there); the pose fuses as the
     3-state filter's information form says."""
     m = ScanMatcher(ScanMatcherOptions(size_m=8.0, calibrate_odometry=False))
-    m._last = (1.0, 2.0, 0.5)
+    m.last_pose = (1.0, 2.0, 0.5)
     assert m.predict((1.0, 2.0, 0.5)) == (1.0, 2.0, 0.5)
     p = np.diag([1e-4, 4e-4, 1e-5, 0.0, 0.0])
     p[0, 2] = p[2, 0] = 1e-5

@@ -9,8 +9,9 @@
 //! the exact ray walk ([`raycast`]), updates from visual scans, lasers and sonars
 //! ([`inserter`], [`ray_update`], [`laser`], [`sonar`]) and the robot-centred [`local_map`];
 //! for driving on the maps: the [`avoidance_map`]'s updates (its floor quadrilaterals filled
-//! by [`polygon_fill`]), a planner's [`navigation`] function, and the search and hit map of a
-//! correlative [`scan_matcher`] and its match's information matrix ([`match_information`]).
+//! by [`polygon_fill`]), a planner's [`navigation`] function, and the correlative
+//! [`scan_matcher`] (its [`correlative_search`], [`hit_map`], the match's information matrix
+//! [`match_information`] and the [`match_filter`] that fuses matches with odometry).
 //!
 //! The modules are grouped by stage: [`ranging`] (images to scans), [`geometry`] (lens, mount,
 //! pose, ground table), [`mapping`] (scans and poses to maps, scan matching) and [`navigation`]
@@ -32,9 +33,9 @@ mod test_rng;
 // tests have used since before the stages were grouped (`floorscan_core::ranger`).
 pub use geometry::{ground_table, ground_table_inverse, lens, mount, pose};
 pub use mapping::{
-    branchless, evidence, grid, grid_options, hit_map, inserter, laser, local_map, log_odds,
-    match_information, pose_graph_options, queries, ray_update, raycast, scan_matcher,
-    scan_matcher_options, slam_options, sonar, thin_walk,
+    branchless, correlative_search, evidence, grid, grid_options, hit_map, inserter, laser,
+    local_map, log_odds, match_filter, match_information, pose_graph_options, queries, ray_update,
+    raycast, scan_matcher, scan_matcher_options, slam_options, sonar, thin_walk,
 };
 pub use navigation::{
     avoidance_map, avoidance_map_options, costmap_options, drive_map_options, drive_run_options,
@@ -77,6 +78,7 @@ pub use ranger_options::{ColumnSelection, ColumnStart, RangerOptions};
 pub use ray_update::{Ray, UpdateStats};
 pub use raycast::CellIndex;
 pub use scan::{ColumnOutcome, ColumnReading, ColumnStatus, Scan};
+pub use scan_matcher::ScanMatcher;
 pub use scan_matcher_options::ScanMatcherOptions;
 pub use slam_options::{SlamMode, SlamOptions};
 pub use sonar::SonarReading;

@@ -24,13 +24,12 @@ mod sim;
 // by the package's submodules.
 use drive::{
     avoidance_map, avoidance_map_options, costmap_options, drive_map_options, drive_run_options,
-    dwa_options, dynamic_window, hit_map, match_information, navigation, scan_matcher,
-    scan_matcher_options, visual_sensor_model,
+    dwa_options, dynamic_window, navigation, visual_sensor_model,
 };
 use formats::{gif, png, read_ahead};
 use mapping::{
-    evidence, grid, grid_options, grid_views, inserter, local_map, log_odds, pose_graph_options,
-    slam_options,
+    correlative_search, evidence, grid, grid_options, grid_views, inserter, local_map, log_odds,
+    match_information, pose_graph_options, scan_matcher, scan_matcher_options, slam_options,
 };
 use ranging::{
     appearance, appearance_options, floor_parallax, fusion_options, ground_table, parallax_options,
@@ -124,6 +123,8 @@ mod _native {
         use super::*;
 
         #[pymodule_export]
+        use crate::correlative_search::correlative_search;
+        #[pymodule_export]
         use crate::evidence::merge_evidence;
         #[pymodule_export]
         use crate::grid::PyOccupancyGrid;
@@ -143,9 +144,17 @@ mod _native {
             occupancy_classes, probabilities_from_units, units_from_probabilities,
         };
         #[pymodule_export]
+        use crate::match_information::match_information;
+        #[pymodule_export]
         use crate::pose_graph_options::{
             check_pose_graph_options, default_pose_graph_options, pose_graph_field_half_side_m,
             pose_graph_options_schema,
+        };
+        #[pymodule_export]
+        use crate::scan_matcher::PyScanMatcher;
+        #[pymodule_export]
+        use crate::scan_matcher_options::{
+            check_scan_matcher_options, default_scan_matcher_options, scan_matcher_options_schema,
         };
         #[pymodule_export]
         use crate::slam_options::{check_slam_options, default_slam_options, slam_options_schema};
@@ -197,8 +206,6 @@ mod _native {
         #[pymodule_export]
         use crate::dwa_options::{check_dwa_options, default_dwa_options, dwa_options_schema};
         #[pymodule_export]
-        use crate::hit_map::PyHitMap;
-        #[pymodule_export]
         use crate::visual_sensor_model::{
             check_visual_sensor_model, default_visual_sensor_model, visual_sensor_model_schema,
         };
@@ -206,15 +213,7 @@ mod _native {
         #[pymodule_export]
         use crate::dynamic_window::best_velocity_sample;
         #[pymodule_export]
-        use crate::match_information::match_information;
-        #[pymodule_export]
         use crate::navigation::{coarse_grid, geodesic_distances};
-        #[pymodule_export]
-        use crate::scan_matcher::correlative_search;
-        #[pymodule_export]
-        use crate::scan_matcher_options::{
-            check_scan_matcher_options, default_scan_matcher_options, scan_matcher_options_schema,
-        };
 
         #[pymodule_init]
         fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

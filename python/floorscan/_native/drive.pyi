@@ -35,22 +35,6 @@ class AvoidanceMap:
         `floorscan.drive.VisualSensorModel` (its fields are read by name).
         """
 
-@final
-class HitMap:
-    """
-    The hit map of `side` x `side` cells of `cell_size_m` [m] from `origin_m`, ignoring points
-    beyond `range_max_m`; `novelty` (N, 2) int64 the novelty disc's cell offsets (di, dj);
-    `stamp` (M, 2) int64 and `stamp_values` (M,) float32 the field's stamp.
-    """
-    def __new__(cls, /, side: SupportsIndex, cell_size_m: SupportsFloat | SupportsIndex, origin_m: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], range_max_m: SupportsFloat | SupportsIndex, novelty: Incomplete, stamp: Incomplete, stamp_values: Incomplete) -> HitMap: ...
-    def insert(self, /, hits: Incomplete, points: Incomplete, pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], novel_only: bool, field: Incomplete | None = None, field_origin: tuple[SupportsIndex, SupportsIndex] = ...) -> int:
-        """
-        Stores `points` (N, 2) float64 [m, robot frame] seen from `pose` into `hits` ((side,
-        side) uint8, in place), only those without a stored hit in the novelty disc when
-        `novel_only`, and raises `field` (float32, in place; its cell (0, 0) the grid's cell
-        `field_origin`) to the new hits' stamps. Returns how many were stored.
-        """
-
 def avoidance_map_options_schema() -> Any:
     """
     The JSON schema of `AvoidanceMapOptions`: field docs, types, defaults.
@@ -92,11 +76,6 @@ def check_dwa_options(options: Any) -> Any:
     Reads `DwaOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
-def check_scan_matcher_options(options: Any) -> Any:
-    """
-    Reads `ScanMatcherOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
-    """
-
 def check_visual_sensor_model(options: Any) -> Any:
     """
     Reads `VisualModel` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
@@ -108,16 +87,6 @@ def coarse_grid(cost: Incomplete, factor: SupportsIndex, blocked_from: SupportsI
     `factor` x `factor` cells: (blocked (h, w) bool: every cell of the block costs
     `blocked_from` or more; weight (h, w) float64: 1 + min(mean cost, blocked_from) / 64, plus
     `unknown_cost` times the block's share of cells not `known` (H, W) bool when given).
-    """
-
-def correlative_search(field: Incomplete, origin_m: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], cell_m: SupportsFloat | SupportsIndex, points: Incomplete, prior: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], xy_steps: SupportsIndex, yaw_steps: SupportsIndex, yaw_step_rad: SupportsFloat | SupportsIndex, prior_xy_m: SupportsFloat | SupportsIndex, prior_yaw_rad: SupportsFloat | SupportsIndex) -> tuple[tuple[float, float, float], float, float]:
-    """
-    The best pose (x, y, yaw), its mean field value and its score for `points` (N, 2) float64
-    [m, robot frame] around `prior` (world_from_robot): translations of -xy_steps..=xy_steps
-    cells of `field` (H, W) float32 (values in [0, 1], row 0 = lowest y, cell (0, 0)'s corner
-    at `origin_m`, cells `cell_m` wide), yaws of -yaw_steps..=yaw_steps times `yaw_step_rad`;
-    score = mean field value x exp(-(|t| / prior_xy_m)^2 - (dyaw / prior_yaw_rad)^2); then
-    refined below a cell on the field read bilinearly (`floorscan_core::scan_matcher::refine`).
     """
 
 def costmap_options_schema() -> Any:
@@ -155,11 +124,6 @@ def default_dwa_options() -> Any:
     The default `DwaOptions` (its serde form, a dict).
     """
 
-def default_scan_matcher_options() -> Any:
-    """
-    The default `ScanMatcherOptions` (its serde form, a dict).
-    """
-
 def default_visual_sensor_model() -> Any:
     """
     The default `VisualModel` (its serde form, a dict).
@@ -186,21 +150,6 @@ def geodesic_distances(blocked: Incomplete, weight: Incomplete, seed_cells: Inco
     (H, W) bool cells are never entered, a step costs its length (`step_m` or sqrt 2 times it)
     times the mean `weight` (H, W) float64 of its two cells; `seed_cells` (K,) int64 row-major
     cell indices start at `seed_costs` (K,) float64. `inf` where nothing reaches.
-    """
-
-def match_information(field: Incomplete, origin_m: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], cell_m: SupportsFloat | SupportsIndex, points: Incomplete, pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], yaw_step_rad: SupportsFloat | SupportsIndex) -> Incomplete:
-    """
-    The information matrix (3, 3) float64 of `points` (N, 2) float64 [m, robot frame] matched at
-    `pose` (world_from_robot): minus the Hessian of the sum of `field` (H, W) float32 (row 0 =
-    lowest y, cell (0, 0)'s corner at `origin_m`, cells `cell_m` wide) read bilinearly at the
-    points over (x, y, yaw), by central differences of a cell and of `yaw_step_rad`, its
-    negative eigenvalues cut to 0; a point whose four cells leave the field reads 0
-    (`floorscan_core::match_information`).
-    """
-
-def scan_matcher_options_schema() -> Any:
-    """
-    The JSON schema of `ScanMatcherOptions`: field docs, types, defaults.
     """
 
 def visual_sensor_model_schema() -> Any:

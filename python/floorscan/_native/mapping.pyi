@@ -125,6 +125,102 @@ class OccupancyGrid:
         Writes an (H, W) int16 array of raw values with its first cell at (min_x, min_y).
         """
 
+@final
+class ScanMatcher:
+    """
+    The matcher of `options` (a dict of `ScanMatcherOptions`' fields) whose map is centred on
+    `center` [m, world frame].
+    """
+    def __new__(cls, /, options: Any, center: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex]) -> ScanMatcher: ...
+    @property
+    def calibration(self, /) -> tuple[float, float]:
+        """
+        Odometry's estimated errors: (turn scale error, heading drift [rad/m]).
+        """
+    @calibration.setter
+    def calibration(self, /, value: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex]) -> None: ...
+    def correct(self, /, points: Incomplete, prior: SupportsLenAndGetItem[SupportsFloat | SupportsIndex]) -> tuple[tuple[float, float, float], float, bool, int]:
+        """
+        One frame: `points` (N, 2) float64 [m, robot frame] matched near the odometry pose
+        `prior` (world_from_robot) after the filter's prediction, fused with it, the new points
+        stored; ((x, y, yaw), score, accepted, points).
+        """
+    @property
+    def covariance(self, /) -> Incomplete:
+        """
+        The covariance (5, 5) of the state's error: x [m], y [m], yaw [rad], the turn scale
+        error, the heading drift [rad/m].
+        """
+    @covariance.setter
+    def covariance(self, /, value: Incomplete) -> None: ...
+    def cover(self, /, x: SupportsFloat | SupportsIndex, y: SupportsFloat | SupportsIndex, half_m: SupportsFloat | SupportsIndex) -> tuple[Incomplete, int, int]:
+        """
+        Makes the kept field cover the square of half-side `half_m` around (x, y); returns it.
+        """
+    @property
+    def field(self, /) -> tuple[Incomplete, int, int] | None:
+        """
+        The likelihood field kept (a copy) or None.
+        """
+    def field_around(self, /, x: SupportsFloat | SupportsIndex, y: SupportsFloat | SupportsIndex, half_m: SupportsFloat | SupportsIndex) -> tuple[Incomplete, int, int]:
+        """
+        A fresh likelihood field over the square of half-side `half_m` [m] around (x, y).
+        """
+    @property
+    def frames(self, /) -> int:
+        """
+        Scans stored so far.
+        """
+    def fuse(self, /, found: tuple[tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], SupportsFloat | SupportsIndex, bool, SupportsIndex], prior: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], information: Incomplete) -> tuple[tuple[float, float, float], float, bool, int]:
+        """
+        The match `found` ((x, y, yaw), score, accepted, points) fused with the prediction
+        `prior` with the match's `information` (3, 3) float64.
+        """
+    @property
+    def hits(self, /) -> Incomplete:
+        """
+        The hit counts (side, side) uint8 (row 0 = lowest y), a copy.
+        """
+    def information(self, /, points: Incomplete, pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex]) -> Incomplete:
+        """
+        The information matrix (3, 3) of the match of `points` at `pose` on the kept field.
+        """
+    def insert(self, /, points: Incomplete, pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], novel_only: bool) -> int:
+        """
+        Stores `points` seen from `pose` (only those the map does not explain when
+        `novel_only`); how many were stored.
+        """
+    @property
+    def last_mahalanobis(self, /) -> float | None:
+        """
+        The last fused match's innovation as a Mahalanobis distance (None before any).
+        """
+    @property
+    def last_pose(self, /) -> tuple[float, float, float] | None:
+        """
+        The pose kept last (world_from_robot), None before the first frame.
+        """
+    @last_pose.setter
+    def last_pose(self, /, value: SupportsLenAndGetItem[SupportsFloat | SupportsIndex] | None) -> None: ...
+    def match_scan(self, /, points: Incomplete, prior: SupportsLenAndGetItem[SupportsFloat | SupportsIndex]) -> tuple[tuple[float, float, float], float, bool, int]:
+        """
+        The best pose for `points` near `prior`, the map unchanged (no filter).
+        """
+    @property
+    def origin_m(self, /) -> tuple[float, float]:
+        """
+        The grid's cell (0, 0)'s lower-left corner [m].
+        """
+    def predict(self, /, prior: SupportsLenAndGetItem[SupportsFloat | SupportsIndex]) -> tuple[float, float, float]:
+        """
+        The filter's prediction for odometry's `prior`.
+        """
+    @property
+    def side(self, /) -> int:
+        """
+        Cells on a side of the grid.
+        """
+
 def check_grid_options(options: Any) -> Any:
     """
     Reads `GridOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
@@ -145,9 +241,24 @@ def check_pose_graph_options(options: Any) -> Any:
     Reads `PoseGraphOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
     """
 
+def check_scan_matcher_options(options: Any) -> Any:
+    """
+    Reads `ScanMatcherOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
 def check_slam_options(options: Any) -> Any:
     """
     Reads `SlamOptions` from a dict of any of its fields (the others take their defaults), validates it and returns every field.
+    """
+
+def correlative_search(field: Incomplete, origin_m: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], cell_m: SupportsFloat | SupportsIndex, points: Incomplete, prior: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], xy_steps: SupportsIndex, yaw_steps: SupportsIndex, yaw_step_rad: SupportsFloat | SupportsIndex, prior_xy_m: SupportsFloat | SupportsIndex, prior_yaw_rad: SupportsFloat | SupportsIndex) -> tuple[tuple[float, float, float], float, float]:
+    """
+    The best pose (x, y, yaw), its mean field value and its score for `points` (N, 2) float64
+    [m, robot frame] around `prior` (world_from_robot): translations of -xy_steps..=xy_steps
+    cells of `field` (H, W) float32 (values in [0, 1], row 0 = lowest y, cell (0, 0)'s corner
+    at `origin_m`, cells `cell_m` wide), yaws of -yaw_steps..=yaw_steps times `yaw_step_rad`;
+    score = mean field value x exp(-(|t| / prior_xy_m)^2 - (dyaw / prior_yaw_rad)^2); then
+    refined below a cell on the field read bilinearly (`floorscan_core::correlative_search::refine`).
     """
 
 def default_grid_options() -> Any:
@@ -170,6 +281,11 @@ def default_pose_graph_options() -> Any:
     The default `PoseGraphOptions` (its serde form, a dict).
     """
 
+def default_scan_matcher_options() -> Any:
+    """
+    The default `ScanMatcherOptions` (its serde form, a dict).
+    """
+
 def default_slam_options() -> Any:
     """
     The default `SlamOptions` (its serde form, a dict).
@@ -188,6 +304,16 @@ def inserter_options_schema() -> Any:
 def local_map_options_schema() -> Any:
     """
     The JSON schema of `LocalMapOptions`: field docs, types, defaults.
+    """
+
+def match_information(field: Incomplete, origin_m: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], cell_m: SupportsFloat | SupportsIndex, points: Incomplete, pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], yaw_step_rad: SupportsFloat | SupportsIndex) -> Incomplete:
+    """
+    The information matrix (3, 3) float64 of `points` (N, 2) float64 [m, robot frame] matched at
+    `pose` (world_from_robot): minus the Hessian of the sum of `field` (H, W) float32 (row 0 =
+    lowest y, cell (0, 0)'s corner at `origin_m`, cells `cell_m` wide) read bilinearly at the
+    points over (x, y, yaw), by central differences of a cell and of `yaw_step_rad`, its
+    negative eigenvalues cut to 0; a point whose four cells leave the field reads 0
+    (`floorscan_core::match_information`).
     """
 
 def merge_evidence(cell_sizes_m: SupportsGetItem[int, SupportsFloat | SupportsIndex], origins_m: SupportsGetItem[int, tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex]], arrays: SupportsGetItem[int, Incomplete]) -> tuple[tuple[float, float], Incomplete]:
@@ -218,6 +344,11 @@ def probabilities_from_units(units: Incomplete) -> Incomplete:
     """
     Probabilities of stored log-odds values (any shape, int16 or int32 [1/1000 nat]) as
     float64: `1 / (1 + exp(-units / 1000))`.
+    """
+
+def scan_matcher_options_schema() -> Any:
+    """
+    The JSON schema of `ScanMatcherOptions`: field docs, types, defaults.
     """
 
 def slam_options_schema() -> Any:

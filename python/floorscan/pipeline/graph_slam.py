@@ -32,8 +32,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import cv2
 import numpy as np
 
-from .._native.drive import correlative_search, match_information
-from .._native.mapping import FIELD_REUSE_M
+from .._native.mapping import FIELD_REUSE_M, correlative_search, match_information
 from ..formats.trajectory import compose, inverse, relative
 from ..mapping.pose_graph import PoseGraph, PoseGraphOptions
 

@@ -159,24 +159,9 @@ impl HitMap {
                 })
             });
         }
-        if let Some(f) = field {
-            let (w, h) = (f.width as i64, f.height as i64);
+        if let Some(mut f) = field {
             for &(i, j) in &self.cells {
-                for &(di, dj, v) in &self.stamp {
-                    let (ii, jj) = (i - f.i0 + di, j - f.j0 + dj);
-                    if ii >= 0 && ii < w && jj >= 0 && jj < h {
-                        let k = (jj * w + ii) as usize;
-                        // np.maximum: NaN where either is NaN
-                        let old = f.values[k];
-                        f.values[k] = if old.is_nan() || v.is_nan() {
-                            f32::NAN
-                        } else if v > old {
-                            v
-                        } else {
-                            old
-                        };
-                    }
-                }
+                self.stamp_at(&mut f, i, j);
             }
         }
         for &(i, j) in &self.cells {
@@ -184,6 +169,55 @@ impl HitMap {
             hits[k] = hits[k].saturating_add(1);
         }
         Ok(self.cells.len())
+    }
+
+    /// Sets `field` to the likelihood field of the hits stored in `hits` over the field's
+    /// cells alone: 0, raised around each cell holding a hit to the stamp (so a field made
+    /// afresh equals one kept up to date by [`Self::insert`]'s stamps).
+    pub fn fill_field(&self, hits: &[u8], mut field: FieldMut<'_>) -> Result<()> {
+        let n = self.side;
+        if hits.len() != n * n || field.values.len() != field.width * field.height {
+            return Err(Error::LengthMismatch(format!(
+                "a {n} x {n} hit map and a {} x {} field, got {} and {} cells",
+                field.width,
+                field.height,
+                hits.len(),
+                field.values.len()
+            )));
+        }
+        field.values.fill(0.0);
+        let (i0, j0) = (field.i0.clamp(0, n as i64), field.j0.clamp(0, n as i64));
+        let i1 = (field.i0.saturating_add(field.width as i64)).clamp(i0, n as i64);
+        let j1 = (field.j0.saturating_add(field.height as i64)).clamp(j0, n as i64);
+        for j in j0..j1 {
+            let row = &hits[j as usize * n..(j as usize + 1) * n];
+            for i in i0..i1 {
+                if row[i as usize] > 0 {
+                    self.stamp_at(&mut field, i, j);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Raises `field` to the stamp centred on grid cell (`i`, `j`) (NaN where either is NaN,
+    /// as numpy's `maximum`).
+    fn stamp_at(&self, f: &mut FieldMut<'_>, i: i64, j: i64) {
+        let (w, h) = (f.width as i64, f.height as i64);
+        for &(di, dj, v) in &self.stamp {
+            let (ii, jj) = (i - f.i0 + di, j - f.j0 + dj);
+            if ii >= 0 && ii < w && jj >= 0 && jj < h {
+                let k = (jj * w + ii) as usize;
+                let old = f.values[k];
+                f.values[k] = if old.is_nan() || v.is_nan() {
+                    f32::NAN
+                } else if v > old {
+                    v
+                } else {
+                    old
+                };
+            }
+        }
     }
 }
 

@@ -3,13 +3,13 @@
 //! fuses each match with the odometry prediction as an extended Kalman filter does, with this
 //! matrix (times a scale) as the match's inverse covariance.
 //!
-//! The field is read bilinearly between cell centres, as [`crate::scan_matcher::refine`]
+//! The field is read bilinearly between cell centres, as [`crate::correlative_search::refine`]
 //! reads it, except at its border: a point any of whose four cells lies off the field reads 0
 //! there (the drive's field covers the search window with a margin, so none do in a drive).
 
+use crate::correlative_search::Field;
 use crate::error::{invalid_option, Error, Result};
 use crate::pose::Pose2;
-use crate::scan_matcher::Field;
 
 /// Minus the Hessian of the sum of `field`'s values at `points` (robot frame [m]) over the
 /// pose (x [m], y [m], yaw [rad]) at `pose` (world_from_robot), by central differences of one

@@ -3,6 +3,7 @@
 //! map, and the correlative scan matcher that corrects poses before scans are inserted.
 
 pub mod branchless;
+pub mod correlative_search;
 pub mod evidence;
 pub mod grid;
 pub mod grid_options;
@@ -11,6 +12,7 @@ pub mod inserter;
 pub mod laser;
 pub mod local_map;
 pub mod log_odds;
+pub mod match_filter;
 pub mod match_information;
 pub mod pose_graph_options;
 pub mod queries;

@@ -1,371 +1,368 @@
-//! The search of a correlative scan matcher (Olson 2009; cartographer's real-time correlative
-//! scan matcher): every pose of a window around a prior, scored by the mean of a likelihood
-//! field at the scan's points, times a prior that keeps the pose near the prior where the scan
-//! does not decide.
+//! Correcting the odometry pose with the robot's own scans: a correlative scan-to-map matcher
+//! (Olson 2009; cartographer's real-time correlative scan matcher, hector_mapping's role)
+//! whose matches an extended Kalman filter fuses with odometry ([`crate::match_filter`]). The
+//! drive loop and the pipeline's local scan matching share it (`floorscan.mapping.ScanMatcher`
+//! wraps it); its options are [`ScanMatcherOptions`] (`[slam.matcher]`).
 //!
-//! Translations move whole field cells; yaws go in fixed steps. The likelihood field (values
-//! in [0, 1], row major, row 0 = lowest y) is the caller's: floorscan's drive builds it from the
-//! distance to the nearest stored hit.
+//! The robot keeps a persistent map of where its scans ended: hit counts on a fixed grid of
+//! `size_m` centred on its start ([`crate::hit_map`]). Each frame, the scan's end points are
+//! tried at every pose of a small window around the odometry pose
+//! ([`crate::correlative_search`]); each pose scores the mean of a likelihood field
+//! (exp(-d^2 / 2 sigma^2), d the distance to the nearest hit, 0 beyond three sigmas) at the
+//! points, times a prior that keeps the pose near odometry where the scan does not decide. The
+//! best pose is kept when enough points score; then the scan's points the map does not already
+//! explain (no hit within `novelty_m`) join the map at the pose kept. Storing only what is new
+//! keeps the map as it was first seen: a robot that comes back with drifted odometry matches
+//! the walls as they were, not its own drifted copies of them.
+//!
+//! The field is kept over a square [`CACHE_MARGIN_M`] wider than one match needs and reused,
+//! new hits stamped into it, while the robot stays within it.
 
-use crate::error::{invalid_option, Error, Result};
+use crate::correlative_search::{refine, search, Field, SearchWindow};
+use crate::error::{Error, Result};
+use crate::hit_map::{FieldMut, HitMap};
+use crate::match_filter::{MatchFilter, MatchResult};
+use crate::match_information::match_information;
 use crate::pose::Pose2;
+use crate::scan_matcher_options::ScanMatcherOptions;
 
-/// The search window and the prior.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SearchWindow {
-    /// Translations tried: -steps..=steps cells in x and in y.
-    pub xy_steps: u32,
-    /// Yaws tried: -yaw_steps..=yaw_steps times `yaw_step_rad`.
-    pub yaw_steps: u32,
-    /// Yaw step [rad], > 0.
-    pub yaw_step_rad: f64,
-    /// Width of the translation prior [m], > 0: exp(-(|t| / prior_xy_m)^2).
-    pub prior_xy_m: f64,
-    /// Width of the rotation prior [rad], > 0: exp(-(dyaw / prior_yaw_rad)^2).
-    pub prior_yaw_rad: f64,
-}
+/// The likelihood field is made this much [m] beyond what one match needs, and reused while
+/// the robot stays within it.
+pub const CACHE_MARGIN_M: f64 = 1.0;
 
-/// The best pose of a search.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SearchResult {
-    /// The pose found (world_from_robot).
-    pub pose: Pose2,
-    /// Mean field value at the points there, in [0, 1].
-    pub mean: f64,
-    /// `mean` times the prior: what the search maximised.
-    pub score: f64,
-}
+/// The field is 0 beyond this many sigmas from every hit (exp(-4.5) = 0.011).
+pub const STAMP_SIGMAS: f64 = 3.0;
 
-/// The largest window a search runs (candidates x points), a bound on the work an argument can
-/// ask for.
-pub const MAX_EVALUATIONS: u64 = 1 << 32;
-
-/// The largest field plus a border of twice the translation window on each side [cells] a
-/// search runs over (16 M): with [`MAX_EVALUATIONS`], bounds the window (and its sums) an
-/// argument can ask for.
-pub const MAX_PADDED_CELLS: u64 = 1 << 24;
-
-/// A likelihood field: `width` x `height` values, its cell (0, 0)'s lower-left corner at
-/// `origin_m` [m], cells `cell_m` [m] wide.
-#[derive(Debug, Clone, Copy)]
-pub struct Field<'a> {
-    pub values: &'a [f32],
+/// The likelihood field kept over part of the grid: `width` x `height` values (row major, row
+/// 0 = lowest y) whose cell (0, 0) is the grid's cell (`i0`, `j0`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CachedField {
+    pub values: Vec<f32>,
     pub width: usize,
     pub height: usize,
-    pub origin_m: (f64, f64),
-    pub cell_m: f64,
+    pub i0: i64,
+    pub j0: i64,
 }
 
-impl Field<'_> {
-    /// Its values fill `width` x `height`, its cells have a finite positive size.
-    pub fn validate(&self) -> Result<()> {
-        if self.values.len() != self.width * self.height {
-            return Err(Error::LengthMismatch(format!(
-                "field {} x {} needs {} values, got {}",
-                self.width,
-                self.height,
-                self.width * self.height,
-                self.values.len()
+/// The matcher: its hit map, the field kept over part of it, and the filter.
+#[derive(Debug, Clone)]
+pub struct ScanMatcher {
+    options: ScanMatcherOptions,
+    side: usize,
+    origin_m: (f64, f64),
+    hits: Vec<u8>,
+    hit_map: HitMap,
+    frames: u64,
+    field: Option<CachedField>,
+    field_nonzero: bool,
+    /// The filter's state (the pose kept last, the covariance, odometry's calibration).
+    pub filter: MatchFilter,
+    matched: Vec<[f64; 2]>,
+}
+
+/// Cell offsets (di, dj) within `radius_m` [m] of the centre cell in a square of half-side `r`
+/// cells (rows of dj, di fastest), and their distances [m].
+fn disc(r: i64, cell_m: f64, radius_m: f64) -> Vec<(i64, i64, f64)> {
+    let mut out = Vec::new();
+    for dj in -r..=r {
+        for di in -r..=r {
+            let dist = (di as f64).hypot(dj as f64) * cell_m;
+            if dist <= radius_m + 1e-12 {
+                out.push((di, dj, dist));
+            }
+        }
+    }
+    out
+}
+
+impl ScanMatcher {
+    /// An empty map of `options.size_m` centred on `center` [m] (world frame).
+    pub fn new(options: ScanMatcherOptions, center: (f64, f64)) -> Result<Self> {
+        options.validate()?;
+        if !(center.0.is_finite() && center.1.is_finite()) {
+            return Err(Error::InvalidGeometry(format!(
+                "the map's centre must be finite, got {center:?}"
             )));
         }
-        if !(self.cell_m.is_finite() && self.cell_m > 0.0) {
-            return Err(invalid_option("cell_m", "must be > 0"));
-        }
-        Ok(())
-    }
-}
-
-/// The best pose for `points` (robot frame [m]) in `window` around `prior`; points off the
-/// field score 0.
-pub fn search(
-    field: &Field<'_>,
-    points: &[[f64; 2]],
-    prior: Pose2,
-    window: &SearchWindow,
-) -> Result<SearchResult> {
-    field.validate()?;
-    for (name, v) in [
-        ("yaw_step_rad", window.yaw_step_rad),
-        ("prior_xy_m", window.prior_xy_m),
-        ("prior_yaw_rad", window.prior_yaw_rad),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(invalid_option(name, format!("must be > 0, got {v}")));
-        }
-    }
-    let side = 2 * window.xy_steps as u64 + 1;
-    let work = side
-        .saturating_mul(side)
-        .saturating_mul(2 * window.yaw_steps as u64 + 1)
-        .saturating_mul(points.len() as u64);
-    if work > MAX_EVALUATIONS {
-        return Err(invalid_option(
-            "window",
-            format!("{work} evaluations > {MAX_EVALUATIONS}"),
-        ));
-    }
-    let border = 4 * window.xy_steps as u64;
-    let padded = (field.width as u64)
-        .saturating_add(border)
-        .saturating_mul((field.height as u64).saturating_add(border));
-    if padded > MAX_PADDED_CELLS {
-        return Err(invalid_option(
-            "window",
-            format!("field and window need {padded} cells > {MAX_PADDED_CELLS}"),
-        ));
-    }
-    if !(prior.x.is_finite() && prior.y.is_finite() && prior.yaw.is_finite()) {
-        return Err(Error::InvalidGeometry("prior pose not finite".into()));
-    }
-    let mut best = SearchResult {
-        pose: prior,
-        mean: 0.0,
-        score: -1.0,
-    };
-    if points.is_empty() {
-        best.score = 0.0;
-        return Ok(best);
-    }
-    let s = window.xy_steps as i64;
-    let side = (2 * s + 1) as usize;
-    let (w, h) = (field.width as i64, field.height as i64);
-    // the sums of every shift of one yaw, filled point by point (each shift's sum still adds
-    // the points in their order, so the sums are those of a loop over shifts); a shift that
-    // moves a point off the field reads 0 there, a point that no shift brings onto the
-    // field is left out of the sums (not of the mean)
-    let mut sums = vec![0.0f64; side * side];
-    // the translation prior of every shift, the same for every yaw
-    let mut xy_prior = Vec::with_capacity(side * side);
-    for ty in -s..=s {
-        for tx in -s..=s {
-            let t = ((tx * tx + ty * ty) as f64).sqrt() * field.cell_m;
-            xy_prior.push((-(t / window.prior_xy_m).powi(2)).exp());
-        }
-    }
-    // per point of one yaw: its cell, and whether every shift's chunk reads inside the field
-    let mut cells: Vec<(i64, i64, bool)> = Vec::with_capacity(points.len());
-    let inv_n = 1.0 / points.len() as f64;
-    for ky in -(window.yaw_steps as i64)..=(window.yaw_steps as i64) {
-        let dyaw = ky as f64 * window.yaw_step_rad;
-        let yaw = prior.yaw + dyaw;
-        let (sn, cs) = yaw.sin_cos();
-        cells.clear();
-        for p in points {
-            let wx = prior.x + cs * p[0] - sn * p[1];
-            let wy = prior.y + sn * p[0] + cs * p[1];
-            let fi = floor((wx - field.origin_m.0) / field.cell_m);
-            let fj = floor((wy - field.origin_m.1) / field.cell_m);
-            let reach = |f: f64, n: i64| f >= -(s as f64) && f < (n + s) as f64;
-            if reach(fi, w) && reach(fj, h) {
-                let (i, j) = (fi as i64, fj as i64);
-                let inside = i - s >= 0 && j - s >= 0 && i + s + CHUNK as i64 <= w && j + s < h;
-                cells.push((i, j, inside));
-            }
-        }
-        window_sums(field, &cells, s, &mut sums);
-        let yaw_prior = (-(dyaw / window.prior_yaw_rad).powi(2)).exp();
-        for ty in -s..=s {
-            for tx in -s..=s {
-                let k = (ty + s) as usize * side + (tx + s) as usize;
-                let mean = sums[k] * inv_n;
-                let score = mean * xy_prior[k] * yaw_prior;
-                if score > best.score {
-                    best = SearchResult {
-                        pose: Pose2::new(
-                            prior.x + tx as f64 * field.cell_m,
-                            prior.y + ty as f64 * field.cell_m,
-                            yaw,
-                        ),
-                        mean,
-                        score,
-                    };
-                }
-            }
-        }
-    }
-    Ok(best)
-}
-
-/// `x.floor()` without a call into libm (the baseline x86-64 target has no rounding
-/// instruction): the same value for every finite `x` below 2^52 in magnitude, `floor` beyond.
-#[inline]
-fn floor(x: f64) -> f64 {
-    if x.abs() < 4.0e15 {
-        let t = x as i64 as f64;
-        if t > x {
-            t - 1.0
+        let cell = options.cell_size_m;
+        let side = (options.size_m / cell).ceil() as usize;
+        let half = 0.5 * side as f64 * cell;
+        let origin_m = (center.0 - half, center.1 - half);
+        let radius = STAMP_SIGMAS * options.sigma_m;
+        let sigma = options.sigma_m;
+        let stamp = disc((radius / cell).floor() as i64, cell, radius)
+            .into_iter()
+            .map(|(di, dj, d)| (di, dj, (-0.5 * ((d / sigma) * (d / sigma))).exp() as f32))
+            .collect();
+        let r = (options.novelty_m / cell).floor() as i64;
+        let novelty = if r > 0 {
+            disc(r, cell, r as f64 * cell)
+                .into_iter()
+                .map(|(di, dj, _)| (di, dj))
+                .collect()
         } else {
-            t
-        }
-    } else {
-        x.floor()
-    }
-}
-
-/// Shifts summed at once per point (kept in registers).
-const CHUNK: usize = 16;
-
-/// The sums of the field at every shift of the window (rows of `2 s + 1` shifts, row major) for
-/// the points in `cells` (their cells; `inside`: every chunk of shifts reads inside the field),
-/// each sum adding the points in their order; a shift that moves a point off the field reads
-/// 0 there (and adds it).
-///
-/// AVX2 (chosen at run time where the CPU has it) adds four sums per instruction instead of
-/// two; the additions, and so the sums, are the same.
-fn window_sums(field: &Field<'_>, cells: &[(i64, i64, bool)], s: i64, sums: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2 (checked just above)
-        unsafe { window_sums_avx2(field, cells, s, sums) };
-        return;
-    }
-    window_sums_body(field, cells, s, sums);
-}
-
-/// [`window_sums`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn window_sums_avx2(
-    field: &Field<'_>,
-    cells: &[(i64, i64, bool)],
-    s: i64,
-    sums: &mut [f64],
-) {
-    window_sums_body(field, cells, s, sums);
-}
-
-#[inline(always)]
-fn window_sums_body(field: &Field<'_>, cells: &[(i64, i64, bool)], s: i64, sums: &mut [f64]) {
-    let side = (2 * s + 1) as usize;
-    let (w, h) = (field.width as i64, field.height as i64);
-    for row in 0..side {
-        let dj = row as i64 - s;
-        for col0 in (0..side).step_by(CHUNK) {
-            let di0 = col0 as i64 - s;
-            let mut acc = [0.0f64; CHUNK];
-            for &(i, j, inside) in cells {
-                let at = (j + dj) * w + i + di0;
-                let values: [f32; CHUNK] = if inside {
-                    field.values[at as usize..at as usize + CHUNK]
-                        .try_into()
-                        .unwrap_or([0.0; CHUNK])
-                } else {
-                    // off the field reads 0 (as the zero border the search once padded with)
-                    let jj = j + dj;
-                    std::array::from_fn(|k| {
-                        let ii = i + di0 + k as i64;
-                        if jj >= 0 && jj < h && ii >= 0 && ii < w {
-                            field.values[(jj * w + ii) as usize]
-                        } else {
-                            0.0
-                        }
-                    })
-                };
-                for (a, v) in acc.iter_mut().zip(values) {
-                    *a += v as f64;
-                }
-            }
-            let len = CHUNK.min(side - col0);
-            sums[row * side + col0..row * side + col0 + len].copy_from_slice(&acc[..len]);
-        }
-    }
-}
-
-/// The field read bilinearly between cell centres at world point (x, y) [m]; 0 off the field.
-fn bilinear(field: &Field<'_>, x: f64, y: f64) -> f64 {
-    let fx = (x - field.origin_m.0) / field.cell_m - 0.5;
-    let fy = (y - field.origin_m.1) / field.cell_m - 0.5;
-    if !(fx.is_finite() && fy.is_finite()) || fx.abs() > 1e12 || fy.abs() > 1e12 {
-        return 0.0;
-    }
-    let (i0, j0) = (floor(fx) as i64, floor(fy) as i64);
-    let (ax, ay) = (fx - i0 as f64, fy - j0 as f64);
-    let at = |i: i64, j: i64| -> f64 {
-        if i >= 0 && j >= 0 && i < field.width as i64 && j < field.height as i64 {
-            field.values[j as usize * field.width + i as usize] as f64
-        } else {
-            0.0
-        }
-    };
-    (1.0 - ax) * (1.0 - ay) * at(i0, j0)
-        + ax * (1.0 - ay) * at(i0 + 1, j0)
-        + (1.0 - ax) * ay * at(i0, j0 + 1)
-        + ax * ay * at(i0 + 1, j0 + 1)
-}
-
-/// (score, mean) of `points` at `pose`, the field read bilinearly, the prior as in [`search`].
-fn smooth_score(
-    field: &Field<'_>,
-    points: &[[f64; 2]],
-    pose: Pose2,
-    prior: Pose2,
-    window: &SearchWindow,
-) -> (f64, f64) {
-    let (sn, cs) = pose.yaw.sin_cos();
-    let sum: f64 = points
-        .iter()
-        .map(|p| {
-            bilinear(
-                field,
-                pose.x + cs * p[0] - sn * p[1],
-                pose.y + sn * p[0] + cs * p[1],
-            )
+            Vec::new()
+        };
+        let hit_map = HitMap::new(side, cell, origin_m, options.range_max_m, novelty, stamp)?;
+        Ok(Self {
+            filter: MatchFilter::new(&options),
+            options,
+            side,
+            origin_m,
+            hits: vec![0; side * side],
+            hit_map,
+            frames: 0,
+            field: None,
+            field_nonzero: false,
+            matched: Vec::new(),
         })
-        .sum();
-    let mean = sum / points.len().max(1) as f64;
-    let t = (pose.x - prior.x).hypot(pose.y - prior.y);
-    let dyaw = pose.yaw - prior.yaw;
-    let score =
-        mean * (-(t / window.prior_xy_m).powi(2) - (dyaw / window.prior_yaw_rad).powi(2)).exp();
-    (score, mean)
-}
+    }
 
-/// Sub-cell refinement of a search's pose (the search moves whole cells and yaw steps, so a
-/// correction under half a cell is never made): the field read bilinearly, per axis the vertex
-/// of the parabola through the score at -h, 0, +h, kept when it scores higher; h from half a
-/// cell (half a yaw step) down, halved for each of three rounds.
-pub fn refine(
-    field: &Field<'_>,
-    points: &[[f64; 2]],
-    found: Pose2,
-    prior: Pose2,
-    window: &SearchWindow,
-) -> SearchResult {
-    let (mut best, mut mean) = smooth_score(field, points, found, prior, window);
-    let mut pose = [found.x, found.y, found.yaw];
-    let (mut hx, mut hyaw) = (0.5 * field.cell_m, 0.5 * window.yaw_step_rad);
-    let at = |p: [f64; 3]| Pose2 {
-        x: p[0],
-        y: p[1],
-        yaw: p[2],
-    };
-    for _ in 0..3 {
-        for (axis, h) in [(0, hx), (1, hx), (2, hyaw)] {
-            let (mut lo, mut hi) = (pose, pose);
-            lo[axis] -= h;
-            hi[axis] += h;
-            let (a, _) = smooth_score(field, points, at(lo), prior, window);
-            let (b, _) = smooth_score(field, points, at(hi), prior, window);
-            let den = a - 2.0 * best + b;
-            if den >= 0.0 || !den.is_finite() {
-                continue;
+    pub fn options(&self) -> &ScanMatcherOptions {
+        &self.options
+    }
+
+    /// Cells on a side of the grid.
+    pub fn side(&self) -> usize {
+        self.side
+    }
+
+    /// The grid's cell (0, 0)'s lower-left corner [m].
+    pub fn origin_m(&self) -> (f64, f64) {
+        self.origin_m
+    }
+
+    /// The hit counts (row major, row 0 = lowest y), saturating at 255.
+    pub fn hits(&self) -> &[u8] {
+        &self.hits
+    }
+
+    /// Scans stored so far.
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+
+    /// The field kept last (None before a match made one).
+    pub fn cached_field(&self) -> Option<&CachedField> {
+        self.field.as_ref()
+    }
+
+    /// Cells (i0, j0, i1, j1), end exclusive, of the square of half-side `half_m` [m] around
+    /// (x0, y0), cut to the grid.
+    fn window(&self, x0: f64, y0: f64, half_m: f64) -> (i64, i64, i64, i64) {
+        let cell = self.options.cell_size_m;
+        let ci = ((x0 - self.origin_m.0) / cell).floor() as i64;
+        let cj = ((y0 - self.origin_m.1) / cell).floor() as i64;
+        let r = (half_m / cell).ceil() as i64;
+        let n = self.side as i64;
+        (
+            ci.saturating_sub(r).max(0),
+            cj.saturating_sub(r).max(0),
+            ci.saturating_add(r).saturating_add(1).min(n),
+            cj.saturating_add(r).saturating_add(1).min(n),
+        )
+    }
+
+    /// A fresh likelihood field over the square of half-side `half_m` [m] around (x0, y0),
+    /// cut to the grid (empty when the square misses it).
+    pub fn field_around(&self, x0: f64, y0: f64, half_m: f64) -> Result<CachedField> {
+        let (i0, j0, i1, j1) = self.window(x0, y0, half_m);
+        let (width, height) = ((i1 - i0).max(0) as usize, (j1 - j0).max(0) as usize);
+        if width == 0 || height == 0 {
+            return Ok(CachedField {
+                values: Vec::new(),
+                width: 0,
+                height: 0,
+                i0,
+                j0,
+            });
+        }
+        let mut values = vec![0.0f32; width * height];
+        self.hit_map.fill_field(
+            &self.hits,
+            FieldMut {
+                values: &mut values,
+                width,
+                height,
+                i0,
+                j0,
+            },
+        )?;
+        Ok(CachedField {
+            values,
+            width,
+            height,
+            i0,
+            j0,
+        })
+    }
+
+    /// Makes the kept field cover at least `half_m` around (x0, y0): the kept one when it
+    /// does, else a fresh one [`CACHE_MARGIN_M`] larger.
+    pub fn cover(&mut self, x0: f64, y0: f64, half_m: f64) -> Result<&CachedField> {
+        let covered = self.field.as_ref().is_some_and(|f| {
+            let (lo_i, lo_j, hi_i, hi_j) = self.window(x0, y0, half_m);
+            f.i0 <= lo_i
+                && f.j0 <= lo_j
+                && hi_i <= f.i0 + f.width as i64
+                && hi_j <= f.j0 + f.height as i64
+        });
+        if !covered {
+            let f = self.field_around(x0, y0, half_m + CACHE_MARGIN_M)?;
+            self.field_nonzero = f.values.iter().any(|&v| v != 0.0);
+            self.field = Some(f);
+        }
+        Ok(self.field.as_ref().expect("just made"))
+    }
+
+    /// The finite `points` within `range_max_m`, at most `max_points` of them evenly spaced
+    /// along the scan (numpy's `linspace(0, n - 1, max_points).round()`), into `self.matched`.
+    fn take_matched(&mut self, points: &[[f64; 2]]) {
+        let range = self.options.range_max_m;
+        self.matched.clear();
+        // a non-finite coordinate makes the distance NaN or inf: one test drops both
+        self.matched
+            .extend(points.iter().filter(|p| p[0].hypot(p[1]) <= range));
+        let (n, max) = (self.matched.len(), self.options.max_points as usize);
+        if n > max {
+            let step = (n - 1) as f64 / (max - 1) as f64;
+            for k in 0..max {
+                let at = if k + 1 == max {
+                    n - 1
+                } else {
+                    (k as f64 * step).round_ties_even() as usize
+                };
+                self.matched[k] = self.matched[at];
             }
-            let mut trial = pose;
-            trial[axis] += (0.5 * (a - b) / den).clamp(-1.0, 1.0) * h;
-            let (sc, m) = smooth_score(field, points, at(trial), prior, window);
-            if sc > best {
-                pose = trial;
-                best = sc;
-                mean = m;
+            self.matched.truncate(max);
+        }
+    }
+
+    /// The field kept as a [`Field`] (world geometry).
+    fn field_view<'a>(&self, f: &'a CachedField) -> Field<'a> {
+        let cell = self.options.cell_size_m;
+        Field {
+            values: &f.values,
+            width: f.width,
+            height: f.height,
+            origin_m: (
+                self.origin_m.0 + f.i0 as f64 * cell,
+                self.origin_m.1 + f.j0 as f64 * cell,
+            ),
+            cell_m: cell,
+        }
+    }
+
+    /// The best pose for `points` [m, robot frame] near `prior` (world_from_robot), refined
+    /// below a cell; `score` is its mean field value; not accepted (the prior kept) before
+    /// any scan is stored, with fewer than `min_points` usable points, an empty field, or a
+    /// mean below `min_score`. Does not change the map.
+    pub fn match_scan(&mut self, points: &[[f64; 2]], prior: Pose2) -> Result<MatchResult> {
+        if !prior.is_finite() {
+            return Err(Error::InvalidGeometry(format!(
+                "the prior pose must be finite, got {prior:?}"
+            )));
+        }
+        let o = self.options.clone();
+        self.take_matched(points);
+        let refused = |score: f64, points: usize| MatchResult {
+            pose: prior,
+            score,
+            accepted: false,
+            points,
+        };
+        let n = self.matched.len();
+        if n < o.min_points as usize || self.frames == 0 {
+            return Ok(refused(0.0, n));
+        }
+        let half = o.range_max_m + o.search_xy_m + STAMP_SIGMAS * o.sigma_m;
+        self.cover(prior.x, prior.y, half)?;
+        let f = self.field.as_ref().expect("covered");
+        if f.values.is_empty() || !self.field_nonzero {
+            return Ok(refused(0.0, n));
+        }
+        let field = self.field_view(f);
+        let window = SearchWindow {
+            xy_steps: (o.search_xy_m / o.cell_size_m).round_ties_even() as u32,
+            yaw_steps: (o.search_yaw_rad / o.yaw_step_rad).round_ties_even() as u32,
+            yaw_step_rad: o.yaw_step_rad,
+            prior_xy_m: o.prior_xy_m,
+            prior_yaw_rad: o.prior_yaw_rad,
+        };
+        let found = search(&field, &self.matched, prior, &window)?;
+        let r = refine(&field, &self.matched, found.pose, prior, &window);
+        if r.mean < o.min_score {
+            return Ok(refused(r.mean, n));
+        }
+        Ok(MatchResult {
+            pose: r.pose,
+            score: r.mean,
+            accepted: true,
+            points: n,
+        })
+    }
+
+    /// Stores the `points` [m, robot frame] seen from `pose` (counts saturate at 255);
+    /// `novel_only`: only those without a stored hit within `novelty_m` (every point is new
+    /// in the first scan). Returns how many were stored.
+    pub fn insert(&mut self, points: &[[f64; 2]], pose: Pose2, novel_only: bool) -> Result<usize> {
+        let field = self.field.as_mut().map(|f| FieldMut {
+            values: &mut f.values,
+            width: f.width,
+            height: f.height,
+            i0: f.i0,
+            j0: f.j0,
+        });
+        let novel_only = novel_only && self.frames > 0;
+        let stored = self
+            .hit_map
+            .insert(&mut self.hits, points, pose, novel_only, field)?;
+        if stored > 0 {
+            if let Some(f) = &self.field {
+                self.field_nonzero = self.field_nonzero || f.values.iter().any(|&v| v != 0.0);
             }
         }
-        hx *= 0.5;
-        hyaw *= 0.5;
+        self.frames += 1;
+        Ok(stored)
     }
-    SearchResult {
-        pose: at(pose),
-        mean,
-        score: best,
+
+    /// The information matrix of the match of `points` at `pose` on the kept field
+    /// ([`match_information`]); zeros before any field was made.
+    pub fn information(&mut self, points: &[[f64; 2]], pose: Pose2) -> Result<[[f64; 3]; 3]> {
+        if self.field.is_none() {
+            return Ok([[0.0; 3]; 3]);
+        }
+        self.take_matched(points);
+        let f = self.field.as_ref().expect("checked");
+        match_information(
+            &self.field_view(f),
+            &self.matched,
+            pose,
+            self.options.yaw_step_rad,
+        )
+    }
+
+    /// One frame: the prediction from odometry's `prior` ([`MatchFilter::predict`]), the
+    /// match near it, fused with it ([`MatchFilter::fuse`]), then what the scan shows that the
+    /// map does not hold yet stored at the pose kept (the prediction when the match is
+    /// refused).
+    pub fn correct(&mut self, points: &[[f64; 2]], prior: Pose2) -> Result<MatchResult> {
+        if !prior.is_finite() {
+            return Err(Error::InvalidGeometry(format!(
+                "the prior pose must be finite, got {prior:?}"
+            )));
+        }
+        let o = self.options.clone();
+        let prior = self.filter.predict(&o, prior);
+        let found = self.match_scan(points, prior)?;
+        let information = if found.accepted && o.match_variance_scale > 0.0 {
+            self.information(points, found.pose)?
+        } else {
+            [[0.0; 3]; 3]
+        };
+        let result = self.filter.fuse(&o, found, prior, &information);
+        self.insert(points, result.pose, true)?;
+        Ok(result)
     }
 }
 

@@ -1,7 +1,7 @@
-//! Bindings of `floorscan_core::scan_matcher`: the correlative search over a numpy likelihood
+//! Bindings of `floorscan_core::correlative_search`: the correlative search over a numpy likelihood
 //! field.
 
-use floorscan_core::scan_matcher::{refine, search, Field, SearchWindow};
+use floorscan_core::correlative_search::{refine, search, Field, SearchWindow};
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
@@ -36,7 +36,7 @@ pub(crate) fn field_and_points<'a>(
 /// cells of `field` (H, W) float32 (values in [0, 1], row 0 = lowest y, cell (0, 0)'s corner
 /// at `origin_m`, cells `cell_m` wide), yaws of -yaw_steps..=yaw_steps times `yaw_step_rad`;
 /// score = mean field value x exp(-(|t| / prior_xy_m)^2 - (dyaw / prior_yaw_rad)^2); then
-/// refined below a cell on the field read bilinearly (`floorscan_core::scan_matcher::refine`).
+/// refined below a cell on the field read bilinearly (`floorscan_core::correlative_search::refine`).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 pub fn correlative_search(

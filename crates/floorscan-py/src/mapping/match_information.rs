@@ -24,7 +24,8 @@ pub fn match_information<'py>(
     yaw_step_rad: f64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     guard(|| {
-        let (f, pts) = crate::scan_matcher::field_and_points(&field, origin_m, cell_m, &points)?;
+        let (f, pts) =
+            crate::correlative_search::field_and_points(&field, origin_m, cell_m, &points)?;
         let m = py
             .detach(|| information(&f, &pts, crate::arrays::pose(pose), yaw_step_rad))
             .map_err(to_pyerr)?;
