@@ -1,17 +1,33 @@
-"""The avoidance map's insertions as first written with numpy and OpenCV (``cv2.fillPoly`` for
+"""The avoidance map as first written with numpy and OpenCV (``cv2.fillPoly`` for
 the floor quadrilaterals): the reference the Rust core (``floorscan_core::avoidance_map``) must
 equal cell for cell (tests/drive/test_avoidance_map_native.py) and the baseline of
-bench/drive_step.py. Shares only the map's geometry with the package."""
+bench/drive_step.py."""
 
 from __future__ import annotations
 
 import math
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
-from floorscan.drive.avoidance_map import AvoidanceMap, _compose
+from floorscan.drive.avoidance_map import AvoidanceMapOptions, _compose
 from floorscan.drive.sensor_model import VisualSensorModel
+from floorscan.mapping.grid_views import GridExtent
 from floorscan.ranging.scan import ColumnStatus
+
+_NO_EVIDENCE = 0.05
+_LAYERS = (
+    "log_odds",
+    "bumps",
+    "confirmed",
+    "plan_log_odds",
+    "plan_confirmed",
+    "plan_near_hits",
+)
+
+
+def _logit(p: float) -> float:
+    return math.log(p / (1.0 - p))
+
 
 _SHIFT = 4  # sub-cell precision of rasterised polygons: 1 / 16 cell
 
@@ -65,8 +81,118 @@ def stamp_hits(
             unheld[pj[inside].astype(np.int64), pi[inside].astype(np.int64)] = either[inside]
 
 
-class ReferenceAvoidanceMap(AvoidanceMap):
-    """:class:`~floorscan.drive.AvoidanceMap` with the numpy/OpenCV insertions and decay."""
+class ReferenceAvoidanceMap:
+    """:class:`~floorscan.drive.AvoidanceMap` as first written: numpy layers, the numpy/OpenCV
+    insertions, scrolling and views."""
+
+    def __init__(self, options: Optional[AvoidanceMapOptions] = None, *, center=(0, 0)):
+        options = AvoidanceMapOptions() if options is None else options
+        self.options = options
+        self.cell = options.cell_size_m
+        self.n = int(round(options.size_m / self.cell))
+        self.log_odds = np.zeros((self.n, self.n), np.float32)
+        self.bumps = np.zeros((self.n, self.n), np.float32)
+        # 1 where a hit from VisualSensorModel.confirm_range_m or farther confirmed the cell
+        self.confirmed = np.zeros((self.n, self.n), np.uint8)
+        # the planner's layers: the same evidence, but a confirmed obstacle that the floor
+        # seen beyond it contradicts clears by VisualSensorModel.confirmed_clearing of it a
+        # frame (log_odds clear in full, so probabilities() keeps its calibration)
+        self.plan_log_odds = np.zeros((self.n, self.n), np.float32)
+        self.plan_confirmed = np.zeros((self.n, self.n), np.uint8)
+        # 1 where the last visual insertion hit from nearer than
+        # VisualSensorModel.persist_range_m: such a hit enters the planner's layers when the
+        # next one hits there again (or the planner has evidence the place is occupied)
+        self.plan_near_hits = np.zeros((self.n, self.n), np.uint8)
+        self.x_cell = 0
+        self.y_cell = 0
+        self.recenter(*center[:2])
+        self._plan_occ = _logit(options.occupied_threshold)
+        self._plan_free = _logit(options.free_threshold)
+
+    # --- geometry -------------------------------------------------------------------------
+    @property
+    def origin_m(self) -> Tuple[float, float]:
+        return (self.x_cell * self.cell, self.y_cell * self.cell)
+
+    @property
+    def extent(self) -> GridExtent:
+        return GridExtent(self.x_cell, self.y_cell, self.n, self.n, self.cell, self.origin_m)
+
+    def recenter(self, x: float, y: float) -> None:
+        """Scrolls by whole cells so (x, y) [m] lies within a quarter window of the centre;
+        cells that enter are unknown."""
+        half = self.n // 2
+        cx, cy = int(math.floor(x / self.cell)) - half, int(math.floor(y / self.cell)) - half
+        if abs(cx - self.x_cell) <= self.n // 4 and abs(cy - self.y_cell) <= self.n // 4:
+            return
+        dx, dy = cx - self.x_cell, cy - self.y_cell
+        n = self.n
+        for name in _LAYERS:
+            layer = getattr(self, name)
+            out = np.zeros_like(layer)
+            if abs(dx) < n and abs(dy) < n:
+                src = layer[max(dy, 0) : n + min(dy, 0), max(dx, 0) : n + min(dx, 0)]
+                out[max(-dy, 0) : n + min(-dy, 0), max(-dx, 0) : n + min(-dx, 0)] = src
+            setattr(self, name, out)
+        self.x_cell, self.y_cell = cx, cy
+
+    def to_cells(self, x, y):
+        """World (odometry frame) points [m] to fractional cell coordinates (col, row)."""
+        return (np.asarray(x) / self.cell - self.x_cell, np.asarray(y) / self.cell - self.y_cell)
+
+    # --- views ----------------------------------------------------------------------------
+    def probabilities(self) -> np.ndarray:
+        """Calibrated occupancy probabilities (``probability_knots``, or the Platt curve of
+        ``probability_scale`` / ``probability_offset``); cells without evidence read 0.5."""
+        a, b = self.options.probability_scale, self.options.probability_offset
+        L = self.log_odds.astype(np.float64)
+        knots = self.options.probability_knots
+        if knots is not None:
+            k = np.asarray(knots, np.float64)
+            p = np.interp(L, k[:, 0], k[:, 1])
+        else:
+            p = 1.0 / (1.0 + np.exp(-(a * L + b)))
+        p[np.abs(self.log_odds) < _NO_EVIDENCE] = 0.5
+        return p
+
+    def occupancy_classes(self) -> np.ndarray:
+        """(H, W) uint8: 0 free, 1 unknown, 2 occupied: the planner's decisions, from the raw
+        evidence of the planner's layer against logit(free_threshold) /
+        logit(occupied_threshold) (the calibrated probabilities of :meth:`probabilities` say
+        how often such a decision is right; a single calibrated reading never reaches 0.65,
+        and the map must still show it)."""
+        c = np.ones(self.plan_log_odds.shape, np.uint8)
+        c[self.known() & (self.plan_log_odds < self._plan_free)] = 0
+        c[self.occupied()] = 2
+        return c
+
+    def known(self) -> np.ndarray:
+        """Cells the planner has evidence for (either way)."""
+        return np.abs(self.plan_log_odds) >= _NO_EVIDENCE
+
+    def occupied(self) -> np.ndarray:
+        """The planner's obstacles: raw evidence of the planner's layer above
+        logit(occupied_threshold), before the output calibration (one confident reading
+        suffices: for avoidance a missed obstacle costs more than a detour), or the bumper's
+        marks."""
+        return (self.plan_log_odds > self._plan_occ) | (self.bumps > 0.5)
+
+    def mark_bump(self, pose, bearing_rad: float, distance_m: float) -> None:
+        """A bumper contact: the cells on a straight face ``2 bump_face_half_length_m`` long,
+        square to ``bearing_rad`` (robot frame) at ``distance_m`` from ``pose``, become
+        obstacles in a separate bumper layer, which the camera cannot clear (it may not see
+        what the bumper felt) and which forgets with ``bump_half_life_s``. A face, not the
+        touched point: what a bumper meets is most often a flat side (a box, a desk, a wall)
+        wider than the segment that felt it, and the robot should not bump along it point by
+        point."""
+        half_length_m = self.options.bump_face_half_length_m
+        a = pose[2] + bearing_rad
+        t = np.linspace(-half_length_m, half_length_m, int(4 * half_length_m / self.cell) + 2)
+        px = pose[0] + distance_m * math.cos(a) - t * math.sin(a)
+        py = pose[1] + distance_m * math.sin(a) + t * math.cos(a)
+        cx, cy = self.to_cells(px, py)
+        ok = (cx >= 0) & (cx < self.n) & (cy >= 0) & (cy < self.n)
+        self.bumps[cy[ok].astype(int), cx[ok].astype(int)] = 1.0
 
     def decay(self, dt_s: float) -> None:
         hl, bump_hl = self.options.half_life_s, self.options.bump_half_life_s

@@ -253,75 +253,32 @@ def test_drive_natives_refuse_bad_grids_windows_and_poses():
         geodesic_distances(blocked, np.full((3, 3), np.nan), np.array([0]), np.array([0.0]), 0.1)
 
 
-def test_drive_map_natives_refuse_huge_windows_and_mismatched_layers():
+def test_drive_map_natives_refuse_huge_windows_and_mismatched_readings():
     from floorscan._native.drive import AvoidanceMap, coarse_grid
     from floorscan._native.mapping import ScanMatcher
     from floorscan.drive import VisualSensorModel
 
-    with pytest.raises(FloorscanError):  # 10^10 cells of scratch: refused, not allocated
-        AvoidanceMap(100_000, 0.05, (-2.0, 3.5))
+    with pytest.raises(FloorscanError):  # 10^10 cells: refused by the options, not allocated
+        AvoidanceMap({"size_m": 5000.0, "cell_size_m": 0.05}, (0.0, 0.0))
     with pytest.raises(FloorscanError):
-        AvoidanceMap(10, 0.05, (math.nan, 3.5))
-    m = AvoidanceMap(10, 0.05, (-2.0, 3.5))
-    z = np.zeros(3)
-    ok_conf = np.zeros((10, 10), np.uint8)
-
-    def plan():  # the planner's layers: log odds, confirmed, near hits
-        return (
-            np.zeros((10, 10), np.float32),
-            np.zeros((10, 10), np.uint8),
-            np.zeros((10, 10), np.uint8),
-        )
-
-    with pytest.raises(FloorscanError):  # a layer of another size
-        m.insert_visual(
-            np.zeros((9, 10), np.float32), ok_conf, *plan(), (0, 0), (0, 0, 0),
-            np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
-        )  # fmt: skip
-    with pytest.raises(FloorscanError):  # a confirmed layer of another size
-        m.insert_visual(
-            np.zeros((10, 10), np.float32), np.zeros((9, 10), np.uint8), *plan(), (0, 0),
-            (0, 0, 0), np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
-        )  # fmt: skip
-    f32, u8 = np.float32, np.uint8
-    for bad_plan in (
-        (np.zeros((9, 10), f32), np.zeros((10, 10), u8), np.zeros((10, 10), u8)),
-        (np.zeros((10, 10), f32), np.zeros((10, 9), u8), np.zeros((10, 10), u8)),
-        (np.zeros((10, 10), f32), np.zeros((10, 10), u8), np.zeros((10, 11), u8)),
-    ):
-        with pytest.raises(FloorscanError):  # a planner's layer of another size
-            m.insert_visual(
-                np.zeros((10, 10), np.float32), ok_conf, *bad_plan, (0, 0), (0, 0, 0),
-                np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
-            )  # fmt: skip
-    same = np.zeros((10, 10), np.float32)
-    with pytest.raises(FloorscanError, match="plan_log_odds"):  # the map's layer given twice
-        m.insert_visual(
-            same, ok_conf, same, np.zeros((10, 10), np.uint8), np.zeros((10, 10), np.uint8),
-            (0, 0), (0, 0, 0), np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
-        )  # fmt: skip
-    with pytest.raises(FloorscanError, match="plan_near_hits"):  # confirmed given twice
-        m.insert_visual(
-            np.zeros((10, 10), np.float32), ok_conf, np.zeros((10, 10), np.float32),
-            np.zeros((10, 10), np.uint8), ok_conf, (0, 0), (0, 0, 0),
-            np.zeros(3, np.uint8), z, z, z, z, z, z, VisualSensorModel(),
-        )  # fmt: skip
+        AvoidanceMap({"clamp_nats": [math.nan, 3.5]}, (0.0, 0.0))
+    with pytest.raises(FloorscanError):
+        AvoidanceMap({}, (math.nan, 0.0))
+    m = AvoidanceMap({"size_m": 1.0, "cell_size_m": 0.1}, (0.0, 0.0))
+    z, u8 = np.zeros(3), np.zeros(3, np.uint8)
+    with pytest.raises(FloorscanError):  # readings of different lengths
+        m.insert_visual((0, 0, 0), u8, z, z, z[:2], z, z, z, VisualSensorModel())
     with pytest.raises(FloorscanError, match="persist_range_m"):
         VisualSensorModel(persist_range_m=-1.0)
-    with pytest.raises(FloorscanError, match="plan_log_odds"):
-        m.insert_laser(same, same, (1.0, 1.0), np.ones((1, 2)), np.ones(1, bool), 1.0, -1.0)
-    with pytest.raises(FloorscanError):  # the laser's planner's layer of another size
-        m.insert_laser(
-            np.zeros((10, 10), np.float32), np.zeros((9, 10), np.float32), (1.0, 1.0),
-            np.ones((1, 2)), np.ones(1, bool), 1.0, -1.0,
-        )  # fmt: skip
+    with pytest.raises(FloorscanError):  # ranges and angles of different lengths
+        m.insert_laser((1.0, 1.0, 0.0), np.ones(2), np.ones(1), 1.0)
     with pytest.raises(FloorscanError):  # a face 10^300 m long between close boundary points
         big = np.array([0.0, 1e300])
         m.insert_visual(
-            np.zeros((10, 10), np.float32), ok_conf, *plan(), (0, 0), (0, 0, 0),
-            np.zeros(2, np.uint8), np.array([1.0, 1.0]), big, big * 0, big * 0,
+            (0, 0, 0), np.zeros(2, np.uint8), np.array([1.0, 1.0]), big, big * 0, big * 0,
             np.full(2, 1e300), np.zeros(2), VisualSensorModel(),
         )  # fmt: skip
+    assert not m.log_odds.any()
     with pytest.raises(FloorscanError):  # 400 m at 1 cm: 1.6 * 10^9 cells, refused
         ScanMatcher({"size_m": 400.0, "cell_size_m": 0.01}, (0.0, 0.0))
     with pytest.raises(FloorscanError):  # a coarse cell larger than the map

@@ -156,12 +156,17 @@ def test_bad_layers_and_readings_are_errors():
     scan.near_x = scan.near_x[:5]
     with pytest.raises(FloorscanError):
         m.insert_visual(scan, (0.0, 0.0, 0.0))
-    m.log_odds = np.zeros((3, 3), np.float32)
+    with pytest.raises(FloorscanError):  # a layer of another shape
+        m.log_odds = np.zeros((3, 3), np.float32)
+    with pytest.raises(FloorscanError):  # not contiguous
+        m._native.log_odds = np.zeros((m.n, 2 * m.n), np.float32)[:, ::2]
     with pytest.raises(FloorscanError):
-        m.insert_visual(_random_scan(np.random.default_rng(0), 20), (0.0, 0.0, 0.0))
-    m.log_odds = np.zeros((m.n, m.n), np.float32)[:, ::2]
+        m.recenter(math.nan, 0.0)
     with pytest.raises(FloorscanError):
-        m.decay(0.1)
+        m.insert_laser(np.ones(3), np.zeros(2), (0.0, 0.0, 0.0), range_max_m=4.0)
+    with pytest.raises(FloorscanError):
+        m.mark_bump((0.0, math.inf, 0.0), 0.0, 0.2)
+    assert not m.log_odds.any()  # nothing was inserted by the refused calls
 
 
 def _fan_scan(range_m, status, n=41):

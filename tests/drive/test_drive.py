@@ -435,7 +435,9 @@ def test_a_bump_mark_outlasts_the_camera_and_forgets_after_its_half_life():
     assert np.all(np.abs(x) <= 0.15 + m.cell / 2 + 1e-9)
     assert len(rows) >= int(0.3 / m.cell)
     # the camera's free evidence does not clear it
-    m.log_odds[occ] = -2.0
+    log_odds = m.log_odds
+    log_odds[occ] = -2.0
+    m.log_odds = log_odds
     assert (m.occupied() == occ).all()
     hl = m.options.bump_half_life_s
     m.decay(0.9 * hl)

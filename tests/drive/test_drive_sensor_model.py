@@ -38,9 +38,11 @@ def test_reliability_diagram_of_a_hand_made_map():
     n = m.n
     cells = np.zeros((n, n), np.int8)  # truth: free except where set below
     # predicted 0.8 on 10 cells of which 8 are occupied; 0.15 on 20 cells of which 3 are
-    m.log_odds[0, :10] = np.log(0.8 / 0.2)
+    log_odds = m.log_odds
+    log_odds[0, :10] = np.log(0.8 / 0.2)
     cells[0, :8] = 100
-    m.log_odds[1, :20] = np.log(0.15 / 0.85)
+    log_odds[1, :20] = np.log(0.15 / 0.85)
+    m.log_odds = log_odds
     cells[1, :3] = 100
     raster = OccupancyRaster(cells=cells, origin=m.origin_m, resolution_m=0.1)
     rows = {r["decile"]: r for r in reliability(m, raster)}
@@ -101,8 +103,9 @@ def test_output_calibration_maps_log_odds_to_probabilities_not_decisions():
         probability_knots=None,
     )
     m = AvoidanceMap(opts)
-    for layer in (m.log_odds, m.plan_log_odds):  # the map's evidence and the planner's
-        layer[0, :3] = (4.0, 1.0, -1.5)
+    layer = m.log_odds
+    layer[0, :3] = (4.0, 1.0, -1.5)
+    m.log_odds = m.plan_log_odds = layer  # the map's evidence and the planner's
     p = m.probabilities()
     assert p[0, 0] == pytest.approx(1 / (1 + np.exp(-(0.5 * 4.0 - 1.0))))
     assert p[5, 5] == 0.5  # no evidence: unknown, whatever the calibration

@@ -38,7 +38,9 @@ def test_pool_adjacent_violators_equals_the_min_max_formula(seed):
 def test_knots_map_log_odds_to_probabilities_and_are_validated():
     opts = AvoidanceMapOptions(probability_knots=((-2.0, 0.02), (0.0, 0.3), (2.0, 0.9)))
     m = AvoidanceMap(opts)
-    m.log_odds[0, :4] = [-3.0, -1.0, 1.0, 3.0]
+    log_odds = m.log_odds
+    log_odds[0, :4] = [-3.0, -1.0, 1.0, 3.0]
+    m.log_odds = log_odds
     p = m.probabilities()[0, :4]
     assert np.allclose(p, [0.02, 0.16, 0.6, 0.9])
     with pytest.raises(OptionError):

@@ -185,7 +185,7 @@ mod _native {
         use super::*;
 
         #[pymodule_export]
-        use crate::avoidance_map::{decay, PyAvoidanceMap};
+        use crate::avoidance_map::PyAvoidanceMap;
         #[pymodule_export]
         use crate::avoidance_map_options::{
             avoidance_map_options_schema, check_avoidance_map_options,

@@ -9,30 +9,102 @@ from typing import Any, SupportsFloat, SupportsIndex, final
 @final
 class AvoidanceMap:
     """
-    The avoidance map's insertion machinery for a `side` x `side` window of `cell_size_m`
-    [m] cells clamped to `clamp_nats` (min < 0 < max); its scratch layers are made once.
+    The avoidance map of `options` (a dict of `AvoidanceMapOptions`' fields) whose window is
+    centred near `center` [m, odometry frame].
     """
-    def __new__(cls, /, side: SupportsIndex, cell_size_m: SupportsFloat | SupportsIndex, clamp_nats: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex]) -> AvoidanceMap: ...
-    def insert_laser(self, /, log_odds: Incomplete, plan_log_odds: Incomplete, sensor_cell: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex], end_cells: Incomplete, returned: Incomplete, hit_nats: SupportsFloat | SupportsIndex, miss_nats: SupportsFloat | SupportsIndex) -> None:
+    def __new__(cls, /, options: Any, center: tuple[SupportsFloat | SupportsIndex, SupportsFloat | SupportsIndex]) -> AvoidanceMap: ...
+    @property
+    def bumps(self, /) -> Incomplete:
         """
-        Adds an ideal 2-D laser scan to `log_odds` and to the planner's `plan_log_odds` (in
-        place): the fan from the sensor at `sensor_cell` to the beam ends `end_cells` (N, 2)
-        [fractional cells of the window] gets `miss_nats`, the end cells where `returned` (N,)
-        bool get `hit_nats`.
+        The bumper's marks (side, side) float32 (a copy).
         """
-    def insert_visual(self, /, log_odds: Incomplete, confirmed: Incomplete, plan_log_odds: Incomplete, plan_confirmed: Incomplete, plan_near_hits: Incomplete, origin_cells: tuple[SupportsIndex, SupportsIndex], camera: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], status: Incomplete, x: Incomplete, y: Incomplete, near_x: Incomplete, near_y: Incomplete, footprints: Incomplete, errors: Incomplete, model: Any) -> None:
+    @bumps.setter
+    def bumps(self, /, value: Incomplete) -> None: ...
+    @property
+    def confirmed(self, /) -> Incomplete:
         """
-        Adds one visual scan to `log_odds` ((side, side) float32, in place; its cell (0, 0) is
-        world cell `origin_cells`) and to `confirmed` ((side, side) uint8, in place: the cells a
-        hit from `confirm_range_m` or farther confirmed), and to the planner's layers
-        `plan_log_odds` and `plan_confirmed`, whose confirmed obstacles alone clear by the
-        model's `confirmed_clearing` (`log_odds` clear in full), and which take a hit nearer
-        than the model's `persist_range_m` only when it persists (`plan_near_hits`, (side,
-        side) uint8, in place: the cells the last insertion hit from that near), seen by the
-        camera at
-        `camera` (world_from_camera): per column the status codes, boundary points, near edges
-        [m, camera ground frame], footprints and predicted errors [m] (NaN: none); `model` a
+        1 where a hit from `confirm_range_m` or farther confirmed the cell (a copy).
+        """
+    @confirmed.setter
+    def confirmed(self, /, value: Incomplete) -> None: ...
+    def decay(self, /, dt_s: SupportsFloat | SupportsIndex) -> None:
+        """
+        Forgets `dt_s` [s] of evidence and bumps (their half-lives).
+        """
+    def insert_laser(self, /, pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], ranges: Incomplete, angles: Incomplete, range_max_m: SupportsFloat | SupportsIndex, hit_nats: SupportsFloat | SupportsIndex | None = None, miss_nats: SupportsFloat | SupportsIndex | None = None) -> None:
+        """
+        An ideal 2-D laser scan from `pose` (world_from_robot): `ranges` [m] (REP 117) at
+        `angles` [rad, robot frame], free to each return or `range_max_m`, `hit_nats` at the
+        return, `miss_nats` along the beam (None: the ideal laser's 2.2 / -2.0).
+        """
+    def insert_visual(self, /, camera: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], status: Incomplete, x: Incomplete, y: Incomplete, near_x: Incomplete, near_y: Incomplete, footprints: Incomplete, errors: Incomplete, model: Any) -> None:
+        """
+        Adds one visual scan seen by the camera at `camera` (world_from_camera, odometry
+        frame): per column the status codes, boundary points, near edges [m, camera ground
+        frame], footprints and predicted errors [m] (NaN: none); `model` a
         `floorscan.drive.VisualSensorModel` (its fields are read by name).
+        """
+    def known(self, /) -> Incomplete:
+        """
+        Cells the planner has evidence for (side, side) bool.
+        """
+    @property
+    def log_odds(self, /) -> Incomplete:
+        """
+        The map's log odds (side, side) float32, row 0 = lowest y (a copy).
+        """
+    @log_odds.setter
+    def log_odds(self, /, value: Incomplete) -> None: ...
+    def mark_bump(self, /, pose: SupportsLenAndGetItem[SupportsFloat | SupportsIndex], bearing_rad: SupportsFloat | SupportsIndex, distance_m: SupportsFloat | SupportsIndex) -> None:
+        """
+        A bumper contact at `distance_m` along `bearing_rad` (robot frame) from `pose`.
+        """
+    def occupancy_classes(self, /) -> Incomplete:
+        """
+        The planner's classes (side, side) uint8: 0 free, 1 unknown, 2 occupied.
+        """
+    def occupied(self, /) -> Incomplete:
+        """
+        The planner's obstacles (side, side) bool (its evidence or the bumper's marks).
+        """
+    @property
+    def origin_cells(self, /) -> tuple[int, int]:
+        """
+        The world cell of the window's cell (0, 0).
+        """
+    @property
+    def plan_confirmed(self, /) -> Incomplete:
+        """
+        The planner's confirmed obstacles (a copy).
+        """
+    @plan_confirmed.setter
+    def plan_confirmed(self, /, value: Incomplete) -> None: ...
+    @property
+    def plan_log_odds(self, /) -> Incomplete:
+        """
+        The planner's log odds (a copy).
+        """
+    @plan_log_odds.setter
+    def plan_log_odds(self, /, value: Incomplete) -> None: ...
+    @property
+    def plan_near_hits(self, /) -> Incomplete:
+        """
+        The cells the last visual insertion hit from nearer than `persist_range_m` (a copy).
+        """
+    @plan_near_hits.setter
+    def plan_near_hits(self, /, value: Incomplete) -> None: ...
+    def probabilities(self, /) -> Incomplete:
+        """
+        Calibrated occupancy probabilities (side, side) float64; 0.5 without evidence.
+        """
+    def recenter(self, /, x: SupportsFloat | SupportsIndex, y: SupportsFloat | SupportsIndex) -> None:
+        """
+        Scrolls by whole cells so (x, y) [m] lies within a quarter window of the centre.
+        """
+    @property
+    def side(self, /) -> int:
+        """
+        Cells on a side of the window.
         """
 
 def avoidance_map_options_schema() -> Any:
@@ -92,11 +164,6 @@ def coarse_grid(cost: Incomplete, factor: SupportsIndex, blocked_from: SupportsI
 def costmap_options_schema() -> Any:
     """
     The JSON schema of `CostmapOptions`: field docs, types, defaults.
-    """
-
-def decay(values: Incomplete, factor: SupportsFloat | SupportsIndex) -> None:
-    """
-    Forgetting: every value of `values` (float32, in place) times `factor`.
     """
 
 def default_avoidance_map_options() -> Any:

@@ -14,27 +14,24 @@ Cells between adjacent columns count as seen: each pair of neighbouring readings
 floor quadrilateral between their near edges of view and their ends, so one frame covers the
 whole view (a scan of single rays leaves most far cells untouched and needs many frames).
 
-The updates run in the Rust core (``floorscan_core::avoidance_map``, in place on the numpy
-layers kept here); tests/avoidance_map_reference.py keeps the numpy/OpenCV implementation they
-replaced, which they equal cell for cell.
+The map, its layers and every update live in the Rust core (``floorscan_core::avoidance_map``);
+this class is its Python face (the layers read as numpy copies).
+tests/avoidance_map_reference.py keeps the numpy/OpenCV implementation it replaced, which it
+equals cell for cell.
 """
 
 from __future__ import annotations
 
-import math
 from typing import Optional, Tuple
 
 import numpy as np
 
 from .._native.drive import AvoidanceMap as _NativeAvoidanceMap
-from .._native.drive import decay as _decay
 from ..formats.trajectory import compose as _compose
 from ..mapping.grid_views import GridExtent
 from ..options import OptionsObject
 from ..ranging.scan import ColumnStatus
 from .sensor_model import VisualSensorModel
-
-_NO_EVIDENCE = 0.05  # |log odds| below this: no evidence (unknown), whatever the calibration
 
 
 class AvoidanceMapOptions(OptionsObject, kind="avoidance_map"):
@@ -56,52 +53,38 @@ class AvoidanceMapOptions(OptionsObject, kind="avoidance_map"):
     __slots__ = ()
 
 
-def _logit(p: float) -> float:
-    return math.log(p / (1.0 - p))
-
-
 _DEFAULT_MODEL = VisualSensorModel()
-_LAYERS = (
-    "log_odds",
-    "bumps",
-    "confirmed",
-    "plan_log_odds",
-    "plan_confirmed",
-    "plan_near_hits",
-)
-"""The map's layers, scrolled together by :meth:`AvoidanceMap.recenter`."""
 _BOUNDARY = int(ColumnStatus.BOUNDARY)  # a plain int compares faster than the enum
+_F64 = np.float64
+
+
+def _pose(p) -> Tuple[float, float, float]:
+    return (float(p[0]), float(p[1]), float(p[2]))
 
 
 class AvoidanceMap:
-    """A scrolling log-odds window (odometry frame, REP 103; row 0 = lowest y)."""
+    """A scrolling log-odds window (odometry frame, REP 103; row 0 = lowest y) centred near
+    ``center`` [m]. Its layers (``log_odds``, ``bumps``, ``confirmed``, ``plan_log_odds``,
+    ``plan_confirmed``, ``plan_near_hits``: (n, n) arrays) read as copies and are set whole."""
 
     def __init__(self, options: Optional[AvoidanceMapOptions] = None, *, center=(0, 0)):
         options = AvoidanceMapOptions() if options is None else options
         self.options = options
         self.cell = options.cell_size_m
-        self.n = int(round(options.size_m / self.cell))
-        self.log_odds = np.zeros((self.n, self.n), np.float32)
-        self.bumps = np.zeros((self.n, self.n), np.float32)
-        # 1 where a hit from VisualSensorModel.confirm_range_m or farther confirmed the cell
-        self.confirmed = np.zeros((self.n, self.n), np.uint8)
-        # the planner's layers: the same evidence, but a confirmed obstacle that the floor
-        # seen beyond it contradicts clears by VisualSensorModel.confirmed_clearing of it a
-        # frame (log_odds clear in full, so probabilities() keeps its calibration)
-        self.plan_log_odds = np.zeros((self.n, self.n), np.float32)
-        self.plan_confirmed = np.zeros((self.n, self.n), np.uint8)
-        # 1 where the last visual insertion hit from nearer than
-        # VisualSensorModel.persist_range_m: such a hit enters the planner's layers when the
-        # next one hits there again (or the planner has evidence the place is occupied)
-        self.plan_near_hits = np.zeros((self.n, self.n), np.uint8)
-        self.x_cell = 0
-        self.y_cell = 0
-        self.recenter(*center[:2])
-        self._native = _NativeAvoidanceMap(self.n, self.cell, tuple(options.clamp_nats))
-        self._plan_occ = _logit(options.occupied_threshold)
-        self._plan_free = _logit(options.free_threshold)
+        self._native = _NativeAvoidanceMap(options.to_dict(), (float(center[0]), float(center[1])))
+        self.n = self._native.side
 
     # --- geometry -------------------------------------------------------------------------
+    @property
+    def x_cell(self) -> int:
+        """The world cell (column) of the window's first column."""
+        return self._native.origin_cells[0]
+
+    @property
+    def y_cell(self) -> int:
+        """The world cell (row) of the window's first row."""
+        return self._native.origin_cells[1]
+
     @property
     def origin_m(self) -> Tuple[float, float]:
         return (self.x_cell * self.cell, self.y_cell * self.cell)
@@ -113,39 +96,75 @@ class AvoidanceMap:
     def recenter(self, x: float, y: float) -> None:
         """Scrolls by whole cells so (x, y) [m] lies within a quarter window of the centre;
         cells that enter are unknown."""
-        half = self.n // 2
-        cx, cy = int(math.floor(x / self.cell)) - half, int(math.floor(y / self.cell)) - half
-        if abs(cx - self.x_cell) <= self.n // 4 and abs(cy - self.y_cell) <= self.n // 4:
-            return
-        dx, dy = cx - self.x_cell, cy - self.y_cell
-        n = self.n
-        for name in _LAYERS:
-            layer = getattr(self, name)
-            out = np.zeros_like(layer)
-            if abs(dx) < n and abs(dy) < n:
-                src = layer[max(dy, 0) : n + min(dy, 0), max(dx, 0) : n + min(dx, 0)]
-                out[max(-dy, 0) : n + min(-dy, 0), max(-dx, 0) : n + min(-dx, 0)] = src
-            setattr(self, name, out)
-        self.x_cell, self.y_cell = cx, cy
+        self._native.recenter(float(x), float(y))
 
     def to_cells(self, x, y):
         """World (odometry frame) points [m] to fractional cell coordinates (col, row)."""
         return (np.asarray(x) / self.cell - self.x_cell, np.asarray(y) / self.cell - self.y_cell)
 
+    # --- layers ---------------------------------------------------------------------------
+    @property
+    def log_odds(self) -> np.ndarray:
+        """The map's log odds (n, n) float32 (a copy; set it whole)."""
+        return self._native.log_odds
+
+    @log_odds.setter
+    def log_odds(self, value) -> None:
+        self._native.log_odds = np.ascontiguousarray(value, np.float32)
+
+    @property
+    def bumps(self) -> np.ndarray:
+        """The bumper's marks (n, n) float32 (a copy)."""
+        return self._native.bumps
+
+    @bumps.setter
+    def bumps(self, value) -> None:
+        self._native.bumps = np.ascontiguousarray(value, np.float32)
+
+    @property
+    def confirmed(self) -> np.ndarray:
+        """1 where a hit from ``VisualSensorModel.confirm_range_m`` or farther confirmed the
+        cell (n, n) uint8 (a copy)."""
+        return self._native.confirmed
+
+    @confirmed.setter
+    def confirmed(self, value) -> None:
+        self._native.confirmed = np.ascontiguousarray(value, np.uint8)
+
+    @property
+    def plan_log_odds(self) -> np.ndarray:
+        """The planner's log odds (a copy): the same evidence, but a confirmed obstacle that
+        the floor seen beyond it contradicts clears by ``confirmed_clearing`` of it a frame."""
+        return self._native.plan_log_odds
+
+    @plan_log_odds.setter
+    def plan_log_odds(self, value) -> None:
+        self._native.plan_log_odds = np.ascontiguousarray(value, np.float32)
+
+    @property
+    def plan_confirmed(self) -> np.ndarray:
+        """The planner's confirmed obstacles (a copy)."""
+        return self._native.plan_confirmed
+
+    @plan_confirmed.setter
+    def plan_confirmed(self, value) -> None:
+        self._native.plan_confirmed = np.ascontiguousarray(value, np.uint8)
+
+    @property
+    def plan_near_hits(self) -> np.ndarray:
+        """1 where the last visual insertion hit from nearer than ``persist_range_m``: such a
+        hit enters the planner's layers when the next one hits there again (a copy)."""
+        return self._native.plan_near_hits
+
+    @plan_near_hits.setter
+    def plan_near_hits(self, value) -> None:
+        self._native.plan_near_hits = np.ascontiguousarray(value, np.uint8)
+
     # --- views ----------------------------------------------------------------------------
     def probabilities(self) -> np.ndarray:
         """Calibrated occupancy probabilities (``probability_knots``, or the Platt curve of
         ``probability_scale`` / ``probability_offset``); cells without evidence read 0.5."""
-        a, b = self.options.probability_scale, self.options.probability_offset
-        L = self.log_odds.astype(np.float64)
-        knots = self.options.probability_knots
-        if knots is not None:
-            k = np.asarray(knots, np.float64)
-            p = np.interp(L, k[:, 0], k[:, 1])
-        else:
-            p = 1.0 / (1.0 + np.exp(-(a * L + b)))
-        p[np.abs(self.log_odds) < _NO_EVIDENCE] = 0.5
-        return p
+        return self._native.probabilities()
 
     def occupancy_classes(self) -> np.ndarray:
         """(H, W) uint8: 0 free, 1 unknown, 2 occupied: the planner's decisions, from the raw
@@ -153,34 +172,24 @@ class AvoidanceMap:
         logit(occupied_threshold) (the calibrated probabilities of :meth:`probabilities` say
         how often such a decision is right; a single calibrated reading never reaches 0.65,
         and the map must still show it)."""
-        c = np.ones(self.plan_log_odds.shape, np.uint8)
-        c[self.known() & (self.plan_log_odds < self._plan_free)] = 0
-        c[self.occupied()] = 2
-        return c
+        return self._native.occupancy_classes()
 
     def known(self) -> np.ndarray:
         """Cells the planner has evidence for (either way)."""
-        return np.abs(self.plan_log_odds) >= _NO_EVIDENCE
+        return self._native.known()
 
     def occupied(self) -> np.ndarray:
         """The planner's obstacles: raw evidence of the planner's layer above
         logit(occupied_threshold), before the output calibration (one confident reading
         suffices: for avoidance a missed obstacle costs more than a detour), or the bumper's
         marks."""
-        return (self.plan_log_odds > self._plan_occ) | (self.bumps > 0.5)
+        return self._native.occupied()
 
     # --- updates --------------------------------------------------------------------------
     def decay(self, dt_s: float) -> None:
         """Forgets: the evidence shrinks by 2^(-dt / half_life_s), the bumper's marks by
         2^(-dt / bump_half_life_s)."""
-        if dt_s <= 0:
-            return
-        hl, bump_hl = self.options.half_life_s, self.options.bump_half_life_s
-        if hl is not None:
-            _decay(self.log_odds, np.float32(0.5 ** (dt_s / hl)))
-            _decay(self.plan_log_odds, np.float32(0.5 ** (dt_s / hl)))
-        if bump_hl is not None:
-            _decay(self.bumps, np.float32(0.5 ** (dt_s / bump_hl)))
+        self._native.decay(float(dt_s))
 
     def insert_visual(
         self,
@@ -204,21 +213,14 @@ class AvoidanceMap:
             err[bnd] = table.lookup_error(
                 np.asarray(scan.columns, np.float64)[bnd], np.asarray(scan.rows)[bnd]
             )
-        f64 = np.float64
         self._native.insert_visual(
-            self.log_odds,
-            self.confirmed,
-            self.plan_log_odds,
-            self.plan_confirmed,
-            self.plan_near_hits,
-            (self.x_cell, self.y_cell),
-            cam,
-            status,
-            np.ascontiguousarray(scan.x, f64),
-            np.ascontiguousarray(scan.y, f64),
-            np.ascontiguousarray(scan.near_x, f64),
-            np.ascontiguousarray(scan.near_y, f64),
-            np.ascontiguousarray(scan.footprints, f64),
+            _pose(cam),
+            np.ascontiguousarray(status),
+            np.ascontiguousarray(scan.x, _F64),
+            np.ascontiguousarray(scan.y, _F64),
+            np.ascontiguousarray(scan.near_x, _F64),
+            np.ascontiguousarray(scan.near_y, _F64),
+            np.ascontiguousarray(scan.footprints, _F64),
             err,
             model,
         )
@@ -231,14 +233,7 @@ class AvoidanceMap:
         touched point: what a bumper meets is most often a flat side (a box, a desk, a wall)
         wider than the segment that felt it, and the robot should not bump along it point by
         point."""
-        half_length_m = self.options.bump_face_half_length_m
-        a = pose[2] + bearing_rad
-        t = np.linspace(-half_length_m, half_length_m, int(4 * half_length_m / self.cell) + 2)
-        px = pose[0] + distance_m * math.cos(a) - t * math.sin(a)
-        py = pose[1] + distance_m * math.sin(a) + t * math.cos(a)
-        cx, cy = self.to_cells(px, py)
-        ok = (cx >= 0) & (cx < self.n) & (cy >= 0) & (cy < self.n)
-        self.bumps[cy[ok].astype(int), cx[ok].astype(int)] = 1.0
+        self._native.mark_bump(_pose(pose), float(bearing_rad), float(distance_m))
 
     def insert_laser(
         self,
@@ -247,23 +242,17 @@ class AvoidanceMap:
         pose,
         *,
         range_max_m: float,
-        hit_nats: float = 2.2,
-        miss_nats: float = -2.0,
+        hit_nats: Optional[float] = None,
+        miss_nats: Optional[float] = None,
     ) -> None:
         """An ideal 2-D laser scan (REP 117 ranges [m] at ``angles`` [rad, robot frame]) from
         ``pose``: free up to each return (or ``range_max_m``), occupied at the return.
-        Evidence defaults: p = 0.9 / 0.12, an ideal sensor's strong constant evidence."""
-        r = np.asarray(ranges, np.float64)
-        a = np.asarray(angles, np.float64) + pose[2]
-        end = np.where(np.isfinite(r), r, range_max_m)
-        ecx, ecy = self.to_cells(pose[0] + end * np.cos(a), pose[1] + end * np.sin(a))
-        pc = self.to_cells(pose[0], pose[1])
+        Evidence (None: the core's ideal laser, p = 0.9 / 0.12, strong and constant)."""
         self._native.insert_laser(
-            self.log_odds,
-            self.plan_log_odds,
-            (float(pc[0]), float(pc[1])),
-            np.ascontiguousarray(np.stack([ecx, ecy], 1), np.float64),
-            np.isfinite(r),
+            _pose(pose),
+            np.ascontiguousarray(ranges, _F64).ravel(),
+            np.ascontiguousarray(angles, _F64).ravel(),
+            float(range_max_m),
             hit_nats,
             miss_nats,
         )

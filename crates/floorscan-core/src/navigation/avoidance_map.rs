@@ -1,4 +1,6 @@
-//! The drive's avoidance map updates (`floorscan.drive.AvoidanceMap`): a square log-odds
+//! The drive's avoidance map (`floorscan.drive.AvoidanceMap`, [`AvoidanceMap`]: its layers,
+//! scrolling, forgetting and views, in `avoidance_map_layers.rs`) and its updates
+//! ([`AvoidanceUpdates`]): a square log-odds
 //! window of `side` x `side` cells in the odometry frame (row 0 = lowest y; cell (i, j) spans
 //! [i, i + 1) x [j, j + 1) in cell coordinates, the window's cell (0, 0) being world cell
 //! `origin_cells`), updated in place from one visual scan through the calibrated inverse
@@ -52,7 +54,7 @@ const SHIFT: u32 = 4;
 /// Most samples along one obstacle face between adjacent boundary points.
 const MAX_FACE_SAMPLES: usize = 1 << 16;
 
-/// The planner's layers (`floorscan.drive.AvoidanceMap`'s `plan_*`), updated with the map's
+/// The planner's layers ([`AvoidanceMap`]'s `plan_*`), updated with the map's
 /// own: its log odds, its confirmed obstacles (cleared by `confirmed_clearing`) and the cells
 /// the last insertion hit from nearer than `persist_range_m` (1, else 0), which each insertion
 /// rewrites.
@@ -103,7 +105,7 @@ fn nan_min(a: f64, b: f64) -> f64 {
     }
 }
 
-/// How much of its free evidence a believed obstacle's cell takes (`AvoidanceMap::apply`).
+/// How much of its free evidence a believed obstacle's cell takes (`AvoidanceUpdates::apply`).
 #[derive(Debug, Clone, Copy)]
 struct Clearing {
     /// inside only quadrilaterals beside a `no_boundary` column
@@ -128,7 +130,7 @@ impl Clearing {
 
 /// The avoidance map's insertion machinery: its geometry, clamps and scratch layers.
 #[derive(Debug, Clone)]
-pub struct AvoidanceMap {
+pub struct AvoidanceUpdates {
     side: usize,
     cell_m: f64,
     clamp: (f32, f32),
@@ -162,7 +164,7 @@ pub struct AvoidanceMap {
     fill: PolygonFill,
 }
 
-impl AvoidanceMap {
+impl AvoidanceUpdates {
     /// A map of `side` x `side` cells of `cell_m` [m], clamped to `clamp_nats` (min < 0 < max).
     pub fn new(side: usize, cell_m: f64, clamp_nats: (f64, f64)) -> Result<Self> {
         if !(1..=MAX_SIDE).contains(&side) {
@@ -460,6 +462,10 @@ pub fn decay(values: &mut [f32], factor: f32) {
 
 #[path = "avoidance_map_updates.rs"]
 mod updates;
+
+#[path = "avoidance_map_layers.rs"]
+mod layers;
+pub use layers::{AvoidanceMap, LASER_HIT_NATS, LASER_MISS_NATS, NO_EVIDENCE_NATS};
 
 #[cfg(test)]
 #[path = "avoidance_map_tests.rs"]

@@ -42,7 +42,7 @@ fn wall(n: usize) -> Columns {
 #[test]
 fn a_wall_ahead_is_occupied_and_the_floor_before_it_free() {
     let side = 100;
-    let mut map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
+    let mut map = AvoidanceUpdates::new(side, 0.05, (-2.0, 3.5)).unwrap();
     let mut l = vec![0.0f32; side * side];
     let mut c = vec![0u8; side * side];
     let (status, x, y, nx, ny) = wall(41);
@@ -117,7 +117,7 @@ fn columns_without_a_boundary_clear_a_confirmed_obstacle_only_by_their_share() {
     let err = vec![f64::NAN; n];
     let first = readings(&status, (&x, &y), (&nx, &ny), (&fp, &err));
     let new_map = || {
-        let map = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
+        let map = AvoidanceUpdates::new(side, 0.05, (-2.0, 3.5)).unwrap();
         (map, vec![0.0f32; side * side], vec![0u8; side * side])
     };
     let cell = |x: f64, y: f64| (y / 0.05) as usize * side + (x / 0.05) as usize;
@@ -271,12 +271,12 @@ fn discs_cover_the_cells_whose_centres_are_within_the_radius() {
 
 #[test]
 fn bad_arguments_are_errors() {
-    assert!(AvoidanceMap::new(0, 0.05, (-2.0, 3.5)).is_err());
-    assert!(AvoidanceMap::new(MAX_SIDE + 1, 0.05, (-2.0, 3.5)).is_err());
-    assert!(AvoidanceMap::new(10, 0.0, (-2.0, 3.5)).is_err());
-    assert!(AvoidanceMap::new(10, 0.05, (1.0, 3.5)).is_err());
-    assert!(AvoidanceMap::new(10, 0.05, (-2.0, f64::NAN)).is_err());
-    let mut map = AvoidanceMap::new(10, 0.05, (-2.0, 3.5)).unwrap();
+    assert!(AvoidanceUpdates::new(0, 0.05, (-2.0, 3.5)).is_err());
+    assert!(AvoidanceUpdates::new(MAX_SIDE + 1, 0.05, (-2.0, 3.5)).is_err());
+    assert!(AvoidanceUpdates::new(10, 0.0, (-2.0, 3.5)).is_err());
+    assert!(AvoidanceUpdates::new(10, 0.05, (1.0, 3.5)).is_err());
+    assert!(AvoidanceUpdates::new(10, 0.05, (-2.0, f64::NAN)).is_err());
+    let mut map = AvoidanceUpdates::new(10, 0.05, (-2.0, 3.5)).unwrap();
     let mut l = vec![0.0f32; 99];
     let mut c = vec![0u8; 100];
     let r = VisualReadings {
@@ -386,7 +386,7 @@ fn near_hits_enter_the_planners_layers_when_they_persist() {
         ((2.5 + left + 0.04) / 0.05) as usize * side + ((2.5 + ahead) / 0.05) as usize
     };
     struct Run {
-        map: AvoidanceMap,
+        map: AvoidanceUpdates,
         l: Vec<f32>,
         c: Vec<u8>,
         pl: Vec<f32>,
@@ -394,7 +394,7 @@ fn near_hits_enter_the_planners_layers_when_they_persist() {
         pn: Vec<u8>,
     }
     let new_run = || Run {
-        map: AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap(),
+        map: AvoidanceUpdates::new(side, 0.05, (-2.0, 3.5)).unwrap(),
         l: vec![0.0; side * side],
         c: vec![0; side * side],
         pl: vec![0.0; side * side],
@@ -496,7 +496,7 @@ fn the_planners_layers_clear_confirmed_obstacles_by_their_share_alone() {
         ..slow
     };
     let layers = || (vec![0.0f32; side * side], vec![0u8; side * side]);
-    let mut both = AvoidanceMap::new(side, 0.05, (-2.0, 3.5)).unwrap();
+    let mut both = AvoidanceUpdates::new(side, 0.05, (-2.0, 3.5)).unwrap();
     let mut single = both.clone();
     let ((mut l, mut c), (mut pl, mut pc)) = (layers(), layers());
     let mut pn = vec![0u8; side * side];

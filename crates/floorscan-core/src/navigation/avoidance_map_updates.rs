@@ -4,7 +4,7 @@
 
 use super::*;
 
-impl AvoidanceMap {
+impl AvoidanceUpdates {
     /// Adds one visual scan seen by the camera at `camera` (world_from_camera, odometry frame)
     /// to `log_odds` (the window, row major), whose cell (0, 0) is world cell `origin_cells`;
     /// `confirmed` (the same cells) records which cells a hit from `confirm_range_m` or
