@@ -1,7 +1,6 @@
 """The avoidance map as first written with numpy and OpenCV (``cv2.fillPoly`` for
 the floor quadrilaterals): the reference the Rust core (``floorscan_core::avoidance_map``) must
-equal cell for cell (tests/drive/test_avoidance_map_native.py) and the baseline of
-bench/drive_step.py."""
+equal cell for cell (tests/drive/test_avoidance_map_native.py)."""
 
 from __future__ import annotations
 

@@ -150,6 +150,42 @@ def test_laser_scans_give_the_same_map():
         _same(ours, ref)
 
 
+@pytest.mark.parametrize(
+    "options",
+    [
+        {},
+        {"probability_knots": None, "probability_scale": 0.7, "probability_offset": -0.4},
+        {"bump_half_life_s": None, "half_life_s": 1.0, "cell_size_m": 0.04},
+    ],
+)
+def test_scrolling_bumps_and_views_equal_the_reference(options):
+    """Bumps, forgetting, scrolling and the planner's and the map's views (classes, known,
+    occupied, calibrated probabilities) of random scans along a wandering path: the same as
+    the numpy map's, cell for cell."""
+    rng = np.random.default_rng(8)
+    ours, ref = _pair(center=(0.5, 0.5), size_m=4.0, **options)
+    pose = (0.5, 0.5, 0.0)
+    for k in range(25):
+        pose = (pose[0] + rng.normal(0, 0.4), pose[1] + rng.normal(0, 0.4), rng.uniform(-4, 4))
+        scan = _random_scan(rng, int(rng.integers(20, 120)))
+        bearing = rng.uniform(-1, 1)
+        for m in (ours, ref):
+            m.decay(0.2)
+            m.recenter(pose[0], pose[1])
+            with np.errstate(all="ignore"):
+                m.insert_visual(scan, pose, mount=(0.1, 0.0, 0.0))
+            if k % 4 == 0:
+                m.mark_bump(pose, bearing, 0.2)
+        assert (ours.x_cell, ours.y_cell) == (ref.x_cell, ref.y_cell)
+        _same(ours, ref)
+        np.testing.assert_array_equal(ours.bumps, ref.bumps)
+        np.testing.assert_array_equal(ours.occupancy_classes(), ref.occupancy_classes())
+        np.testing.assert_array_equal(ours.known(), ref.known())
+        np.testing.assert_array_equal(ours.occupied(), ref.occupied())
+        np.testing.assert_allclose(ours.probabilities(), ref.probabilities(), rtol=1e-12)
+    assert ours.bumps.any() and ours.occupied().any() and (ours.occupancy_classes() == 0).any()
+
+
 def test_bad_layers_and_readings_are_errors():
     m = AvoidanceMap()
     scan = _random_scan(np.random.default_rng(0), 20)

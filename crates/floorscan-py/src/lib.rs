@@ -117,7 +117,8 @@ mod _native {
         }
     }
 
-    /// Mapping: the global grid, the local map, evidence merges, log-odds.
+    /// Mapping: the global grid, the local map, evidence merges, log-odds, the correlative scan
+    /// matcher (its search, its match's information) and SLAM's options.
     #[pymodule]
     mod mapping {
         use super::*;
@@ -178,8 +179,8 @@ mod _native {
         }
     }
 
-    /// Driving: the avoidance map's updates, the planner's navigation function, the scan
-    /// matcher's search, hit map and match information.
+    /// Driving: the avoidance map, the planner's navigation function and dynamic window, the
+    /// drive's options.
     #[pymodule]
     mod drive {
         use super::*;

@@ -1,6 +1,6 @@
 """
-Driving: the avoidance map's updates, the planner's navigation function, the scan
-matcher's search, hit map and match information.
+Driving: the avoidance map, the planner's navigation function and dynamic window, the
+drive's options.
 """
 
 from _typeshed import Incomplete, SupportsLenAndGetItem

@@ -1,5 +1,6 @@
 """
-Mapping: the global grid, the local map, evidence merges, log-odds.
+Mapping: the global grid, the local map, evidence merges, log-odds, the correlative scan
+matcher (its search, its match's information) and SLAM's options.
 """
 
 from .ranging import Scan

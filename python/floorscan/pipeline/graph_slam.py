@@ -2,7 +2,7 @@
 with ``--poses odometry``), Cartographer's shape at a laser log's scale:
 
 1. **Local trajectory**: each scan is matched (the correlative search of
-   :mod:`floorscan.mapping.scan_matcher`, ``[slam.graph] search_*``) against a rolling submap,
+   ``floorscan_core::correlative_search``, ``[slam.graph] search_*``) against a rolling submap,
    the points of the latest ``submap_keyframes`` keyframes, from odometry's prediction (the
    last pose moved by odometry's increment); a match below ``min_score`` keeps the prediction.
    A scan becomes a keyframe after ``keyframe_distance_m`` or ``keyframe_rotation_rad``. The

@@ -172,8 +172,10 @@ impl HitMap {
     }
 
     /// Sets `field` to the likelihood field of the hits stored in `hits` over the field's
-    /// cells alone: 0, raised around each cell holding a hit to the stamp (so a field made
-    /// afresh equals one kept up to date by [`Self::insert`]'s stamps).
+    /// cells alone: 0, raised around each cell holding a hit to the stamp. A field made afresh
+    /// equals one kept up to date by [`Self::insert`]'s stamps except next to its border,
+    /// where the kept one also holds the stamps of hits stored just outside it (as the
+    /// distance transform of the field's cells alone did before).
     pub fn fill_field(&self, hits: &[u8], mut field: FieldMut<'_>) -> Result<()> {
         let n = self.side;
         if hits.len() != n * n || field.values.len() != field.width * field.height {

@@ -7,8 +7,9 @@
 //! sqrt(|travel|)); the match's information is the curvature of the summed likelihood field at
 //! the pose found ([`crate::match_information`]) over `match_variance_scale`, so a corridor
 //! corrects across itself and not along it, and a narrow view of near walls corrects the heading
-//! little. The 5 x 5 algebra is written out on floats in a fixed order (the reference it must
-//! equal, numpy's, is in the Python tests: `tests/scan_matcher_reference.py`).
+//! little. The 5 x 5 algebra is written out on floats in a fixed order, as the Python floats it
+//! replaced were; the tests hold it to numpy's textbook form (the 5 x 5 inverses,
+//! `tests/scan_matcher_reference.py`) to rounding.
 
 use crate::pose::Pose2;
 use crate::scan_matcher_options::ScanMatcherOptions;
@@ -38,11 +39,20 @@ pub struct MatchFilter {
     pub last_mahalanobis: Option<f64>,
 }
 
-/// `x` minus the multiple of `y` nearest to it (ties to even), as IEEE 754's remainder (and
-/// Python's `math.remainder`): exact, the multiple rounded once by a fused multiply-add.
+/// `x` minus the multiple of `y` (> 0) nearest to it (ties to even), as IEEE 754's remainder
+/// (and Python's `math.remainder`): the multiple subtracted by a fused multiply-add, exact for
+/// the angles of a frame's motion; within half of `y` always (a quotient that rounds onto a
+/// half is put right).
 pub fn ieee_remainder(x: f64, y: f64) -> f64 {
     let n = (x / y).round_ties_even();
-    (-n).mul_add(y, x)
+    let r = (-n).mul_add(y, x);
+    if r > 0.5 * y {
+        r - y
+    } else if r < -0.5 * y {
+        r + y
+    } else {
+        r
+    }
 }
 
 /// The inverse of `a` by its adjugate.

@@ -75,6 +75,9 @@ fn the_remainder_is_ieee_754s() {
     // halfway: to the even multiple (3 pi = 1.5 turns: 2 turns, -pi)
     let r = ieee_remainder(1.5 * tau, tau);
     assert!((r + 0.5 * tau).abs() < 1e-15, "{r}");
+    // a quotient that rounds onto a half: still within half a turn
+    let x = 2.5 * tau * (1.0 + f64::EPSILON);
+    assert!(ieee_remainder(x, tau).abs() <= 0.5 * tau);
     for k in -2000..2000 {
         let x = k as f64 * 0.0137;
         let r = ieee_remainder(x, tau);

@@ -20,7 +20,7 @@
 
 use crate::correlative_search::{refine, search, Field, SearchWindow};
 use crate::error::{Error, Result};
-use crate::hit_map::{FieldMut, HitMap};
+use crate::hit_map::{FieldMut, HitMap, MAX_POINTS};
 use crate::match_filter::{MatchFilter, MatchResult};
 use crate::match_information::match_information;
 use crate::pose::Pose2;
@@ -166,6 +166,12 @@ impl ScanMatcher {
     /// A fresh likelihood field over the square of half-side `half_m` [m] around (x0, y0),
     /// cut to the grid (empty when the square misses it).
     pub fn field_around(&self, x0: f64, y0: f64, half_m: f64) -> Result<CachedField> {
+        if !(x0.is_finite() && y0.is_finite() && half_m.is_finite() && half_m >= 0.0) {
+            return Err(Error::InvalidGeometry(format!(
+                "a field's centre and half-side must be finite (half-side >= 0), got ({x0}, \
+                 {y0}), {half_m}"
+            )));
+        }
         let (i0, j0, i1, j1) = self.window(x0, y0, half_m);
         let (width, height) = ((i1 - i0).max(0) as usize, (j1 - j0).max(0) as usize);
         if width == 0 || height == 0 {
@@ -200,6 +206,12 @@ impl ScanMatcher {
     /// Makes the kept field cover at least `half_m` around (x0, y0): the kept one when it
     /// does, else a fresh one [`CACHE_MARGIN_M`] larger.
     pub fn cover(&mut self, x0: f64, y0: f64, half_m: f64) -> Result<&CachedField> {
+        if !(x0.is_finite() && y0.is_finite() && half_m.is_finite() && half_m >= 0.0) {
+            return Err(Error::InvalidGeometry(format!(
+                "a field's centre and half-side must be finite (half-side >= 0), got ({x0}, \
+                 {y0}), {half_m}"
+            )));
+        }
         let covered = self.field.as_ref().is_some_and(|f| {
             let (lo_i, lo_j, hi_i, hi_j) = self.window(x0, y0, half_m);
             f.i0 <= lo_i
@@ -350,6 +362,13 @@ impl ScanMatcher {
         if !prior.is_finite() {
             return Err(Error::InvalidGeometry(format!(
                 "the prior pose must be finite, got {prior:?}"
+            )));
+        }
+        // refused before the filter moves: an error leaves the state as it was
+        if points.len() > MAX_POINTS {
+            return Err(Error::LengthMismatch(format!(
+                "{} points > {MAX_POINTS}",
+                points.len()
             )));
         }
         let o = self.options.clone();

@@ -156,6 +156,9 @@ fn bad_arguments_are_errors() {
     assert!(m
         .match_scan(&pts, Pose2::new(0.0, f64::INFINITY, 0.0))
         .is_err());
+    assert!(m.field_around(f64::NAN, 0.0, 1.0).is_err());
+    assert!(m.cover(0.0, 0.0, f64::INFINITY).is_err());
+    assert!(m.cached_field().is_none());
     // far off the map: nothing stored, nothing matched, no error
     let far = Pose2::new(1e300, -1e300, 0.0);
     assert_eq!(m.insert(&pts, far, false).unwrap(), 0);

@@ -138,10 +138,9 @@ impl AvoidanceMap {
         let half = n / 2;
         let cx = ((x / self.cell_m).floor() as i64).saturating_sub(half);
         let cy = ((y / self.cell_m).floor() as i64).saturating_sub(half);
-        let (dx, dy) = (
-            cx.saturating_sub(self.origin_cells.0),
-            cy.saturating_sub(self.origin_cells.1),
-        );
+        // in i128: the difference of two i64 (a centre 1e300 m away saturates) cannot overflow
+        let dx = (cx as i128 - self.origin_cells.0 as i128).clamp(-(n as i128), n as i128) as i64;
+        let dy = (cy as i128 - self.origin_cells.1 as i128).clamp(-(n as i128), n as i128) as i64;
         if dx.abs() <= n / 4 && dy.abs() <= n / 4 {
             return Ok(());
         }

@@ -51,6 +51,14 @@ fn scrolling_keeps_each_value_at_its_world_cell() {
     // far away: all unknown
     m.recenter(50.0, 50.0).unwrap();
     assert!(m.log_odds.iter().all(|&v| v == 0.0));
+    // farther than any cell index (saturates): scrolls, no overflow
+    m.log_odds[0] = 1.0;
+    m.recenter(-1e300, 1e300).unwrap();
+    assert_eq!(m.origin_cells(), (i64::MIN, i64::MAX - 10));
+    assert!(m.log_odds.iter().all(|&v| v == 0.0));
+    m.log_odds[0] = 1.0;
+    m.recenter(1e300, -1e300).unwrap();
+    assert!(m.log_odds.iter().all(|&v| v == 0.0));
     assert!(m.recenter(f64::NAN, 0.0).is_err());
 }
 

@@ -138,10 +138,11 @@ impl PyScanMatcher {
         information: PyReadonlyArray2<'_, f64>,
     ) -> PyResult<Match> {
         guard(|| {
+            let square = information.shape() == [3, 3];
             let j = information
                 .as_slice()
                 .ok()
-                .filter(|s| s.len() == 9)
+                .filter(|_| square)
                 .ok_or_else(|| {
                     error(
                         "LengthMismatchError",
