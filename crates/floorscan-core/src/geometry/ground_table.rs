@@ -280,6 +280,39 @@ impl GroundTable {
         ))
     }
 
+    /// The ground point at pixel (u, v), as [`Self::lookup`] gives it, and the derivatives of
+    /// the bilinear interpolation of its cell there, `[dx/du, dx/dv, dy/du, dy/dv]` [m/px]
+    /// (one cell's four nodes: what the finite differences of
+    /// [`Self::jacobian`](crate::ground_table_inverse) give within a cell, without their two
+    /// more lookups).
+    pub fn lookup_with_derivatives(&self, u: f64, v: f64) -> Option<(Point2, [f64; 4])> {
+        let (i, j, fu, fv) = self.cell(u, v)?;
+        let p00 = self.node(i, j)?;
+        let p10 = self.node(i + 1, j)?;
+        let p01 = self.node(i, j + 1)?;
+        let p11 = self.node(i + 1, j + 1)?;
+        let w00 = (1.0 - fu) * (1.0 - fv);
+        let w10 = fu * (1.0 - fv);
+        let w01 = (1.0 - fu) * fv;
+        let w11 = fu * fv;
+        let p = Point2::new(
+            w00 * p00.x + w10 * p10.x + w01 * p01.x + w11 * p11.x,
+            w00 * p00.y + w10 * p10.y + w01 * p01.y + w11 * p11.y,
+        );
+        let s = self.spacing_px as f64;
+        let du = |a: f64, b: f64, c: f64, d: f64| ((1.0 - fv) * (b - a) + fv * (d - c)) / s;
+        let dv = |a: f64, b: f64, c: f64, d: f64| ((1.0 - fu) * (c - a) + fu * (d - b)) / s;
+        Some((
+            p,
+            [
+                du(p00.x, p10.x, p01.x, p11.x),
+                dv(p00.x, p10.x, p01.x, p11.x),
+                du(p00.y, p10.y, p01.y, p11.y),
+                dv(p00.y, p10.y, p01.y, p11.y),
+            ],
+        ))
+    }
+
     /// Predicted floor-position error [m] at pixel (u, v): the bilinear interpolation of the
     /// four surrounding nodes' errors; `None` where the table has no ground there or carries
     /// no errors.

@@ -7,7 +7,8 @@ use crate::pose::Point2;
 
 /// Step [px] of the finite differences of [`GroundTable::jacobian`].
 const STEP_PX: f64 = 0.5;
-/// Newton iterations of [`GroundTable::pixel_of`] (each costs three lookups).
+/// Newton iterations of [`GroundTable::pixel_of`] (each reads one cell: the point and its
+/// slopes, [`GroundTable::lookup_with_derivatives`]).
 const ITERATIONS: usize = 8;
 /// How near [m] the ground point of the pixel found must come to the one asked for.
 const TOLERANCE_M: f64 = 1e-3;
@@ -57,9 +58,10 @@ impl GroundTable {
         }
         let (mut u, mut v) = (guess.0.clamp(0.0, max_u), guess.1.clamp(0.0, max_v));
         for _ in 0..ITERATIONS {
-            let (p, [a, b, c, d]) = self.jacobian(u, v)?;
+            let (p, [a, b, c, d]) = self.lookup_with_derivatives(u, v)?;
             let (ex, ey) = (ground.x - p.x, ground.y - p.y);
-            if ex.hypot(ey) < TOLERANCE_M * 0.01 {
+            // |e| < TOLERANCE_M / 100, squared (no libm call)
+            if ex * ex + ey * ey < TOLERANCE_M * TOLERANCE_M * 1e-4 {
                 return Some((u, v));
             }
             let det = a * d - b * c;

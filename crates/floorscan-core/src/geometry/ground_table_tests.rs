@@ -172,3 +172,38 @@ fn wrong_node_count_and_zero_spacing_are_errors() {
     assert!(GroundTable::from_fn(40, 30, 0, |_, _| None).is_err());
     assert!(GroundTable::from_arrays(40, 30, 8, &[0.0; 30], &[0.0; 29]).is_err());
 }
+
+#[test]
+fn derivatives_are_the_cells_bilinear_slopes_and_the_point_is_lookups() {
+    // a non-affine surface, so the slopes change across and within cells
+    let f =
+        |u: f64, v: f64| Point2::new(2.0 + 0.01 * u + 1e-4 * u * v, 0.3 - 0.02 * v + 3e-5 * u * u);
+    let t = GroundTable::from_fn(97, 61, 8, |u, v| Some(f(u, v))).unwrap();
+    for (u, v) in [
+        (3.3, 4.1),
+        (17.0, 22.9),
+        (40.5, 8.0),
+        (95.7, 59.2),
+        (64.0, 32.0),
+    ] {
+        let (p, [a, b, c, d]) = t.lookup_with_derivatives(u, v).unwrap();
+        assert_eq!(Some(p), t.lookup(u, v));
+        // along u (v fixed) and along v (u fixed) the interpolation is linear within a cell:
+        // a small step's difference quotient is the slope, to rounding
+        let h = 1e-3;
+        let (su, sv) = (
+            if u + h <= 96.0 { h } else { -h },
+            if v + h <= 60.0 { h } else { -h },
+        );
+        let (pu, pv) = (t.lookup(u + su, v).unwrap(), t.lookup(u, v + sv).unwrap());
+        for (got, want) in [
+            (a, (pu.x - p.x) / su),
+            (b, (pv.x - p.x) / sv),
+            (c, (pu.y - p.y) / su),
+            (d, (pv.y - p.y) / sv),
+        ] {
+            assert!((got - want).abs() < 1e-9, "({u}, {v}): {got} {want}");
+        }
+    }
+    assert!(t.lookup_with_derivatives(-3.0, 0.0).is_none());
+}

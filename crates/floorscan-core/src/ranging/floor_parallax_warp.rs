@@ -138,7 +138,9 @@ pub(super) fn blur_into<P: Pixel>(
 pub(super) fn bilinear(img: &[f32], w: usize, h: usize, u: f64, v: f64) -> f32 {
     let u = u.clamp(0.0, (w - 1) as f64 - 1e-6);
     let v = v.clamp(0.0, (h - 1) as f64 - 1e-6);
-    let (u0, v0) = (u.floor() as usize, v.floor() as usize);
+    // u, v >= 0 (or NaN, which both cast to 0): truncation is floor, without a call into
+    // libm (the baseline x86-64 target has no rounding instruction)
+    let (u0, v0) = (u as usize, v as usize);
     let (fu, fv) = ((u - u0 as f64) as f32, (v - v0 as f64) as f32);
     let (u1, v1) = ((u0 + 1).min(w - 1), (v0 + 1).min(h - 1));
     let p = |uu: usize, vv: usize| img[vv * w + uu];
