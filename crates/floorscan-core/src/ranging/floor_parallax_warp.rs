@@ -103,7 +103,9 @@ pub(super) fn gaussian_kernel(sigma: f64) -> Vec<f32> {
     k.iter().map(|x| (x / total) as f32).collect()
 }
 
-/// Separable blur of `image` into `out` (edges clamped), through `scratch`.
+/// Separable blur of `image` into `out` (edges clamped), through `scratch`. Each sum adds the
+/// kernel's taps in order (a tap at a time over a whole row, so the additions vectorise and
+/// the sums are those of a pixel-by-pixel loop).
 pub(super) fn blur_into<P: Pixel>(
     image: &ImageView<P>,
     kernel: &[f32],
@@ -113,23 +115,41 @@ pub(super) fn blur_into<P: Pixel>(
     let (w, h) = (image.width(), image.height());
     let r = (kernel.len() / 2) as i64;
     for v in 0..h {
-        for u in 0..w {
-            let mut acc = 0.0;
-            for (t, &k) in kernel.iter().enumerate() {
-                let uu = (u as i64 + t as i64 - r).clamp(0, w as i64 - 1) as usize;
-                acc += k * image.get(uu, v).to_i32() as f32;
+        // the row as floats, in `out`'s row (rewritten by the second pass)
+        let row = &mut out[v * w..(v + 1) * w];
+        for (u, x) in row.iter_mut().enumerate() {
+            *x = image.get(u, v).to_i32() as f32;
+        }
+        let acc = &mut scratch[v * w..(v + 1) * w];
+        acc.fill(0.0);
+        for (t, &k) in kernel.iter().enumerate() {
+            let d = t as i64 - r;
+            // u + d clamped to the row: the first `lo` pixels read its first, the last ones
+            // from `hi` on its last
+            let lo = (-d).clamp(0, w as i64) as usize;
+            let hi = (w as i64 - d).clamp(lo as i64, w as i64) as usize;
+            for a in &mut acc[..lo] {
+                *a += k * row[0];
             }
-            scratch[v * w + u] = acc;
+            if hi > lo {
+                let src = (lo as i64 + d) as usize;
+                for (a, &x) in acc[lo..hi].iter_mut().zip(&row[src..src + (hi - lo)]) {
+                    *a += k * x;
+                }
+            }
+            for a in &mut acc[hi..] {
+                *a += k * row[w - 1];
+            }
         }
     }
     for v in 0..h {
-        for u in 0..w {
-            let mut acc = 0.0;
-            for (t, &k) in kernel.iter().enumerate() {
-                let vv = (v as i64 + t as i64 - r).clamp(0, h as i64 - 1) as usize;
-                acc += k * scratch[vv * w + u];
+        let acc = &mut out[v * w..(v + 1) * w];
+        acc.fill(0.0);
+        for (t, &k) in kernel.iter().enumerate() {
+            let vv = (v as i64 + t as i64 - r).clamp(0, h as i64 - 1) as usize;
+            for (a, &x) in acc.iter_mut().zip(&scratch[vv * w..(vv + 1) * w]) {
+                *a += k * x;
             }
-            out[v * w + u] = acc;
         }
     }
 }
