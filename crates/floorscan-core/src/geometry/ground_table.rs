@@ -82,6 +82,19 @@ pub fn node_counts(image_width: usize, image_height: usize, spacing_px: usize) -
     (n(image_width), n(image_height))
 }
 
+/// The bilinear interpolation at fractions (fu, fv) of a cell's nodes `[p00, p10, p01, p11]`.
+#[inline(always)]
+fn bilinear(fu: f64, fv: f64, [p00, p10, p01, p11]: &[Point2; 4]) -> Point2 {
+    let w00 = (1.0 - fu) * (1.0 - fv);
+    let w10 = fu * (1.0 - fv);
+    let w01 = (1.0 - fu) * fv;
+    let w11 = fu * fv;
+    Point2::new(
+        w00 * p00.x + w10 * p10.x + w01 * p01.x + w11 * p11.x,
+        w00 * p00.y + w10 * p10.y + w01 * p01.y + w11 * p11.y,
+    )
+}
+
 impl GroundTable {
     /// A table from node values (row-major, `nodes_v` rows of `nodes_u`); see [`node_counts`].
     pub fn from_nodes(
@@ -265,18 +278,24 @@ impl GroundTable {
     /// Ground point [m] seen at pixel (u, v), by bilinear interpolation of the four nodes around
     /// it; `None` if any of them is "no ground" or the pixel is outside the image.
     pub fn lookup(&self, u: f64, v: f64) -> Option<Point2> {
+        let (fu, fv, corners) = self.corners(u, v)?;
+        Some(bilinear(fu, fv, &corners))
+    }
+
+    /// The fractions (fu, fv) across the cell around pixel (u, v) and its four nodes
+    /// `[p00, p10, p01, p11]`; `None` if any is "no ground" or the pixel is outside the image.
+    #[inline(always)]
+    fn corners(&self, u: f64, v: f64) -> Option<(f64, f64, [Point2; 4])> {
         let (i, j, fu, fv) = self.cell(u, v)?;
-        let p00 = self.node(i, j)?;
-        let p10 = self.node(i + 1, j)?;
-        let p01 = self.node(i, j + 1)?;
-        let p11 = self.node(i + 1, j + 1)?;
-        let w00 = (1.0 - fu) * (1.0 - fv);
-        let w10 = fu * (1.0 - fv);
-        let w01 = (1.0 - fu) * fv;
-        let w11 = fu * fv;
-        Some(Point2::new(
-            w00 * p00.x + w10 * p10.x + w01 * p01.x + w11 * p11.x,
-            w00 * p00.y + w10 * p10.y + w01 * p01.y + w11 * p11.y,
+        Some((
+            fu,
+            fv,
+            [
+                self.node(i, j)?,
+                self.node(i + 1, j)?,
+                self.node(i, j + 1)?,
+                self.node(i + 1, j + 1)?,
+            ],
         ))
     }
 
@@ -286,19 +305,9 @@ impl GroundTable {
     /// [`Self::jacobian`](crate::ground_table_inverse) give within a cell, without their two
     /// more lookups).
     pub fn lookup_with_derivatives(&self, u: f64, v: f64) -> Option<(Point2, [f64; 4])> {
-        let (i, j, fu, fv) = self.cell(u, v)?;
-        let p00 = self.node(i, j)?;
-        let p10 = self.node(i + 1, j)?;
-        let p01 = self.node(i, j + 1)?;
-        let p11 = self.node(i + 1, j + 1)?;
-        let w00 = (1.0 - fu) * (1.0 - fv);
-        let w10 = fu * (1.0 - fv);
-        let w01 = (1.0 - fu) * fv;
-        let w11 = fu * fv;
-        let p = Point2::new(
-            w00 * p00.x + w10 * p10.x + w01 * p01.x + w11 * p11.x,
-            w00 * p00.y + w10 * p10.y + w01 * p01.y + w11 * p11.y,
-        );
+        let (fu, fv, corners) = self.corners(u, v)?;
+        let p = bilinear(fu, fv, &corners);
+        let [p00, p10, p01, p11] = corners;
         let s = self.spacing_px as f64;
         let du = |a: f64, b: f64, c: f64, d: f64| ((1.0 - fv) * (b - a) + fv * (d - c)) / s;
         let dv = |a: f64, b: f64, c: f64, d: f64| ((1.0 - fu) * (c - a) + fu * (d - b)) / s;

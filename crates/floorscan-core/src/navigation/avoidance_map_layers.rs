@@ -42,6 +42,9 @@ pub struct AvoidanceMap {
     plan_occupied_nats: f32,
     plan_free_nats: f32,
     updates: AvoidanceUpdates,
+    /// a laser scan's beam ends [cells] and returns, kept between scans (no allocation a scan)
+    laser_ends: Vec<[f64; 2]>,
+    laser_returned: Vec<bool>,
 }
 
 fn logit(p: f64) -> f64 {
@@ -106,6 +109,8 @@ impl AvoidanceMap {
             plan_confirmed: vec![0; side * side],
             plan_near_hits: vec![0; side * side],
             updates,
+            laser_ends: Vec::new(),
+            laser_returned: Vec::new(),
         };
         map.recenter(center.0, center.1)?;
         Ok(map)
@@ -223,18 +228,20 @@ impl AvoidanceMap {
             )));
         }
         let (hit, miss) = nats.unwrap_or((LASER_HIT_NATS, LASER_MISS_NATS));
-        let ends: Vec<[f64; 2]> = ranges_m
-            .iter()
-            .zip(angles_rad)
-            .map(|(&r, &a)| {
-                let a = a + pose.yaw;
-                let end = if r.is_finite() { r } else { range_max_m };
-                self.to_cells(pose.x + end * a.cos(), pose.y + end * a.sin())
-            })
-            .collect();
-        let returned: Vec<bool> = ranges_m.iter().map(|r| r.is_finite()).collect();
+        let (mut ends, mut returned) = (
+            std::mem::take(&mut self.laser_ends),
+            std::mem::take(&mut self.laser_returned),
+        );
+        ends.clear();
+        ends.extend(ranges_m.iter().zip(angles_rad).map(|(&r, &a)| {
+            let a = a + pose.yaw;
+            let end = if r.is_finite() { r } else { range_max_m };
+            self.to_cells(pose.x + end * a.cos(), pose.y + end * a.sin())
+        }));
+        returned.clear();
+        returned.extend(ranges_m.iter().map(|r| r.is_finite()));
         let sensor = self.to_cells(pose.x, pose.y);
-        self.updates.insert_laser(
+        let result = self.updates.insert_laser(
             &mut self.log_odds,
             Some(&mut self.plan_log_odds),
             sensor,
@@ -242,7 +249,9 @@ impl AvoidanceMap {
             &returned,
             hit,
             miss,
-        )
+        );
+        (self.laser_ends, self.laser_returned) = (ends, returned);
+        result
     }
 
     /// A bumper contact: the cells on a straight face `2 bump_face_half_length_m` long, square

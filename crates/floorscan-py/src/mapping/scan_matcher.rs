@@ -24,10 +24,26 @@ fn to_tuple(r: MatchResult) -> Match {
     )
 }
 
-/// `points` (N, 2) float64 as rows.
-fn points(a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 2]>> {
-    let (flat, n) = rows(a, 2, "points")?;
-    Ok((0..n).map(|k| [flat[2 * k], flat[2 * k + 1]]).collect())
+/// `points` (N, 2) float64 as rows (the array's own memory, no copy).
+fn points<'a>(a: &'a PyReadonlyArray2<'_, f64>) -> PyResult<&'a [[f64; 2]]> {
+    let (flat, _) = rows(a, 2, "points")?;
+    Ok(flat.as_chunks::<2>().0)
+}
+
+/// One of the matcher's per-frame calls on `points` near `prior`, the GIL released.
+fn frame(
+    py: Python<'_>,
+    inner: &mut ScanMatcher,
+    points: &PyReadonlyArray2<'_, f64>,
+    prior: [f64; 3],
+    step: fn(&mut ScanMatcher, &[[f64; 2]], Pose2) -> floorscan_core::Result<MatchResult>,
+) -> PyResult<Match> {
+    guard(|| {
+        let pts = self::points(points)?;
+        py.detach(|| step(inner, pts, pose(prior)))
+            .py()
+            .map(to_tuple)
+    })
 }
 
 fn field_tuple<'py>(py: Python<'py>, f: &CachedField) -> PyResult<FieldTuple<'py>> {
@@ -66,13 +82,7 @@ impl PyScanMatcher {
         points: PyReadonlyArray2<'_, f64>,
         prior: [f64; 3],
     ) -> PyResult<Match> {
-        guard(|| {
-            let pts = self::points(&points)?;
-            let inner = &mut self.inner;
-            py.detach(|| inner.correct(&pts, pose(prior)))
-                .py()
-                .map(to_tuple)
-        })
+        frame(py, &mut self.inner, &points, prior, ScanMatcher::correct)
     }
 
     /// The best pose for `points` near `prior`, the map unchanged (no filter).
@@ -82,13 +92,7 @@ impl PyScanMatcher {
         points: PyReadonlyArray2<'_, f64>,
         prior: [f64; 3],
     ) -> PyResult<Match> {
-        guard(|| {
-            let pts = self::points(&points)?;
-            let inner = &mut self.inner;
-            py.detach(|| inner.match_scan(&pts, pose(prior)))
-                .py()
-                .map(to_tuple)
-        })
+        frame(py, &mut self.inner, &points, prior, ScanMatcher::match_scan)
     }
 
     /// Stores `points` seen from `pose` (only those the map does not explain when
@@ -101,7 +105,7 @@ impl PyScanMatcher {
     ) -> PyResult<usize> {
         guard(|| {
             let pts = self::points(&points)?;
-            self.inner.insert(&pts, self::pose(pose), novel_only).py()
+            self.inner.insert(pts, self::pose(pose), novel_only).py()
         })
     }
 
@@ -124,7 +128,7 @@ impl PyScanMatcher {
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         guard(|| {
             let pts = self::points(&points)?;
-            let m = self.inner.information(&pts, self::pose(pose)).py()?;
+            let m = self.inner.information(pts, self::pose(pose)).py()?;
             matrix(py, &m.map(|r| r.to_vec()))
         })
     }
