@@ -62,6 +62,16 @@ struct Mark {
     last_frame: u64,
 }
 
+/// A pixel of a tested patch: where it is, its ground point, the current frame's reading
+/// there and its central differences.
+struct PatchPixel {
+    pu: f64,
+    pv: f64,
+    ground: Point2,
+    current: f32,
+    gradient: (f32, f32),
+}
+
 struct Frame {
     image: Vec<f32>,
     world_from_camera: Pose2,
@@ -83,12 +93,17 @@ pub struct FloorParallax {
     /// The near floor's pixels and ground points, and their last earlier-frame pixels.
     band: Vec<(f64, f64, Point2)>,
     band_guess: Vec<(f64, f64)>,
+    /// The band's pixels whose gradient in the current frame lets them take part in the
+    /// refinement (indices into `band`).
+    textured: Vec<usize>,
     residuals: Vec<f32>,
     restarts: Vec<(usize, f64)>,
     /// Each column's last vetoed row in the current frame.
     last_vetoed: Vec<Option<f64>>,
     dirty: Vec<bool>,
-    patch: Vec<(f64, f64, Point2)>,
+    patch: Vec<PatchPixel>,
+    /// The current frame around a tested patch (its rows and one beyond each end, five columns).
+    reads: Vec<f32>,
     samples: Vec<[f32; 4]>,
     /// The memory of the floor's own edges: world cells -> marks; frames seen with a pose.
     memory: std::collections::HashMap<(i64, i64), Mark>,
@@ -125,12 +140,14 @@ impl FloorParallax {
             current: vec![0.0; width * height],
             scratch: vec![0.0; width * height],
             residuals: Vec::with_capacity(band.len()),
+            textured: Vec::with_capacity(band.len()),
             band_guess,
             band,
             restarts: Vec::new(),
             last_vetoed: Vec::new(),
             dirty: Vec::new(),
             patch: Vec::new(),
+            reads: Vec::new(),
             samples: Vec::new(),
             memory: std::collections::HashMap::new(),
             frame_index: 0,
@@ -355,7 +372,7 @@ impl FloorParallax {
 
 #[path = "floor_parallax_warp.rs"]
 mod warp;
-use warp::{bilinear, blur_into, gaussian_kernel, gradient};
+use warp::{bilinear, blur_into, gaussian_kernel};
 #[path = "floor_parallax_evidence.rs"]
 mod evidence;
 use evidence::base_direction;

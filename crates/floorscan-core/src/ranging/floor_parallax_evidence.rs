@@ -2,6 +2,7 @@
 //! standing at the boundary (their log-likelihood ratio), the base line the neighbouring
 //! boundaries draw, and the search above a vetoed boundary with no edge.
 
+use super::warp::{column_reads, READ_COLUMNS};
 use super::*;
 
 impl FloorParallax {
@@ -74,18 +75,38 @@ impl FloorParallax {
         // which the ray meets it
         let d = along.unwrap_or(Point2::new(-base.y, base.x));
         let cross = |p: Point2| p.x * d.y - p.y * d.x;
+        column_reads(
+            &self.current,
+            self.width,
+            self.height,
+            u,
+            row,
+            rows,
+            &mut self.reads,
+        );
+        let read = |i: usize, k: usize| self.reads[i * READ_COLUMNS + k];
         self.patch.clear();
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
         for i in 1..=rows {
-            for du in [-1.0, 0.0, 1.0] {
+            for (k, du) in [(1, -1.0), (2, 0.0), (3, 1.0)] {
                 let (pu, pv) = (u + du, row - i as f64);
                 let Some(g) = self.table.lookup(pu, pv) else {
                     return 0.0;
                 };
-                let c = bilinear(&self.current, self.width, self.height, pu, pv) as f64;
-                sum += c;
-                sum2 += c * c;
-                self.patch.push((pu, pv, g));
+                let c = read(i, k);
+                sum += c as f64;
+                sum2 += c as f64 * c as f64;
+                let gradient = (
+                    (read(i, k + 1) - read(i, k - 1)) / 2.0,
+                    (read(i - 1, k) - read(i + 1, k)) / 2.0,
+                );
+                self.patch.push(PatchPixel {
+                    pu,
+                    pv,
+                    ground: g,
+                    current: c,
+                    gradient,
+                });
             }
         }
         let n = self.patch.len() as f64;
@@ -98,7 +119,8 @@ impl FloorParallax {
         self.samples.clear();
         let mut apart = 0.0f64;
         let (mut last_floor, mut last_standing) = (None, None);
-        for &(pu, pv, g) in &self.patch {
+        for px in &self.patch {
+            let (pu, pv, g) = (px.pu, px.pv, px.ground);
             let s = cross(base) / cross(g);
             if !(s.is_finite() && s > 0.05 && s <= 1.0 + 1e-9) {
                 return 0.0;
@@ -121,10 +143,10 @@ impl FloorParallax {
             last_floor = Some((pu, pv, fu, fv));
             last_standing = Some((pu, pv, su, sv));
             apart += (fu - su).powi(2) + (fv - sv).powi(2);
-            let (gu, gv) = gradient(&self.current, self.width, self.height, pu, pv);
+            let (gu, gv) = px.gradient;
             let slip = gu.hypot(gv) as f64 * self.options.warp_error_px;
             self.samples.push([
-                bilinear(&self.current, self.width, self.height, pu, pv),
+                px.current,
                 bilinear(earlier, self.width, self.height, fu, fv),
                 bilinear(earlier, self.width, self.height, su, sv),
                 (1.0 / (noise * noise + slip * slip)) as f32,

@@ -530,3 +530,45 @@ fn the_blur_equals_a_pixel_by_pixel_loop_bit_for_bit() {
         );
     }
 }
+
+#[test]
+fn a_patchs_column_reads_are_its_bilinear_reads_and_gradients_bit_for_bit() {
+    use super::warp::{column_reads, gradient, READ_COLUMNS};
+    let (w, h) = (23, 31);
+    let mut seed = 99u64;
+    let img: Vec<f32> = (0..w * h)
+        .map(|_| {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+            (seed >> 40) as f32 / 65536.0
+        })
+        .collect();
+    let mut out = Vec::new();
+    // columns at and next to the image's sides, rows whose patch runs off its top
+    for (u, row, rows) in [
+        (1.0, 20.37, 8),
+        (11.0, 30.0, 30),
+        ((w - 2) as f64, 12.875, 4),
+        (5.0, 6.3, 9),
+    ] {
+        column_reads(&img, w, h, u, row, rows, &mut out);
+        assert_eq!(out.len(), (rows + 2) * READ_COLUMNS);
+        let read = |i: usize, k: usize| out[i * READ_COLUMNS + k];
+        for i in 1..=rows {
+            for du in [-1i64, 0, 1] {
+                let k = (2 + du) as usize;
+                let (pu, pv) = (u + du as f64, row - i as f64);
+                assert_eq!(read(i, k).to_bits(), bilinear(&img, w, h, pu, pv).to_bits());
+                let (gu, gv) = gradient(&img, w, h, pu, pv);
+                let from_reads = (
+                    (read(i, k + 1) - read(i, k - 1)) / 2.0,
+                    (read(i - 1, k) - read(i + 1, k)) / 2.0,
+                );
+                assert_eq!(
+                    (from_reads.0.to_bits(), from_reads.1.to_bits()),
+                    (gu.to_bits(), gv.to_bits()),
+                    "u {pu}, v {pv}"
+                );
+            }
+        }
+    }
+}

@@ -9,14 +9,19 @@ impl FloorParallax {
     /// that aligns the two frames' floor.
     pub(super) fn refine_motion(&mut self, earlier: &[f32], motion: Pose2) -> Pose2 {
         let mut m = motion;
+        // the floor's texture moves with it: a pixel flat in this frame is flat there, and
+        // takes no part (the band's pixels that do, found once for the iterations)
+        self.textured.clear();
+        for (i, &(u, v, _)) in self.band.iter().enumerate() {
+            let (cu, cv) = gradient(&self.current, self.width, self.height, u, v);
+            if cu.hypot(cv) >= REFINE_MIN_GRADIENT {
+                self.textured.push(i);
+            }
+        }
         for _ in 0..REFINE_ITERATIONS {
             let (mut a, mut b, mut n) = ([[0.0f64; 3]; 3], [0.0f64; 3], 0usize);
-            for (i, &(u, v, g)) in self.band.iter().enumerate() {
-                // the floor's texture moves with it: a pixel flat in this frame is flat there
-                let (cu, cv) = gradient(&self.current, self.width, self.height, u, v);
-                if cu.hypot(cv) < REFINE_MIN_GRADIENT {
-                    continue;
-                }
+            for &i in &self.textured {
+                let (u, v, g) = self.band[i];
                 let gp = m.transform_point(g);
                 let Some((pu, pv)) = self.table.pixel_of(gp, self.band_guess[i]) else {
                     continue;
@@ -168,6 +173,33 @@ pub(super) fn bilinear(img: &[f32], w: usize, h: usize, u: f64, v: f64) -> f32 {
         + p(u1, v0) * fu * (1.0 - fv)
         + p(u0, v1) * (1.0 - fu) * fv
         + p(u1, v1) * fu * fv
+}
+
+/// Columns read around a tested column by [`column_reads`].
+pub(super) const READ_COLUMNS: usize = 5;
+
+/// The image around a patch of `rows` rows above `row` in column `u` (an integer), read once
+/// for the patch's readings and their central differences: `out[i * READ_COLUMNS + k]` is
+/// [`bilinear`] at (u + k - 2, row - i) for i in 0..=rows + 1 (the patch's rows, and one beyond
+/// each end) and k in 0..5. A patch pixel (u + du, row - i) reads `out[i * 5 + 2 + du]`, and its
+/// [`gradient`] the reads either side: the same coordinates, so the same floats (row - i + 1 is
+/// row - (i - 1) exactly).
+pub(super) fn column_reads(
+    img: &[f32],
+    w: usize,
+    h: usize,
+    u: f64,
+    row: f64,
+    rows: usize,
+    out: &mut Vec<f32>,
+) {
+    out.clear();
+    for i in 0..=rows + 1 {
+        let pv = row - i as f64;
+        for k in 0..READ_COLUMNS {
+            out.push(bilinear(img, w, h, u + k as f64 - 2.0, pv));
+        }
+    }
 }
 
 /// Central-difference gradient (d/du, d/dv) of the image at (u, v).
