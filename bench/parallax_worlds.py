@@ -10,7 +10,12 @@ Prints per world and seed: columns wrong (status, or > 10 cm), within 2 m and wi
 the camera, for the edge ranger, with the cue at its defaults, and with its memory of the
 floor's edges (`memory_min_frames = 2`), and the ranging time per frame. `--floor-lines W`
 adds the edge ranger passing lines on the floor up to W [m] wide (`[ranger]
-floor_line_width_m`), alone and with the cue and its memory.
+floor_line_width_m`), alone and with the cue and its memory. `--odometry` sets the robot's
+odometry error: a named model of `floorscan eval` (perfect, default, drifting) or `xK`, the
+default's four errors times K (what the cue tolerates):
+
+    .venv/bin/python bench/parallax_worlds.py --worlds bench/worlds/office_l.toml --floor tiles \
+        --floor-lines 0.02 --odometry x4
 """
 
 from __future__ import annotations
@@ -21,8 +26,9 @@ import numpy as np
 from floorscan.evaluation.calibration_error import calibrated_table
 from floorscan.evaluation.case import case_from_run
 from floorscan.evaluation.runner import evaluate_case
+from floorscan.evaluation.scenarios import ODOMETRY
 from floorscan.pipeline.config import Config
-from floorscan.sim import Camera, simulate_run
+from floorscan.sim import Camera, OdometryNoise, Robot, simulate_run
 from motion_cue_probe import HELD_OUT_FLOORS, load_world
 
 
@@ -35,6 +41,22 @@ def wrong_within(result, limit_m: float) -> float:
     return wrong / total if total else float("nan")
 
 
+def odometry_noise(spec: str) -> OdometryNoise:
+    """A named odometry model of ``floorscan eval``, or ``xK``: the default's errors times K."""
+    if spec.startswith("x"):
+        k = float(spec[1:])
+        errors = [k * e for e in ODOMETRY["default"]]
+    else:
+        errors = ODOMETRY[spec]
+    wheel, scale, radius, base = errors
+    return OdometryNoise(
+        wheel_sigma_per_sqrt_m=wheel,
+        radius_scale_error=scale,
+        radius_difference=radius,
+        wheelbase_error=base,
+    )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worlds", nargs="+", default=["tiles", "parquet", "room", "corridor"])
@@ -42,7 +64,9 @@ def main() -> None:
     ap.add_argument("--seeds", nargs="+", type=int, default=[3])
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--floor-lines", type=float, default=0.0, metavar="W")
+    ap.add_argument("--odometry", default="default", metavar="MODEL|xK")
     a = ap.parse_args()
+    robot = Robot(odometry=odometry_noise(a.odometry))
     base = Config()
     cued = base.with_overrides({"parallax.enabled": True})
     memory = cued.with_overrides({"parallax.memory_min_frames": 2})
@@ -57,7 +81,9 @@ def main() -> None:
         world = load_world(spec, a.floor)
         for seed in a.seeds:
             camera = Camera()
-            run = simulate_run(world, camera=camera, seconds=a.seconds, seed=seed, threads=2)
+            run = simulate_run(
+                world, camera=camera, robot=robot, seconds=a.seconds, seed=seed, threads=2
+            )
             table, _ = calibrated_table(camera, calibration=base.calibration.kwargs())
             row = []
             for name, cfg in configs:
@@ -69,7 +95,10 @@ def main() -> None:
                     f"1 m {100 * wrong_within(r, 1.0):.1f}; "
                     f"{r.metrics['ranging_ms_per_frame']:.2f} ms)"
                 )
-            print(f"{spec} ({a.floor}) seed {seed}: " + " | ".join(row), flush=True)
+            print(
+                f"{spec} ({a.floor}, odometry {a.odometry}) seed {seed}: " + " | ".join(row),
+                flush=True,
+            )
 
 
 if __name__ == "__main__":
