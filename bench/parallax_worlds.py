@@ -44,10 +44,15 @@ def wrong_within(result, limit_m: float) -> float:
 def odometry_noise(spec: str) -> OdometryNoise:
     """A named odometry model of ``floorscan eval``, or ``xK``: the default's errors times K."""
     if spec.startswith("x"):
-        k = float(spec[1:])
+        try:
+            k = float(spec[1:])
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"xK needs a number K, got {spec!r}") from None
         errors = [k * e for e in ODOMETRY["default"]]
-    else:
+    elif spec in ODOMETRY:
         errors = ODOMETRY[spec]
+    else:
+        raise argparse.ArgumentTypeError(f"one of {', '.join(ODOMETRY)} or xK, got {spec!r}")
     wheel, scale, radius, base = errors
     return OdometryNoise(
         wheel_sigma_per_sqrt_m=wheel,
@@ -66,7 +71,10 @@ def main() -> None:
     ap.add_argument("--floor-lines", type=float, default=0.0, metavar="W")
     ap.add_argument("--odometry", default="default", metavar="MODEL|xK")
     a = ap.parse_args()
-    robot = Robot(odometry=odometry_noise(a.odometry))
+    try:
+        robot = Robot(odometry=odometry_noise(a.odometry))
+    except argparse.ArgumentTypeError as e:
+        ap.error(str(e))
     base = Config()
     cued = base.with_overrides({"parallax.enabled": True})
     memory = cued.with_overrides({"parallax.memory_min_frames": 2})

@@ -14,6 +14,7 @@ impl FloorParallax {
         self.textured.clear();
         for (i, &(u, v, _)) in self.band.iter().enumerate() {
             let (cu, cv) = gradient(&self.current, self.width, self.height, u, v);
+            // (the blurred frame is finite: the complement of the old `< min` test)
             if cu.hypot(cv) >= REFINE_MIN_GRADIENT {
                 self.textured.push(i);
             }
