@@ -101,9 +101,18 @@ fn view(img: &[u8]) -> ImageView<'_, u8> {
 }
 
 fn two_views(first_pose: Pose2, options: ParallaxOptions) -> (Scan, Scan, ParallaxReport) {
+    let (_, out, report) = cue_after_two_views(first_pose, options);
+    let before = ranger(&table()).scan(&view(&render(0.2)), 0.5).unwrap();
+    (before, out, report)
+}
+
+/// The cue after ranging both views, the second view's scan and its report.
+fn cue_after_two_views(
+    first_pose: Pose2,
+    options: ParallaxOptions,
+) -> (FloorParallax, Scan, ParallaxReport) {
     let table = table();
     let (a, b) = (render(0.0), render(0.2));
-    let mut plain = ranger(&table);
     let mut cued = ranger(&table);
     let mut cue = FloorParallax::new(table, options).unwrap();
     let mut out = Scan::default();
@@ -120,8 +129,7 @@ fn two_views(first_pose: Pose2, options: ParallaxOptions) -> (Scan, Scan, Parall
             &mut out,
         )
         .unwrap();
-    let before = plain.scan(&view(&b), 0.5).unwrap();
-    (before, out, report)
+    (cue, out, report)
 }
 
 /// The camera-frame x of the first grout line ahead of the second view and of the wall.
@@ -504,7 +512,7 @@ fn the_blur_equals_a_pixel_by_pixel_loop_bit_for_bit() {
         }
         out
     }
-    let mut seed = 12345u64;
+    let mut stream = crate::test_rng::XorShift::new(12345);
     for (w, h, sigma) in [
         (15, 11, 1.0),
         (3, 40, 2.5),
@@ -513,10 +521,7 @@ fn the_blur_equals_a_pixel_by_pixel_loop_bit_for_bit() {
         (33, 17, 4.0),
     ] {
         let img: Vec<u8> = (0..w * h)
-            .map(|_| {
-                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-                (seed >> 56) as u8
-            })
+            .map(|_| (stream.next_u64() >> 56) as u8)
             .collect();
         let k = gaussian_kernel(sigma);
         let (mut s, mut out) = (vec![0.0; w * h], vec![0.0; w * h]);
@@ -535,12 +540,9 @@ fn the_blur_equals_a_pixel_by_pixel_loop_bit_for_bit() {
 fn a_patchs_column_reads_are_its_bilinear_reads_and_gradients_bit_for_bit() {
     use super::warp::{column_reads, gradient, READ_COLUMNS};
     let (w, h) = (23, 31);
-    let mut seed = 99u64;
+    let mut stream = crate::test_rng::XorShift::new(99);
     let img: Vec<f32> = (0..w * h)
-        .map(|_| {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-            (seed >> 40) as f32 / 65536.0
-        })
+        .map(|_| 255.0 * stream.fraction(1 << 16) as f32)
         .collect();
     let mut out = Vec::new();
     // columns at and next to the image's sides, rows whose patch runs off its top
@@ -570,5 +572,34 @@ fn a_patchs_column_reads_are_its_bilinear_reads_and_gradients_bit_for_bit() {
                 );
             }
         }
+    }
+}
+
+#[test]
+fn a_tested_patch_holds_the_current_frames_reads_and_gradients_at_its_pixels() {
+    // the production test's own patch, after the second view: its pixels' readings and
+    // central differences are the per-pixel reads of the frame it tested (kept last)
+    let (cue, _, report) = cue_after_two_views(Pose2::IDENTITY, ParallaxOptions::default());
+    assert!(report.vetoes > 0 && !cue.patch.is_empty(), "{report:?}");
+    let n = cue.frames.len();
+    let tested = &cue.frames[(cue.next + n - 1) % n].image;
+    for px in &cue.patch {
+        let want = bilinear(tested, W, H, px.pu, px.pv);
+        let (gu, gv) = super::warp::gradient(tested, W, H, px.pu, px.pv);
+        assert_eq!(
+            px.current.to_bits(),
+            want.to_bits(),
+            "({}, {})",
+            px.pu,
+            px.pv
+        );
+        assert_eq!(
+            (px.gradient.0.to_bits(), px.gradient.1.to_bits()),
+            (gu.to_bits(), gv.to_bits()),
+            "({}, {})",
+            px.pu,
+            px.pv
+        );
+        assert_eq!(Some(px.ground), cue.table.lookup(px.pu, px.pv));
     }
 }
