@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
+from floorscan.errors import FloorscanError
 from floorscan.evaluation.calibration_error import calibrated_table
 from floorscan.evaluation.case import case_from_run
 from floorscan.evaluation.runner import evaluate_case
@@ -30,6 +31,7 @@ from floorscan.evaluation.scenarios import ODOMETRY
 from floorscan.pipeline.config import Config
 from floorscan.sim import Camera, OdometryNoise, Robot, simulate_run
 from motion_cue_probe import HELD_OUT_FLOORS, load_world
+from slam_local import parse_value
 
 
 def wrong_within(result, limit_m: float) -> float:
@@ -70,12 +72,23 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--floor-lines", type=float, default=0.0, metavar="W")
     ap.add_argument("--odometry", default="default", metavar="MODEL|xK")
+    ap.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="a configuration override for every variant (e.g. parallax.min_baseline_m=0.05)",
+    )
     a = ap.parse_args()
     try:
         robot = Robot(odometry=odometry_noise(a.odometry))
     except argparse.ArgumentTypeError as e:
         ap.error(str(e))
-    base = Config()
+    try:
+        sets = (o.split("=", 1) for o in a.set)
+        base = Config().with_overrides({k: parse_value(v) for k, v in sets})
+    except (ValueError, FloorscanError) as e:
+        ap.error(str(e))
     cued = base.with_overrides({"parallax.enabled": True})
     memory = cued.with_overrides({"parallax.memory_min_frames": 2})
     configs = [("edge", base), ("parallax", cued), ("+ memory", memory)]

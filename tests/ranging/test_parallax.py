@@ -106,3 +106,36 @@ def test_bad_input_is_refused_in_one_line():
             cued.scan(image, world_from_camera=pose)
     with pytest.raises(OptionError, match="parallax"):
         Config().with_overrides({"parallax.max_vetoes": 0})
+
+
+def test_a_robot_turning_on_the_spot_compares_frames_once_its_camera_has_moved():
+    # the simulator's camera sits 0.12 m ahead of the axis the robot turns about: its centre
+    # moves along a circle, 2 r sin(turn / 2) (the chord) from where it was; the cue compares
+    # with the kept frame farthest away once that reaches min_turn_baseline_m
+    from floorscan.sim import render_image
+
+    cam = Camera()
+    world = World.builtin("tiles")
+    mount = tuple(cam.robot_from_camera)
+    r = float(np.hypot(mount[0], mount[1]))
+    table = cam.ground_table(spacing_px=8)
+    step = 0.1
+    for turn_baseline, compared in [(0.05, True), (0.15, False)]:
+        cued = ParallaxRanger(VisualRanger(table, columns=32), min_turn_baseline_m=turn_baseline)
+        x, y, yaw = world.start
+        baselines = []
+        for k in range(8):
+            pose = (x, y, yaw + step * k)
+            image = render_image(world, cam, pose, frame=k)
+            cued.scan(image, timestamp=0.1 * k, world_from_camera=compose(pose, mount))
+            baselines.append(cued.last_report["baseline_m"])
+        chords = [2 * r * np.sin(step * k / 2) for k in range(8)]
+        expected = [
+            c if compared and k > 0 and c >= turn_baseline else 0.0 for k, c in enumerate(chords)
+        ]
+        assert baselines == pytest.approx(expected, abs=1e-9)
+        assert any(b > 0 for b in baselines) == compared
+    with pytest.raises(OptionError, match="min_turn_baseline_m"):
+        ParallaxRanger(VisualRanger(table), min_turn_baseline_m=0.2)
+    cfg = Config().with_overrides({"parallax.enabled": True, "parallax.min_turn_baseline_m": 0.07})
+    assert cfg.parallax.min_turn_baseline_m == 0.07

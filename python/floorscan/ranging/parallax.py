@@ -32,7 +32,7 @@ class ParallaxRanger:
         ranger: the :class:`VisualRanger` whose boundaries are checked (its table and
             columns are this ranger's).
         **options: any field of the core's ``ParallaxOptions`` (``min_baseline_m``,
-            ``history_frames``, ``rows_above_fraction``, ``min_texture_grey``,
+            ``min_turn_baseline_m``, ``history_frames``, ``rows_above_fraction``, ``min_texture_grey``,
             ``blur_sigma_px``, ``refine_range_m``, ``min_log_likelihood_ratio``,
             ``max_vetoes``, ``base_line_gap_m``, ``search_above_vetoed``,
             ``min_standing_log_likelihood_ratio``, ``memory_min_frames``, ``memory_cell_m``,

@@ -339,17 +339,28 @@ impl FloorParallax {
         Ok(report)
     }
 
-    /// The newest kept frame at least `min_baseline_m` of camera travel back.
+    /// The newest kept frame at least `min_baseline_m` of camera travel back; where none is
+    /// (turning on the spot, starting, creeping), the kept frame farthest from the camera if
+    /// it is at least `min_turn_baseline_m` away.
     fn earlier_frame(&self, pose: &Pose2) -> Option<usize> {
         let n = self.frames.len();
-        (1..=n).map(|back| (self.next + n - back) % n).find(|&i| {
+        let travel = |i: usize| {
             self.frames[i]
                 .world_from_camera
                 .between(pose)
                 .translation()
                 .norm()
-                >= self.options.min_baseline_m
-        })
+        };
+        (1..=n)
+            .map(|back| (self.next + n - back) % n)
+            .find(|&i| travel(i) >= self.options.min_baseline_m)
+            .or_else(|| {
+                (0..n)
+                    .map(|i| (i, travel(i)))
+                    .filter(|&(_, d)| d >= self.options.min_turn_baseline_m)
+                    .max_by(|a, b| a.1.total_cmp(&b.1))
+                    .map(|(i, _)| i)
+            })
     }
 
     fn keep(&mut self, pose: Pose2) {

@@ -206,6 +206,80 @@ fn without_a_pose_or_a_baseline_the_scan_is_the_edge_rangers() {
     }
 }
 
+/// The cue on the view from 0.2 m after one from `first_x`, both poses exact.
+fn after_short_travel(first_x: f64, options: ParallaxOptions) -> (Scan, ParallaxReport) {
+    let table = table();
+    let (a, b) = (render(first_x), render(0.2));
+    let mut cued = ranger(&table);
+    let mut cue = FloorParallax::new(table, options).unwrap();
+    let mut out = Scan::default();
+    let pose = |x: f64| Some(Pose2::new(x, 0.0, 0.0));
+    cue.scan_into(&mut cued, &view(&a), 0.0, pose(first_x), &mut out)
+        .unwrap();
+    let report = cue
+        .scan_into(&mut cued, &view(&b), 0.3, pose(0.2), &mut out)
+        .unwrap();
+    (out, report)
+}
+
+#[test]
+fn short_of_the_least_baseline_the_farthest_frame_past_the_turn_baseline_is_compared() {
+    // 8 cm of travel: short of `min_baseline_m` (0.15), past `min_turn_baseline_m` (0.05)
+    let (_, wall_x) = truths();
+    let (after, report) = after_short_travel(0.12, ParallaxOptions::default());
+    assert!((report.baseline_m - 0.08).abs() < 1e-9, "{report:?}");
+    assert_wall_base_found(&boundary_x(&after), wall_x, &report);
+    // with the fallback off (the turn baseline at the least baseline) nothing is compared
+    let off = ParallaxOptions {
+        min_turn_baseline_m: ParallaxOptions::default().min_baseline_m,
+        ..ParallaxOptions::default()
+    };
+    let (after, report) = after_short_travel(0.12, off);
+    let plain = ranger(&table()).scan(&view(&render(0.2)), 0.3).unwrap();
+    assert_eq!((report.baseline_m, report.vetoes), (0.0, 0), "{report:?}");
+    assert_eq!(after.readings, plain.readings);
+    // and short of the turn baseline too (3 cm): nothing is compared
+    let (_, report) = after_short_travel(0.17, ParallaxOptions::default());
+    assert_eq!(report.baseline_m, 0.0, "{report:?}");
+}
+
+#[test]
+fn turning_on_the_spot_compares_the_kept_frame_whose_camera_moved_farthest() {
+    // a camera mounted 0.12 m ahead of the axis the robot turns about: its centre moves along
+    // a circle, 2 r sin(angle / 2) from where it was (the chord)
+    let (mount, step) = (0.12, 0.15);
+    let table = table();
+    let img = render(0.2);
+    let mut cued = ranger(&table);
+    let mut cue = FloorParallax::new(table, ParallaxOptions::default()).unwrap();
+    let mut out = Scan::default();
+    let camera_at = |yaw: f64| Pose2::new(mount * yaw.cos(), mount * yaw.sin(), yaw);
+    let chord = |angle: f64| 2.0 * mount * (angle / 2.0).sin();
+    for k in 0..6 {
+        let yaw = step * k as f64;
+        let r = cue
+            .scan_into(
+                &mut cued,
+                &view(&img),
+                0.1 * k as f64,
+                Some(camera_at(yaw)),
+                &mut out,
+            )
+            .unwrap();
+        // the kept frames' chords: the farthest is the first frame's, compared once >= 0.05
+        let farthest = chord(yaw);
+        let expected = if k > 0 && farthest >= 0.05 {
+            farthest
+        } else {
+            0.0
+        };
+        assert!(
+            (r.baseline_m - expected).abs() < 1e-9,
+            "turn {yaw:.2}: {r:?}"
+        );
+    }
+}
+
 #[test]
 fn a_ranger_on_another_table_or_a_pose_not_finite_is_refused() {
     let table = table();

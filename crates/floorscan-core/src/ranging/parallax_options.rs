@@ -24,6 +24,13 @@ pub struct ParallaxOptions {
     /// kept frame is (a robot standing or turning on the spot: the boundaries stay as ranged).
     /// Default 0.15 (0.5 s at 0.3 m/s).
     pub min_baseline_m: f64,
+    /// Where no kept frame is `min_baseline_m` back, the kept frame farthest from the current
+    /// camera is used if it is at least this far [m]: a robot turning on the spot moves its
+    /// camera (mounted ahead of the wheels' axis) along a circle, and a robot that sees walls
+    /// everywhere in its first frames (the grout of a tiled floor) only turns, so without this
+    /// the cue never starts. In (0, `min_baseline_m`]; equal to `min_baseline_m` turns it off.
+    /// Default 0.05 (a 0.12 m mount turning 0.4 rad).
+    pub min_turn_baseline_m: f64,
     /// Earlier frames kept, 1 ..= 64. Default 10 (1 s at 10 Hz).
     pub history_frames: usize,
     /// Rows above a boundary compared between the two frames, as a share of the image height,
@@ -92,6 +99,7 @@ impl Default for ParallaxOptions {
         Self {
             enabled: false,
             min_baseline_m: 0.15,
+            min_turn_baseline_m: 0.05,
             history_frames: 10,
             rows_above_fraction: 0.125,
             min_texture_grey: 2.0,
@@ -125,6 +133,16 @@ impl ParallaxOptions {
             }
         };
         positive("min_baseline_m", self.min_baseline_m)?;
+        let turn = self.min_turn_baseline_m;
+        if !(turn > 0.0 && turn <= self.min_baseline_m) {
+            return Err(invalid_option(
+                "min_turn_baseline_m",
+                format!(
+                    "must be in (0, min_baseline_m = {}], got {turn}",
+                    self.min_baseline_m
+                ),
+            ));
+        }
         positive("refine_range_m", self.refine_range_m)?;
         positive("base_line_gap_m", self.base_line_gap_m)?;
         let standing = self.min_standing_log_likelihood_ratio;

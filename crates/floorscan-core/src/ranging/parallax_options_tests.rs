@@ -9,6 +9,18 @@ fn the_defaults_are_valid_and_each_rule_names_its_field() {
     ParallaxOptions::default().validate().unwrap();
     let cases: Vec<(&str, Change)> = vec![
         ("min_baseline_m", Box::new(|o| o.min_baseline_m = 0.0)),
+        (
+            "min_turn_baseline_m",
+            Box::new(|o| o.min_turn_baseline_m = o.min_baseline_m + 0.01),
+        ),
+        (
+            "min_turn_baseline_m",
+            Box::new(|o| o.min_turn_baseline_m = 0.0),
+        ),
+        (
+            "min_turn_baseline_m",
+            Box::new(|o| o.min_turn_baseline_m = f64::NAN),
+        ),
         ("history_frames", Box::new(|o| o.history_frames = 65)),
         ("history_frames", Box::new(|o| o.history_frames = 0)),
         (
