@@ -139,3 +139,33 @@ def test_a_robot_turning_on_the_spot_compares_frames_once_its_camera_has_moved()
         ParallaxRanger(VisualRanger(table), min_turn_baseline_m=0.2)
     cfg = Config().with_overrides({"parallax.enabled": True, "parallax.min_turn_baseline_m": 0.07})
     assert cfg.parallax.min_turn_baseline_m == 0.07
+
+
+def test_near_bases_the_edge_ranger_finds_stay():
+    # a carpet corridor passed through a doorway: every boundary is an obstacle's base, so a
+    # boundary the cue moves away from a right one is a base lost (at a doorway's corners the
+    # line through two neighbours' bases follows neither face: floor must beat each face)
+    cam = Camera()
+    run = simulate_run(World.builtin("corridor"), camera=cam, seconds=20.0, seed=3)
+    table, _ = calibrated_table(cam, calibration=Config().calibration.kwargs())
+    edge = VisualRanger(table)
+    cued = ParallaxRanger(VisualRanger(table))
+    mount = tuple(run.camera.robot_from_camera)
+    right = kept = 0
+    for k in range(len(run)):
+        pose = compose(tuple(run.odometry[k]), mount)
+        with_cue = cued.scan(run.images[k], timestamp=run.timestamps[k], world_from_camera=pose)
+        plain = edge.scan(run.images[k])
+        cols = plain.columns.astype(np.intp)
+        truth = run.frame_truth(k)
+        points = truth.points[cols]
+        near = (truth.status[cols] == 0) & (np.hypot(points[:, 0], points[:, 1]) < 1.0)
+
+        def found(scan):
+            off = np.hypot(scan.x - points[:, 0], scan.y - points[:, 1])
+            return near & (scan.status_codes == 0) & (off < 0.10)
+
+        right += int(found(plain).sum())
+        kept += int((found(plain) & found(with_cue)).sum())
+    assert right > 1000
+    assert kept >= 0.97 * right, (kept, right)

@@ -70,6 +70,8 @@ struct PatchPixel {
     ground: Point2,
     current: f32,
     gradient: (f32, f32),
+    /// Where the floor explanation puts it in the earlier frame, and the reading there.
+    floor: Option<(f64, f64, f32)>,
 }
 
 struct Frame {
@@ -292,10 +294,20 @@ impl FloorParallax {
                         // the motion decides where it can; the memory where it cannot (no
                         // earlier frame, no texture above, the two explanations too close)
                         let llr = if earlier_index.is_some() {
-                            let along = base_direction(out, j, point, self.options.base_line_gap_m);
                             let u = out.readings[j].column as f64;
+                            // floor must beat every surface that could stand there: along the
+                            // line the neighbours draw, along either neighbour's side alone (a
+                            // corner), facing the camera
+                            let (directions, count) =
+                                base_directions(out, j, point, self.options.base_line_gap_m);
                             self.log_likelihood_ratio(
-                                &earlier, &motion, noise, u, row, point, along,
+                                &earlier,
+                                &motion,
+                                noise,
+                                u,
+                                row,
+                                point,
+                                &directions[..count],
                             )
                         } else {
                             0.0
@@ -386,7 +398,7 @@ mod warp;
 use warp::{bilinear, blur_into, gaussian_kernel};
 #[path = "floor_parallax_evidence.rs"]
 mod evidence;
-use evidence::base_direction;
+use evidence::base_directions;
 
 #[cfg(test)]
 #[path = "floor_parallax_tests.rs"]

@@ -31,7 +31,7 @@ impl FloorParallax {
             while row >= top_row.max(rows) {
                 if let Some(point) = self.table.lookup(u, row) {
                     let llr =
-                        self.log_likelihood_ratio(earlier, motion, noise, u, row, point, None);
+                        self.log_likelihood_ratio(earlier, motion, noise, u, row, point, &[None]);
                     if llr < -self.options.min_standing_log_likelihood_ratio {
                         let footprint_m = self
                             .table
@@ -54,7 +54,10 @@ impl FloorParallax {
     }
 
     /// log p(rows above | floor) - log p(rows above | standing at the boundary), Gaussian
-    /// residuals of `noise`; 0 where the rows cannot tell (no texture, not seen before).
+    /// residuals of `noise`, for the standing surface that explains them best of those along
+    /// `directions` on the floor (`None`: facing the camera); 0 where the rows cannot tell (no
+    /// texture, not seen before). The first direction whose ratio is at most
+    /// `min_log_likelihood_ratio` ends the search (the boundary stays either way).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn log_likelihood_ratio(
         &mut self,
@@ -64,17 +67,13 @@ impl FloorParallax {
         u: f64,
         row: f64,
         base: Point2,
-        along: Option<Point2>,
+        directions: &[Option<Point2>],
     ) -> f64 {
         let rows =
             ((self.options.rows_above_fraction * self.height as f64).round() as usize).max(4);
         if row < rows as f64 || u < 1.0 || u > (self.width - 2) as f64 {
             return 0.0;
         }
-        // the surface's direction on the floor, and the share s of each ray's floor point G at
-        // which the ray meets it
-        let d = along.unwrap_or(Point2::new(-base.y, base.x));
-        let cross = |p: Point2| p.x * d.y - p.y * d.x;
         column_reads(
             &self.current,
             self.width,
@@ -106,6 +105,7 @@ impl FloorParallax {
                     ground: g,
                     current: c,
                     gradient,
+                    floor: None,
                 });
             }
         }
@@ -113,45 +113,83 @@ impl FloorParallax {
         if (sum2 / n - (sum / n).powi(2)).max(0.0).sqrt() < self.options.min_texture_grey {
             return 0.0;
         }
-        // each pixel's earlier position under both explanations, its variance (the noise, and
-        // what a warp `warp_error_px` off does to it: a strong edge along the motion, which both
-        // explanations place alike up to their small errors, weighs little)
+        // each pixel's earlier position as floor, once; each Newton search starts where the
+        // previous pixel's ended, moved as the pixel moved
+        let guess = |at: Option<(f64, f64, f64, f64)>, pu: f64, pv: f64| match at {
+            Some((lu, lv, eu, ev)) => (eu + pu - lu, ev + pv - lv),
+            None => (pu, pv),
+        };
+        let mut last = None;
+        for px in &mut self.patch {
+            let (pu, pv) = (px.pu, px.pv);
+            px.floor = self
+                .table
+                .pixel_of(motion.transform_point(px.ground), guess(last, pu, pv))
+                .map(|(fu, fv)| {
+                    last = Some((pu, pv, fu, fv));
+                    (fu, fv, bilinear(earlier, self.width, self.height, fu, fv))
+                });
+        }
+        let mut best = f64::INFINITY;
+        for &along in directions {
+            best =
+                best.min(self.standing_log_likelihood_ratio(earlier, motion, noise, base, along));
+            if best <= self.options.min_log_likelihood_ratio {
+                break;
+            }
+        }
+        best
+    }
+
+    /// The ratio of [`Self::log_likelihood_ratio`] for the surface standing along `along`
+    /// through `base` (the patch and its floor positions made).
+    fn standing_log_likelihood_ratio(
+        &mut self,
+        earlier: &[f32],
+        motion: &Pose2,
+        noise: f64,
+        base: Point2,
+        along: Option<Point2>,
+    ) -> f64 {
+        // the surface's direction on the floor, and the share s of each ray's floor point G at
+        // which the ray meets it
+        let d = along.unwrap_or(Point2::new(-base.y, base.x));
+        let cross = |p: Point2| p.x * d.y - p.y * d.x;
+        // each pixel's earlier position under the standing explanation, and its variance (the
+        // noise, and what a warp `warp_error_px` off does to it: a strong edge along the
+        // motion, which both explanations place alike up to their small errors, weighs little)
         self.samples.clear();
         let mut apart = 0.0f64;
-        let (mut last_floor, mut last_standing) = (None, None);
+        let mut last: Option<(f64, f64, f64, f64)> = None;
         for px in &self.patch {
             let (pu, pv, g) = (px.pu, px.pv, px.ground);
             let s = cross(base) / cross(g);
             if !(s.is_finite() && s > 0.05 && s <= 1.0 + 1e-9) {
                 return 0.0;
             }
+            let Some((fu, fv, floor_read)) = px.floor else {
+                continue;
+            };
             let p = motion.transform_point(Point2::new(s * g.x, s * g.y));
-            // the search starts where the previous pixel's ended, moved as the pixel moved
-            let guess = |at: Option<(f64, f64, f64, f64)>| match at {
+            let start = match last {
                 Some((lu, lv, eu, ev)) => (eu + pu - lu, ev + pv - lv),
                 None => (pu, pv),
             };
-            let floor = self
-                .table
-                .pixel_of(motion.transform_point(g), guess(last_floor));
-            let standing = self
-                .table
-                .pixel_of(Point2::new(p.x / s, p.y / s), guess(last_standing));
-            let (Some((fu, fv)), Some((su, sv))) = (floor, standing) else {
+            let Some((su, sv)) = self.table.pixel_of(Point2::new(p.x / s, p.y / s), start) else {
                 continue;
             };
-            last_floor = Some((pu, pv, fu, fv));
-            last_standing = Some((pu, pv, su, sv));
+            last = Some((pu, pv, su, sv));
             apart += (fu - su).powi(2) + (fv - sv).powi(2);
             let (gu, gv) = px.gradient;
             let slip = gu.hypot(gv) as f64 * self.options.warp_error_px;
             self.samples.push([
                 px.current,
-                bilinear(earlier, self.width, self.height, fu, fv),
+                floor_read,
                 bilinear(earlier, self.width, self.height, su, sv),
                 (1.0 / (noise * noise + slip * slip)) as f32,
             ]);
         }
+        let n = self.patch.len() as f64;
         let k = self.samples.len();
         if (k as f64) < MIN_PLACED_SHARE * n {
             return 0.0;
@@ -173,9 +211,18 @@ impl FloorParallax {
     }
 }
 
-/// The base line's direction at reading j from its neighbours' boundary points within `gap_m`
-/// of its own (`None` where none lie near).
-pub(super) fn base_direction(scan: &Scan, j: usize, here: Point2, gap_m: f64) -> Option<Point2> {
+/// The directions a surface standing at reading j's boundary may have on the floor, the most
+/// likely first: the base line its neighbours' boundary points within `gap_m` of its own draw
+/// (through both where both lie near), the line to each of them alone (at a corner the two
+/// faces meet; on a straight base, three estimates of its direction), and facing the camera
+/// (`None`, the only one where none lie near). Returns the directions and how many of the four
+/// slots hold one.
+pub(super) fn base_directions(
+    scan: &Scan,
+    j: usize,
+    here: Point2,
+    gap_m: f64,
+) -> ([Option<Point2>; 4], usize) {
     let near = |i: usize| match scan.readings.get(i).map(|r| r.outcome) {
         Some(ColumnOutcome::Boundary { point, .. })
             if (point.x - here.x).hypot(point.y - here.y) < gap_m =>
@@ -184,14 +231,23 @@ pub(super) fn base_direction(scan: &Scan, j: usize, here: Point2, gap_m: f64) ->
         }
         _ => None,
     };
+    let unit = |d: Point2| {
+        let n = d.norm();
+        (n > 1e-9).then(|| Point2::new(d.x / n, d.y / n))
+    };
     let before = j.checked_sub(1).and_then(near);
     let after = near(j + 1);
-    let d = match (before, after) {
-        (Some(a), Some(b)) => Point2::new(b.x - a.x, b.y - a.y),
-        (Some(a), None) => Point2::new(here.x - a.x, here.y - a.y),
-        (None, Some(b)) => Point2::new(b.x - here.x, b.y - here.y),
-        (None, None) => return None,
+    let through = match (before, after) {
+        (Some(a), Some(b)) => unit(Point2::new(b.x - a.x, b.y - a.y)),
+        _ => None,
     };
-    let n = d.norm();
-    (n > 1e-9).then(|| Point2::new(d.x / n, d.y / n))
+    let to_before = before.and_then(|a| unit(Point2::new(here.x - a.x, here.y - a.y)));
+    let to_after = after.and_then(|b| unit(Point2::new(b.x - here.x, b.y - here.y)));
+    let mut out = [None; 4];
+    let mut count = 0;
+    for d in [through, to_before, to_after].into_iter().flatten() {
+        out[count] = Some(d);
+        count += 1;
+    }
+    (out, count + 1)
 }

@@ -6,6 +6,7 @@ use super::warp::solve3;
 use super::*;
 use crate::image::ImageView;
 use crate::ranger_options::{ColumnSelection, RangerOptions};
+use crate::ColumnReading;
 
 const W: usize = 240;
 const H: usize = 180;
@@ -278,6 +279,63 @@ fn turning_on_the_spot_compares_the_kept_frame_whose_camera_moved_farthest() {
             "turn {yaw:.2}: {r:?}"
         );
     }
+}
+
+#[test]
+fn a_corner_offers_both_faces_and_one_facing_the_camera_as_standing_surfaces() {
+    // boundaries along a wall facing the camera (x = 1) up to the corner at (1, 0.2), then
+    // along a face running away from the camera (y = 0.2); one far boundary and a column
+    // without one
+    let points = [
+        Some(Point2::new(1.0, 0.4)),
+        Some(Point2::new(1.0, 0.3)),
+        Some(Point2::new(1.0, 0.2)),
+        Some(Point2::new(1.1, 0.2)),
+        Some(Point2::new(3.0, 0.2)),
+        None,
+    ];
+    let scan = Scan {
+        timestamp_s: 0.0,
+        readings: points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| ColumnReading {
+                column: 10 * i as u32,
+                start_row: 0.0,
+                near: None,
+                outcome: match p {
+                    Some(point) => ColumnOutcome::Boundary {
+                        row: 0.0,
+                        point: *point,
+                        footprint_m: 0.0,
+                    },
+                    None => ColumnOutcome::TooClose,
+                },
+                confidence: 1.0,
+            })
+            .collect(),
+    };
+    let directions = |j: usize| {
+        let (d, count) = base_directions(&scan, j, points[j].unwrap(), 0.25);
+        d[..count]
+            .iter()
+            .map(|d| d.map(|p| (p.x.round() as i32, p.y.round() as i32)))
+            .collect::<Vec<_>>()
+    };
+    // on the wall: the line through both neighbours, each alone (the same line), facing
+    let along_wall = Some((0, -1));
+    assert_eq!(
+        directions(1),
+        vec![along_wall, along_wall, along_wall, None]
+    );
+    // at the corner: the chord through the neighbours (diagonal), then each face, then facing
+    let corner = directions(2);
+    assert_eq!(corner.len(), 4);
+    assert_eq!(corner[1..], [along_wall, Some((1, 0)), None]);
+    // one neighbour near (the far one is beyond the gap): its line, then facing the camera
+    assert_eq!(directions(3), vec![Some((1, 0)), None]);
+    // no neighbour near: facing the camera only
+    assert_eq!(directions(4), vec![None]);
 }
 
 #[test]
