@@ -161,11 +161,11 @@ def test_near_bases_the_edge_ranger_finds_stay():
         points = truth.points[cols]
         near = (truth.status[cols] == 0) & (np.hypot(points[:, 0], points[:, 1]) < 1.0)
 
-        def found(scan):
-            off = np.hypot(scan.x - points[:, 0], scan.y - points[:, 1])
-            return near & (scan.status_codes == 0) & (off < 0.10)
-
-        right += int(found(plain).sum())
-        kept += int((found(plain) & found(with_cue)).sum())
+        found = [
+            near & (s.status_codes == 0) & (np.hypot(s.x - points[:, 0], s.y - points[:, 1]) < 0.1)
+            for s in (plain, with_cue)
+        ]
+        right += int(found[0].sum())
+        kept += int((found[0] & found[1]).sum())
     assert right > 1000
     assert kept >= 0.97 * right, (kept, right)
