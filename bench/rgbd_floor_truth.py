@@ -48,7 +48,9 @@ def main() -> None:
     frames = []
     for cpath in sorted(folder.glob("color_*.png")):
         stem = cpath.stem.split("_", 1)[1]
-        dpath = next(folder.glob(f"depth_{stem}.*"))
+        dpath = next(folder.glob(f"depth_{stem}.*"), None)
+        if dpath is None:
+            raise SystemExit(f"{cpath}: no depth_{stem}.pgm or .png beside it")
         color = np.asarray(Image.open(cpath).convert("RGB"))
         depth = read_depth(dpath).astype(float) / a.depth_scale
         t = rgbd_truth(color, depth, K)

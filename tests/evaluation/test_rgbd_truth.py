@@ -62,6 +62,11 @@ def test_height_table_and_the_boxs_base_follow_the_scene():
             assert got == pytest.approx(tuple(want), abs=1e-5)
             checked += 1
     assert checked > 500
+    # the last node row and column (at or past the image's edge) too: the bottom row's and the
+    # right column's ground points
+    for u, v in [(w - 1, h - 1), (w - 1, h // 2), (w // 2, h - 1), (w - 2, h - 3)]:
+        want = ground[v + v0, u + u0]
+        assert t.table.lookup(float(u), float(v)) == pytest.approx(tuple(want), abs=2e-3)
     # the box's base: where its face meets the floor, row by the camera model
     status, rows = floor_mask_truth(t.floor_mask)
     base_seen = 0
@@ -77,6 +82,11 @@ def test_height_table_and_the_boxs_base_follow_the_scene():
     assert base_seen == 11
     # the hole in the floor's depth is floor in the mask
     assert t.floor_mask[205 - v0, 105 - u0]
+    # floor nearer than the sensor sees (no depth in the bottom rows) is floor, not too close
+    near = depth.copy()
+    near[-12:, :120] = 0.0  # a third of the columns (the rows keep depth in the rest)
+    status, _ = floor_mask_truth(rgbd_truth(image, near, K).floor_mask)
+    assert not np.any(status == 2)
 
 
 def test_a_plane_is_found_from_noisy_points_whatever_the_sample():

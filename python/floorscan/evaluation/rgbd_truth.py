@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import DatasetError
 from ..ranging.ground_table import GroundTable
+from .floor_masks import RUN_PX
 
 PLANE_TOLERANCE_M = 0.02
 """A pixel is floor within this distance of the plane, plus the depth's own noise
@@ -122,8 +123,10 @@ def rgbd_truth(
 ) -> RgbdTruth:
     """The truth of one registered RGB-D frame (module docstring). The frame is cropped to the
     rows and columns where at least half the pixels have depth (a Kinect's depth sees less
-    than its colour camera), less two pixels at each side; pixels without depth inside take their column's label where the
-    nearest pixels with depth above and below agree that it is floor."""
+    than its colour camera), less two pixels at each side. Pixels without depth inside take
+    their column's label where the nearest pixels with depth above and below agree that it is
+    floor; those below a column's last pixel with depth (nearer than the sensor sees) take that
+    pixel's label."""
     depth_m = np.asarray(depth_m, np.float64)
     image = np.asarray(image)
     if depth_m.ndim != 2 or image.shape[:2] != depth_m.shape:
@@ -160,6 +163,9 @@ def rgbd_truth(
         above = have[np.clip(k - 1, 0, have.size - 1)]
         below = have[np.clip(k, 0, have.size - 1)]
         mask[missing[inside], j] = on_plane[above[inside], j] & on_plane[below[inside], j]
+        # below the column's last pixel with depth (the sensor's near limit): its label
+        bottom = k == have.size
+        mask[missing[bottom], j] = on_plane[have[-1], j]
     _lower_bases(mask, xyz, valid, normal, offset)
     return RgbdTruth(
         image=image,
@@ -171,29 +177,29 @@ def rgbd_truth(
 
 
 def _lower_bases(mask, xyz, valid, normal, offset) -> None:
-    """Moves each column's first non-floor pixel from the bottom down to where the surface
-    meets the floor: the lowest centimetres of a face lie within the plane's tolerance, but a
-    face's pixels stand over one ground point while the floor's move away from the camera. Below
-    the first non-floor run, pixels above the floor (:data:`FACE_MIN_HEIGHT_M`) whose ground
-    point (projected on the plane) lies within the depth's noise of that run's join the face."""
+    """Moves each column's base (its first run of :data:`~.floor_masks.RUN_PX` non-floor pixels
+    from the bottom, the floor-mask rule) down to where the surface meets the floor: the lowest
+    centimetres of a face lie within the plane's tolerance, but a face's pixels stand over one
+    ground point while the floor's move away from the camera. Below the run, pixels above the
+    floor (:data:`FACE_MIN_HEIGHT_M`) whose ground point (projected on the plane) lies within the
+    depth's noise of the run's join the face."""
     h, w = mask.shape
     height = xyz @ normal + offset
     ground = xyz - height[..., None] * normal
     foot = -offset * normal
     reach = np.linalg.norm(ground - foot, axis=-1)
     for j in range(w):
-        floor = mask[::-1, j]
-        k = 0  # rows from the bottom
-        while k < h and floor[k]:
-            k += 1
-        if k == 0 or k + RUN_CHECK > h:
+        off_floor = ~mask[::-1, j]  # index k counts rows from the bottom
+        runs = np.convolve(off_floor.astype(np.int64), np.ones(RUN_PX, np.int64), "valid")
+        starts = np.nonzero(runs == RUN_PX)[0]
+        if starts.size == 0 or starts[0] == 0:
             continue
-        v = h - 1 - k  # the first non-floor pixel
-        above = [vv for vv in range(v - RUN_CHECK + 1, v + 1) if valid[vv, j]]
-        if not above:
+        v = h - 1 - int(starts[0])  # the run's lowest pixel
+        run = [vv for vv in range(v - RUN_PX + 1, v + 1) if valid[vv, j]]
+        if not run:
             continue
-        face = float(np.median(reach[above, j]))
-        tol = 0.01 + DEPTH_NOISE_PER_M2 * float(np.median(xyz[above, j, 2])) ** 2
+        face = float(np.median(reach[run, j]))
+        tol = 0.01 + DEPTH_NOISE_PER_M2 * float(np.median(xyz[run, j, 2])) ** 2
         while (
             v + 1 < h
             and valid[v + 1, j]
@@ -203,9 +209,6 @@ def _lower_bases(mask, xyz, valid, normal, offset) -> None:
             v += 1
             mask[v, j] = False
 
-
-RUN_CHECK = 3
-"""Pixels of a face above its lowest one that give its ground point."""
 
 FACE_MIN_HEIGHT_M = 0.004
 """A face's pixel stands at least this high above the plane (the floor's own lie within the
@@ -227,8 +230,9 @@ def plane_ground_table(
     nu, nv = GroundTable.node_shape_for(
         image_width=width, image_height=height, spacing_px=TABLE_SPACING_PX
     )
-    un = np.minimum(np.arange(nu) * TABLE_SPACING_PX, width - 1).astype(np.float64)
-    vn = np.minimum(np.arange(nv) * TABLE_SPACING_PX, height - 1).astype(np.float64)
+    # nodes at k x spacing, the last ones at or past the image's edge (the table's layout)
+    un = (np.arange(nu) * TABLE_SPACING_PX).astype(np.float64)
+    vn = (np.arange(nv) * TABLE_SPACING_PX).astype(np.float64)
     gu, gv = np.meshgrid(un, vn)
     r = np.stack([(gu - cx) / fx, (gv - cy) / fy, np.ones_like(gu)], -1)
     down = r @ n

@@ -2,8 +2,8 @@
 checked against the motion since an earlier frame. A boundary whose image rows above it moved
 as floor does (the ground table's homography between the two views) rather than as a surface
 standing on it is the floor's own edge (a grout line, a plank joint, a printed pattern), and
-its column is scanned on above it. Needs poses (odometry): a single image, or a robot
-standing or turning on the spot, is ranged as the edge ranger alone ranges it.
+its column is scanned on above it. Needs poses (odometry): a single image, a robot standing,
+or a camera turning about its own centre is ranged as the edge ranger alone ranges it.
 
 The config's ``[parallax]`` table (``enabled = true``) turns it on for ``run``, ``node``,
 ``fleet`` and ``eval``; its fields are ``ParallaxOptions``' (``floorscan config --default``).

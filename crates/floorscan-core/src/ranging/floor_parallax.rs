@@ -5,18 +5,18 @@
 //! boundary are explained two ways:
 //!
 //! - **floor**: they moved as floor does;
-//! - **standing**: they lie on a vertical surface through the boundary's ground point B, along
-//!   the base line the neighbouring columns' boundaries draw (facing the camera where none lie
-//!   near). A pixel whose ray meets the floor at G (camera ground frame, origin under the
+//! - **standing**: they lie on a vertical surface through the boundary's ground point B: along
+//!   the base line the neighbouring columns' boundaries draw (through both, to each alone: a
+//!   corner), and facing the camera. A pixel whose ray meets the floor at G (camera ground frame, origin under the
 //!   camera) meets that surface at s G; seen from the earlier camera its ray meets the floor at
 //!   M(s G) / s, M the earlier camera ground frame from the current one. Neither explanation
 //!   needs the camera's height.
 //!
-//! When the floor explains the rows' zero-mean intensities better (a log-likelihood ratio
-//! above `min_log_likelihood_ratio` at the floor's own residual noise), the boundary is the
-//! floor's and the column is scanned on above it ([`VisualRanger::continue_above`]). Rows
-//! without texture, no earlier frame far enough back (standing, turning on the spot) or no pose
-//! keep the edge ranger's reading. The odometry's motion is refined first by Lucas-Kanade on
+//! When the floor explains the rows' zero-mean intensities better than every such surface (a
+//! log-likelihood ratio above `min_log_likelihood_ratio` at the floor's own residual noise),
+//! the boundary is the floor's and the column is scanned on above it
+//! ([`VisualRanger::continue_above`]). Rows without texture, no earlier frame far enough back
+//! (standing; a camera turning about its own centre) or no pose keep the edge ranger's reading. The odometry's motion is refined first by Lucas-Kanade on
 //! the floor near the robot. Measured: EVALUATION.md, "The floor-parallax cue".
 
 use crate::error::{Error, Result};

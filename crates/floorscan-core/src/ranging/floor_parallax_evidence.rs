@@ -56,8 +56,9 @@ impl FloorParallax {
     /// log p(rows above | floor) - log p(rows above | standing at the boundary), Gaussian
     /// residuals of `noise`, for the standing surface that explains them best of those along
     /// `directions` on the floor (`None`: facing the camera); 0 where the rows cannot tell (no
-    /// texture, not seen before). The first direction whose ratio is at most
-    /// `min_log_likelihood_ratio` ends the search (the boundary stays either way).
+    /// texture, not seen before). The search ends at the first direction that leaves the ratio
+    /// below both `min_log_likelihood_ratio` and 0 (no veto, and the motion shows standing:
+    /// the memory's cell is cleared); a direction that cannot tell does not end it.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn log_likelihood_ratio(
         &mut self,
@@ -130,11 +131,15 @@ impl FloorParallax {
                     (fu, fv, bilinear(earlier, self.width, self.height, fu, fv))
                 });
         }
+        if directions.is_empty() {
+            return 0.0;
+        }
         let mut best = f64::INFINITY;
         for &along in directions {
-            best =
-                best.min(self.standing_log_likelihood_ratio(earlier, motion, noise, base, along));
-            if best <= self.options.min_log_likelihood_ratio {
+            let llr = self.standing_log_likelihood_ratio(earlier, motion, noise, base, along);
+            best = best.min(if llr.is_finite() { llr } else { 0.0 });
+            // settled: no veto, and evidence of standing (which clears the memory's cell)
+            if best <= self.options.min_log_likelihood_ratio && best < 0.0 {
                 break;
             }
         }

@@ -196,7 +196,7 @@ fn without_a_pose_or_a_baseline_the_scan_is_the_edge_rangers() {
             (0, plain.readings.clone())
         );
     }
-    // turning on the spot: every kept frame is nearer than the least baseline
+    // a camera turning about its own centre: no kept frame is even the turn baseline away
     for k in 0..4 {
         let pose = Pose2::new(0.0, 0.0, 0.01 * k as f64);
         let r = cue

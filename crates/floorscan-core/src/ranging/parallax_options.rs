@@ -20,8 +20,8 @@ pub struct ParallaxOptions {
     /// false: an opt-in until real frames with motion judge it (EVALUATION.md).
     pub enabled: bool,
     /// Least camera travel [m] between the current frame and the earlier one it is compared
-    /// with, finite and > 0: the newest kept frame at least this far back is used, none if no
-    /// kept frame is (a robot standing or turning on the spot: the boundaries stay as ranged).
+    /// with, finite and > 0: the newest kept frame at least this far back is used; where none
+    /// is, `min_turn_baseline_m` decides (a robot standing: the boundaries stay as ranged).
     /// Default 0.15 (0.5 s at 0.3 m/s).
     pub min_baseline_m: f64,
     /// Where no kept frame is `min_baseline_m` back, the kept frame farthest from the current
@@ -29,7 +29,7 @@ pub struct ParallaxOptions {
     /// camera (mounted ahead of the wheels' axis) along a circle, and a robot that sees walls
     /// everywhere in its first frames (the grout of a tiled floor) only turns, so without this
     /// the cue never starts. In (0, `min_baseline_m`]; equal to `min_baseline_m` turns it off.
-    /// Default 0.05 (a 0.12 m mount turning 0.4 rad).
+    /// Default 0.05 (a camera 0.12 m ahead of the axis turning 0.42 rad).
     pub min_turn_baseline_m: f64,
     /// Earlier frames kept, 1 ..= 64. Default 10 (1 s at 10 Hz).
     pub history_frames: usize,
@@ -63,14 +63,15 @@ pub struct ParallaxOptions {
     /// Most boundaries of one column found to be the floor's own in one frame, 1 ..= 100.
     /// Default 10.
     pub max_vetoes: usize,
-    /// Neighbouring columns' boundaries within this distance [m] of a boundary give the
-    /// direction of the surface standing there (else it faces the camera); finite and > 0.
+    /// Neighbouring columns' boundaries within this distance [m] of a boundary give directions
+    /// the surface standing there may have (the line through both, to each alone), tried with
+    /// the surface facing the camera; finite and > 0.
     /// Default 0.25.
     pub base_line_gap_m: f64,
     /// A memory of the floor's own edges, in the world (odometry's frame): a boundary found to
     /// be the floor's own marks its ground cell; once a cell was marked in this many different
     /// frames, a later boundary there (or in the 8 cells around) is taken as the floor's at
-    /// once, with or without an earlier frame to compare (turning on the spot, standing); a
+    /// once where the motion cannot tell (no earlier frame far enough back, no texture); a
     /// boundary whose rows the motion shows standing clears its cell. 0 turns it off; 0 ..=
     /// 100. Default 0 (off): with 2 it takes a tiled floor from 86 to 48 % of columns wrong
     /// but carries the cue's mistakes on carpets forward (EVALUATION.md, "The floor-parallax
