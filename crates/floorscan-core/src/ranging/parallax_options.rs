@@ -73,7 +73,7 @@ pub struct ParallaxOptions {
     /// frames, a later boundary there (or in the 8 cells around) is taken as the floor's at
     /// once where the motion cannot tell (no earlier frame far enough back, no texture); a
     /// boundary whose rows the motion shows standing clears its cell. 0 turns it off; 0 ..=
-    /// 100. Default 0 (off): with 2 it takes a tiled floor from 86 to 48 % of columns wrong
+    /// 100. Default 0 (off): with 2 it takes a tiled floor from 86 to 51 % of columns wrong
     /// but carries the cue's mistakes on carpets forward (EVALUATION.md, "The floor-parallax
     /// cue").
     pub memory_min_frames: u32,
