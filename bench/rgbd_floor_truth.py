@@ -28,8 +28,8 @@ from pathlib import Path
 import numpy as np
 from floorscan.evaluation.floor_masks import floor_mask_truth
 from floorscan.evaluation.real_sets import PAPER, PAPER_EDGE
-from floorscan.evaluation.rgbd_truth import read_depth, rgbd_truth
-from floorscan.formats.image_io import as_grey
+from floorscan.evaluation.rgbd_truth import rgbd_truth
+from floorscan.formats.image_io import as_grey, read_grey
 from floorscan.pipeline.config import Config
 from floorscan.pipeline.mapper import RANGER_KINDS, ranger_from_config
 from PIL import Image
@@ -52,7 +52,7 @@ def main() -> None:
         if dpath is None:
             raise SystemExit(f"{cpath}: no depth_{stem}.pgm or .png beside it")
         color = np.asarray(Image.open(cpath).convert("RGB"))
-        depth = read_depth(dpath).astype(float) / a.depth_scale
+        depth = read_grey(dpath).astype(float) / a.depth_scale
         t = rgbd_truth(color, depth, K)
         frames.append((stem, t.image, t.floor_mask, t.table, t.camera_height_m))
     if a.masks_out:

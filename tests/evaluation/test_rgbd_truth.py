@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 from floorscan.errors import DatasetError, FloorscanError
 from floorscan.evaluation.floor_masks import floor_mask_truth
-from floorscan.evaluation.rgbd_truth import fit_floor_plane, read_depth, rgbd_truth
+from floorscan.evaluation.rgbd_truth import fit_floor_plane, rgbd_truth
+from floorscan.formats.image_io import read_grey
 
 W, H = 320, 240
 K = (250.0, 250.0, 159.5, 119.5)
@@ -116,8 +117,8 @@ def test_bad_frames_are_refused_in_one_line(tmp_path):
         rgbd_truth(image, wall, K)
     bad = tmp_path / "d.pgm"
     bad.write_bytes(b"P5 640 480 65535\n" + b"\0" * 10)
-    with pytest.raises(DatasetError, match="truncated"):
-        read_depth(bad)
+    with pytest.raises(FloorscanError, match="truncated"):
+        read_grey(bad)  # the project's reader takes depth files: 16-bit PGM, big-endian
     ok = tmp_path / "ok.pgm"
     ok.write_bytes(b"P5 2 1 65535\n" + np.array([1000, 258], ">u2").tobytes())
-    assert read_depth(ok).tolist() == [[1000, 258]]
+    assert read_grey(ok).tolist() == [[1000, 258]]

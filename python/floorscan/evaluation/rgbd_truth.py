@@ -5,16 +5,15 @@ calibration pattern needed), and a pixel is floor where its depth lies on the pl
 mask scores a ranger in rows as ``floorscan eval --real`` does (:mod:`.floor_masks`), the table
 in metres (``bench/rgbd_floor_truth.py``).
 
-Depth: metres, 0 where the sensor has none; the colour image registered to it (one pixel, one
+Depth: metres, 0 where the sensor has none (a 16-bit depth PNG or PGM reads with
+:func:`floorscan.formats.image_io.read_grey`, then divide by its units a metre); the colour image registered to it (one pixel, one
 ray); intrinsics ``(fx, fy, cx, cy)`` of that image (pinhole, no distortion: a depth camera's
 registered output).
 """
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Sequence, Tuple
 
 import numpy as np
@@ -49,28 +48,6 @@ class RgbdTruth:
     table: GroundTable
     camera_height_m: float
     crop_px: Tuple[int, int]
-
-
-def read_depth(path) -> np.ndarray:
-    """A 16-bit depth image: binary PGM (``P5``, big-endian as Netpbm has it) or PNG."""
-    path = Path(path)
-    data = path.read_bytes()
-    if data[:2] == b"P5":
-        m = re.match(rb"P5\s+(\d+)\s+(\d+)\s+(\d+)\s", data)
-        if m is None:
-            raise DatasetError(f"{path}: not a binary PGM header")
-        w, h, top = (int(g) for g in m.groups())
-        dtype = ">u2" if top > 255 else "u1"
-        need = w * h * np.dtype(dtype).itemsize
-        if len(data) - m.end() < need:
-            raise DatasetError(f"{path}: {w} x {h} PGM is truncated")
-        return np.frombuffer(data[m.end() :], dtype=dtype, count=w * h).reshape(h, w)
-    from PIL import Image
-
-    try:
-        return np.asarray(Image.open(path))
-    except OSError as e:
-        raise DatasetError(f"{path}: not a depth image ({e})") from None
 
 
 def fit_floor_plane(

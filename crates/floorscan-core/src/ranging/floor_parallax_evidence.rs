@@ -114,29 +114,43 @@ impl FloorParallax {
         if (sum2 / n - (sum / n).powi(2)).max(0.0).sqrt() < self.options.min_texture_grey {
             return 0.0;
         }
-        // each pixel's earlier position as floor, once; each Newton search starts where the
-        // previous pixel's ended, moved as the pixel moved
-        let guess = |at: Option<(f64, f64, f64, f64)>, pu: f64, pv: f64| match at {
-            Some((lu, lv, eu, ev)) => (eu + pu - lu, ev + pv - lv),
-            None => (pu, pv),
-        };
+        // the surfaces every pixel's ray meets before its floor point; the others cannot tell
+        // (0), and with none the floor's warp is not needed
+        let mut usable = [None; 4];
+        let mut count = 0;
+        for &along in directions.iter().take(usable.len()) {
+            let d = facing(base, along);
+            if self
+                .patch
+                .iter()
+                .all(|px| share(base, px.ground, d).is_some())
+            {
+                usable[count] = Some(d);
+                count += 1;
+            }
+        }
+        if count == 0 {
+            return 0.0;
+        }
+        // each pixel's earlier position as floor, once
         let mut last = None;
         for px in &mut self.patch {
             let (pu, pv) = (px.pu, px.pv);
             px.floor = self
                 .table
-                .pixel_of(motion.transform_point(px.ground), guess(last, pu, pv))
+                .pixel_of(motion.transform_point(px.ground), chained(last, pu, pv))
                 .map(|(fu, fv)| {
                     last = Some((pu, pv, fu, fv));
                     (fu, fv, bilinear(earlier, self.width, self.height, fu, fv))
                 });
         }
-        if directions.is_empty() {
-            return 0.0;
-        }
-        let mut best = f64::INFINITY;
-        for &along in directions {
-            let llr = self.standing_log_likelihood_ratio(earlier, motion, noise, base, along);
+        let mut best = if count < directions.len() {
+            0.0
+        } else {
+            f64::INFINITY
+        };
+        for d in usable[..count].iter().flatten() {
+            let llr = self.standing_log_likelihood_ratio(earlier, motion, noise, base, *d);
             best = best.min(if llr.is_finite() { llr } else { 0.0 });
             // settled: no veto, and evidence of standing (which clears the memory's cell)
             if best <= self.options.min_log_likelihood_ratio && best < 0.0 {
@@ -146,41 +160,33 @@ impl FloorParallax {
         best
     }
 
-    /// The ratio of [`Self::log_likelihood_ratio`] for the surface standing along `along`
-    /// through `base` (the patch and its floor positions made).
+    /// The ratio of [`Self::log_likelihood_ratio`] for the surface standing along direction
+    /// `d` through `base` (the patch and its floor positions made, every pixel's ray meeting
+    /// the surface).
     fn standing_log_likelihood_ratio(
         &mut self,
         earlier: &[f32],
         motion: &Pose2,
         noise: f64,
         base: Point2,
-        along: Option<Point2>,
+        d: Point2,
     ) -> f64 {
-        // the surface's direction on the floor, and the share s of each ray's floor point G at
-        // which the ray meets it
-        let d = along.unwrap_or(Point2::new(-base.y, base.x));
-        let cross = |p: Point2| p.x * d.y - p.y * d.x;
         // each pixel's earlier position under the standing explanation, and its variance (the
         // noise, and what a warp `warp_error_px` off does to it: a strong edge along the
         // motion, which both explanations place alike up to their small errors, weighs little)
         self.samples.clear();
         let mut apart = 0.0f64;
-        let mut last: Option<(f64, f64, f64, f64)> = None;
+        let mut last = None;
         for px in &self.patch {
             let (pu, pv, g) = (px.pu, px.pv, px.ground);
-            let s = cross(base) / cross(g);
-            if !(s.is_finite() && s > 0.05 && s <= 1.0 + 1e-9) {
-                return 0.0;
-            }
-            let Some((fu, fv, floor_read)) = px.floor else {
+            let (Some(s), Some((fu, fv, floor_read))) = (share(base, g, d), px.floor) else {
                 continue;
             };
             let p = motion.transform_point(Point2::new(s * g.x, s * g.y));
-            let start = match last {
-                Some((lu, lv, eu, ev)) => (eu + pu - lu, ev + pv - lv),
-                None => (pu, pv),
-            };
-            let Some((su, sv)) = self.table.pixel_of(Point2::new(p.x / s, p.y / s), start) else {
+            let Some((su, sv)) = self
+                .table
+                .pixel_of(Point2::new(p.x / s, p.y / s), chained(last, pu, pv))
+            else {
                 continue;
             };
             last = Some((pu, pv, su, sv));
@@ -213,6 +219,29 @@ impl FloorParallax {
         }
         // as if every pixel of the patch had been placed
         (standing - floor) / 2.0 * n / k as f64
+    }
+}
+
+/// The surface's direction on the floor: `along`, or facing the camera (across the ray to
+/// `base`).
+fn facing(base: Point2, along: Option<Point2>) -> Point2 {
+    along.unwrap_or(Point2::new(-base.y, base.x))
+}
+
+/// The share s of the ray to floor point `g` at which it meets the vertical surface through
+/// `base` along `d` (in front of the floor point, not too near the camera), else `None`.
+fn share(base: Point2, g: Point2, d: Point2) -> Option<f64> {
+    let cross = |p: Point2| p.x * d.y - p.y * d.x;
+    let s = cross(base) / cross(g);
+    (s.is_finite() && s > 0.05 && s <= 1.0 + 1e-9).then_some(s)
+}
+
+/// Where a Newton search for a pixel's earlier position starts: where the previous pixel's
+/// ended (`last`: its pixel and what it found), moved as the pixel moved; else the pixel.
+fn chained(last: Option<(f64, f64, f64, f64)>, pu: f64, pv: f64) -> (f64, f64) {
+    match last {
+        Some((lu, lv, eu, ev)) => (eu + pu - lu, ev + pv - lv),
+        None => (pu, pv),
     }
 }
 
